@@ -1,0 +1,47 @@
+// Draws one take frame into the currently bound framebuffer with OpenGL 3.3
+// core. The same code runs under GLFW and EGL, so CI renders the pixels a user
+// sees. 2D smoke: density as a texture; 3D smoke: ray marching a 3D texture.
+#pragma once
+#include <array>
+#include <string>
+
+#include "pliant/core/take.h"
+#include "render/orbit_camera.h"
+
+namespace pliant::editor {
+
+struct ViewSettings {
+  float density_scale = 1.0f;     // density mapped to opacity
+  bool show_grid = true;          // domain outline / grid
+  bool show_velocity = false;     // 2D: velocity arrows
+  std::array<float, 3> background{0.08f, 0.09f, 0.11f};
+  std::array<float, 3> smoke_color{0.95f, 0.95f, 1.0f};
+};
+
+class Renderer {
+ public:
+  Renderer();
+  ~Renderer();
+  Renderer(const Renderer&) = delete;
+  Renderer& operator=(const Renderer&) = delete;
+
+  // Compiles the embedded shaders; needs a current GL context.
+  bool init(std::string* err);
+  // Uploads a record's "density" (and "velocity") to GL textures.
+  void set_frame(const Record& frame);
+  void clear_frame();
+  bool has_frame() const;
+  // Domain size in world units, for camera framing: 2D (nx, ny, 0), 3D (nx, ny, nz)
+  // scaled so the longest side is 1.
+  std::array<float, 3> domain_extent() const;
+  int frame_dim() const;  // 0 none, 2 or 3
+  // Draws into the bound framebuffer at viewport (0, 0, w, h).
+  void render(const OrbitCamera& cam, const ViewSettings& view, int w, int h);
+  void shutdown();
+
+ private:
+  struct Impl;
+  Impl* impl_;
+};
+
+}  // namespace pliant::editor

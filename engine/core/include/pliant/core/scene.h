@@ -1,0 +1,36 @@
+// A scene: the JSON document a job runs (ARCHITECTURE.md, "The one path").
+// load_scene checks the envelope ("pliant": 1, "kind", "name"); the kind's own
+// compile step (e.g. smoke::smoke_compile) validates the rest with JsonReader.
+#pragma once
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+namespace pliant {
+
+inline constexpr int kSceneSchemaVersion = 1;
+
+struct Scene {
+  std::string file;               // as given by the user; used in messages
+  std::filesystem::path dir;      // asset paths are relative to this
+  std::string kind;               // "smoke", "liquid", "soft", "articulated"
+  std::string name;               // optional display name
+  nlohmann::json doc;             // the whole document
+
+  std::filesystem::path asset_path(const std::string& relative) const;
+};
+
+// Known kinds (even those whose job is not implemented yet).
+const std::vector<std::string>& scene_kinds();
+
+// Throws InputError (unreadable file, JSON syntax error with line/column,
+// wrong schema version, unknown kind).
+Scene load_scene(const std::filesystem::path& path);
+Scene parse_scene(const std::string& text, const std::string& file_label,
+                  const std::filesystem::path& dir = ".");
+
+// Writes pretty JSON atomically (temp file, fsync, rename).
+void save_json_atomic(const std::filesystem::path& path, const nlohmann::json& doc);
+
+}  // namespace pliant
