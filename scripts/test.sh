@@ -1,0 +1,29 @@
+#!/usr/bin/env bash
+# Sets up, builds and runs every test of Pliant:
+#   1. Release build of everything (engine, CLI, plugins, editor) and all its
+#      tests: unit, integration, plugins, render (EGL), editor (headless UI).
+#   2. clang build of the engine with AddressSanitizer + UBSan: the unit tests
+#      again, and the libFuzzer targets for a bounded number of executions.
+# Usage: scripts/test.sh [--no-sanitize]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+JOBS=${JOBS:-$(nproc)}
+
+bash scripts/setup.sh
+
+echo "== Release build"
+cmake -S . -B build -DCMAKE_BUILD_TYPE=Release
+cmake --build build -j"$JOBS"
+echo "== Tests (Release)"
+(cd build && ctest --output-on-failure -j"$JOBS" --timeout 600)
+
+if [ "${1:-}" != "--no-sanitize" ]; then
+  echo "== Sanitizer + fuzz build (clang, ASan + UBSan)"
+  CC=clang CXX=clang++ cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+    -DPLIANT_EDITOR=OFF -DPLIANT_BENCH=OFF -DPLIANT_SANITIZE=ON -DPLIANT_FUZZ=ON
+  cmake --build build-asan -j"$JOBS"
+  echo "== Unit and fuzz tests under ASan + UBSan"
+  (cd build-asan && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
+     ctest --output-on-failure -j"$JOBS" -L 'unit|fuzz' --timeout 600)
+fi
+echo "== All tests passed"
