@@ -6,11 +6,11 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
-#include <mutex>
 #include <set>
 #include <system_error>
 
 #include "pliant/core/error.h"
+#include "pliant/core/log.h"
 #include "pliant/core/progress.h"
 #include "pliant/core/take.h"
 #include "pliant/core/version.h"
@@ -20,24 +20,11 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::mutex& log_mutex() {
-  static std::mutex mu;
-  return mu;
-}
-PluginHost::LogSink& log_sink() {
-  static PluginHost::LogSink sink;
-  return sink;
-}
-
 // The C log callback handed to plugins (PliantHost::log).
 void host_log(const char* level, const char* message) {
-  std::string lv = level ? level : "info", msg = message ? message : "";
-  std::lock_guard<std::mutex> lock(log_mutex());
-  if (log_sink()) {
-    log_sink()(lv, msg);
-  } else {
-    std::fprintf(stderr, "plugin [%s] %s\n", lv.c_str(), msg.c_str());
-  }
+  const std::string lv = level ? level : "info";
+  const LogLevel l = lv == "error" ? LogLevel::Error : lv == "warn" ? LogLevel::Warn : LogLevel::Info;
+  log(l, std::string("plugin: ") + (message ? message : ""));
 }
 
 const PliantHost kHostApi = {PLIANT_PLUGIN_API_VERSION, kEngineVersion, &host_log};
@@ -54,11 +41,6 @@ std::string dl_error() {
 }
 
 }  // namespace
-
-void PluginHost::set_log_sink(LogSink sink) {
-  std::lock_guard<std::mutex> lock(log_mutex());
-  log_sink() = std::move(sink);
-}
 
 PluginHost::~PluginHost() {
   exporters_.clear();  // their function pointers live in the libraries
@@ -175,14 +157,12 @@ int PluginHost::register_exporter_cb(void* host_data, const PliantExporter* e) {
   if (!self || !self->loading_) return -1;  // only valid during pliant_plugin_load
   const std::string who = self->loading_->string();
   if (!e || !e->name || !*e->name || !e->frame) {
-    host_log("error", ("plugin " + who + ": register_exporter needs a name and a frame function")
-                          .c_str());
+    log_error("plugin " + who + ": register_exporter needs a name and a frame function");
     return -1;
   }
   if (const Exporter* other = self->find_exporter(e->name)) {
-    host_log("warn", ("plugin " + who + ": exporter \"" + e->name + "\" is already provided by " +
-                      other->plugin.string() + "; ignored")
-                         .c_str());
+    log_warn("plugin " + who + ": exporter \"" + e->name + "\" is already provided by " +
+             other->plugin.string() + "; ignored");
     return -1;
   }
   auto ex = std::make_unique<Exporter>();

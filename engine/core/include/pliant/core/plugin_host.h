@@ -6,9 +6,9 @@
 // found at load time and two plugins cannot clash on symbol names. A library
 // that is not a plugin, was built for another API version, or whose
 // pliant_plugin_load fails is recorded in failures() and the host keeps going.
+// Plugins' PliantHost::log lines go to pliant::log (log.h) as "plugin: ...".
 #pragma once
 #include <filesystem>
-#include <functional>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -47,11 +47,6 @@ class ExportError : public std::runtime_error {
 
 class PluginHost {
  public:
-  // Receives plugin log lines (level "info"|"warn"|"error"). The C callback has
-  // no user pointer, so the sink is process-wide; default writes to stderr.
-  using LogSink = std::function<void(const std::string& level, const std::string& message)>;
-  static void set_log_sink(LogSink sink);
-
   PluginHost() = default;
   ~PluginHost();  // drops the exporters, then dlclose()s in reverse load order
   PluginHost(const PluginHost&) = delete;
