@@ -43,10 +43,8 @@ std::string number_bound_problem(double x, double min, double max) {
 }
 
 std::string integer_bound_problem(long long x, long long min, long long max) {
-  if (x < min) {
-    if (min == 1 && max == kNoMaxInt) return "expected a positive integer";
-    if (min == 0 && max == kNoMaxInt) return "expected a non-negative integer";
-  }
+  if (x < min && min == 1) return "expected a positive integer";
+  if (x < min && min == 0) return "expected a non-negative integer";
   if (min != kNoMinInt && max != kNoMaxInt)
     return "expected an integer in [" + std::to_string(min) + ", " + std::to_string(max) + "]";
   if (x < min) return "expected an integer >= " + std::to_string(min);

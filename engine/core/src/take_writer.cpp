@@ -22,8 +22,9 @@ double unix_now() {
   return duration<double>(system_clock::now().time_since_epoch()).count();
 }
 
+// Read-write: reopen() scans the existing records through the same descriptor.
 int open_frames(const std::filesystem::path& path, int extra_flags) {
-  int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC | extra_flags, 0644);
+  int fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_APPEND | O_CLOEXEC | extra_flags, 0644);
   if (fd < 0) throw std::runtime_error(detail::errno_message(path.string(), "open for writing", errno));
   return fd;
 }
