@@ -1,0 +1,145 @@
+// The editor application: one Document, its jobs, the take being viewed and
+// the panels, driven one UI frame at a time. main() and the editor tests both
+// drive this class (tests in-process, headless).
+//
+// Frame order: platform.new_frame -> injected script input -> OpenGL3 backend
+// NewFrame -> ImGui::NewFrame -> panels -> ImGui::Render -> default framebuffer,
+// clear, draw data -> after-render hook (screenshots) -> present.
+#pragma once
+#include <chrono>
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "doc/autosave.h"
+#include "doc/document.h"
+#include "doc/job_process.h"
+#include "doc/log_buffer.h"
+#include "doc/recent_files.h"
+#include "platform/platform.h"
+#include "render/image.h"
+#include "render/renderer.h"
+#include "ui/injected_input.h"
+#include "ui/take_view.h"
+#include "ui/ui_mark.h"
+
+namespace pliant::editor {
+
+struct AppOptions {
+  std::filesystem::path scene;       // open at start ("" = new from the default scene)
+  std::filesystem::path take;        // take to show at start
+  std::filesystem::path pliant;      // `pliant` binary ("" = beside this executable)
+  std::filesystem::path config_dir;  // "" = config_dir()
+  int width = 1600, height = 900;
+  double fixed_dt_s = 0;             // headless: 1/60 for determinism
+  double autosave_s = 0;             // 0 = $PLIANT_AUTOSAVE_S or 30
+  int job_threads = 0;
+  bool check_recovery = true;
+  bool viewport_only = false;        // screenshots show only the viewport
+};
+
+struct ViewportState {
+  OrbitCamera camera;
+  ViewSettings settings;
+  unsigned fbo = 0, color_tex = 0, depth_rb = 0;
+  int fbo_w = 0, fbo_h = 0;
+  std::string shown_dir;  // what the renderer holds now
+  int shown_frame = -1, shown_count = -1;
+};
+
+struct PanelVisibility {
+  bool inspector = true, viewport = true, jobs = true, timeline = true, log = true;
+};
+
+// The path-entry popup that stands in for native file dialogs.
+struct FileDialog {
+  enum class Mode { None, Open, SaveAs, OpenTake } mode = Mode::None;
+  bool open_requested = false;
+  char path[1024] = {};
+  std::string error;
+};
+
+class App {
+ public:
+  explicit App(AppOptions opt);
+  ~App();
+  App(const App&) = delete;
+  App& operator=(const App&) = delete;
+
+  // Creates the ImGui context, initializes the platform, GL backend and
+  // renderer, opens the start scene/take and looks for a crash to recover.
+  bool init(std::unique_ptr<Platform> platform, std::string* err);
+  void frame();
+  // clean: removes the session lock and autosave (an unclean exit keeps them).
+  void shutdown(bool clean = true);
+  bool should_quit() const;
+  void request_quit() { quit_requested_ = true; }
+
+  // Commands (menus, hotkeys and scripts call these). false + log on failure.
+  void cmd_new();
+  bool cmd_open(const std::filesystem::path& path);
+  bool cmd_save();
+  bool cmd_save_as(const std::filesystem::path& path);
+  bool cmd_open_take(const std::filesystem::path& dir);
+  void cmd_undo();
+  void cmd_redo();
+  bool cmd_run();
+  void cmd_cancel(size_t job);
+  void open_file_dialog(FileDialog::Mode mode);
+  void handle_drops(const std::vector<std::string>& paths);
+  void recover(bool accept);  // answer to the recovery prompt
+
+  // Screenshots of the last rendered frame (call from the after-render hook).
+  Image capture_window() const;
+  Image capture_viewport() const;
+
+  Platform& platform() { return *platform_; }
+  bool has_gl() const { return gl_; }
+  const AppOptions& options() const { return opt_; }
+  // The validation error of the current scene ("" when valid); cached per revision.
+  const std::string& scene_error();
+  void set_status(const std::string& s) { status_ = s; }
+  const std::string& status() const { return status_; }
+  JobProcess* newest_job() { return jobs.empty() ? nullptr : jobs.back().get(); }
+  uint64_t frame_count() const { return frames_; }
+
+  Document doc;
+  LogBuffer log;
+  RecentFiles recent;
+  std::unique_ptr<Autosave> autosave;
+  std::optional<RecoveryCandidate> recovery;  // shown as a modal while set
+  std::vector<std::unique_ptr<JobProcess>> jobs;
+  std::vector<JobState> job_seen_state;  // to log state changes once
+  TakeView take;
+  ViewportState viewport;
+  PanelVisibility panels;
+  FileDialog file_dialog;
+  UiMarks marks;
+  InjectedInput input;
+  Renderer renderer;
+  // Scripts hook here: before_frame runs after platform.new_frame (to inject
+  // input), after_render after the frame is drawn (screenshots).
+  std::function<void(App&)> before_frame, after_render;
+
+ private:
+  void poll_jobs();
+  void handle_hotkeys();
+  void draw_layout();
+  void update_title();
+
+  AppOptions opt_;
+  std::unique_ptr<Platform> platform_;
+  bool gl_ = false, imgui_owned_ = false, gl_backend_ = false, renderer_ok_ = false;
+  bool quit_requested_ = false, shut_down_ = false;
+  std::string status_;
+  std::string scene_error_;
+  uint64_t scene_error_revision_ = ~uint64_t(0);
+  std::string last_title_;
+  uint64_t frames_ = 0;
+  int job_counter_ = 0;
+};
+
+}  // namespace pliant::editor

@@ -1,0 +1,56 @@
+// A path-entry popup instead of native dialogs (works headless and in scripts).
+#include <imgui.h>
+
+#include <algorithm>
+
+#include "ui/app.h"
+#include "ui/panel_window.h"
+#include "ui/panels.h"
+
+namespace pliant::editor {
+
+void draw_file_dialog(App& app) {
+  FileDialog& d = app.file_dialog;
+  const char* id = "File##dialog";
+  if (d.open_requested) {
+    ImGui::OpenPopup(id);
+    d.open_requested = false;
+  }
+  ImVec2 ds = ImGui::GetIO().DisplaySize;
+  ImGui::SetNextWindowPos(ImVec2(ds.x * 0.5f, ds.y * 0.4f), ImGuiCond_Always, ImVec2(0.5f, 0.5f));
+  ImGui::SetNextWindowSize(ImVec2(std::min(640.0f, ds.x - 40), 0), ImGuiCond_Always);
+  if (!ImGui::BeginPopupModal(id, nullptr, ImGuiWindowFlags_NoMove)) return;
+  const char* what = d.mode == FileDialog::Mode::Open     ? "Open scene (.json)"
+                     : d.mode == FileDialog::Mode::SaveAs ? "Save scene as (.json)"
+                                                          : "Open take folder";
+  ImGui::TextUnformatted(what);
+  if (ImGui::IsWindowAppearing()) ImGui::SetKeyboardFocusHere();
+  ImGui::SetNextItemWidth(-1);
+  bool enter = ImGui::InputText("##path", d.path, sizeof d.path, ImGuiInputTextFlags_EnterReturnsTrue);
+  ui_mark("dialog_path");
+  if (!d.error.empty()) ImGui::TextColored(kErrorColor, "%s", d.error.c_str());
+  bool ok = ImGui::Button("OK") || enter;
+  ui_mark("dialog_ok");
+  ImGui::SameLine();
+  bool cancel = ImGui::Button("Cancel");
+  ui_mark("dialog_cancel");
+  if (ok && d.path[0]) {
+    bool done = false;
+    if (d.mode == FileDialog::Mode::Open) done = app.cmd_open(d.path);
+    else if (d.mode == FileDialog::Mode::SaveAs) done = app.cmd_save_as(d.path);
+    else done = app.cmd_open_take(d.path);
+    if (done) {
+      d.mode = FileDialog::Mode::None;
+      ImGui::CloseCurrentPopup();
+    } else {
+      d.error = app.status();
+    }
+  }
+  if (cancel) {
+    d.mode = FileDialog::Mode::None;
+    ImGui::CloseCurrentPopup();
+  }
+  ImGui::EndPopup();
+}
+
+}  // namespace pliant::editor

@@ -1,0 +1,53 @@
+#include <imgui.h>
+
+#include "ui/app.h"
+#include "ui/panels.h"
+
+namespace pliant::editor {
+
+void draw_menu_bar(App& app) {
+  if (!ImGui::BeginMainMenuBar()) return;
+  if (ImGui::BeginMenu("File")) {
+    if (ImGui::MenuItem("New")) app.cmd_new();
+    if (ImGui::MenuItem("Open...", "Ctrl+O")) app.open_file_dialog(FileDialog::Mode::Open);
+    if (ImGui::BeginMenu("Open Recent", !app.recent.items().empty())) {
+      std::string chosen;
+      for (const auto& p : app.recent.items())
+        if (ImGui::MenuItem(p.c_str())) chosen = p;
+      ImGui::EndMenu();
+      if (!chosen.empty()) app.cmd_open(chosen);
+    }
+    if (ImGui::MenuItem("Save", "Ctrl+S")) app.cmd_save();
+    if (ImGui::MenuItem("Save As...", "Ctrl+Shift+S")) app.open_file_dialog(FileDialog::Mode::SaveAs);
+    ImGui::Separator();
+    if (ImGui::MenuItem("Open Take...")) app.open_file_dialog(FileDialog::Mode::OpenTake);
+    ImGui::Separator();
+    if (ImGui::MenuItem("Quit")) app.request_quit();
+    ImGui::EndMenu();
+  }
+  ui_mark("File");
+  if (ImGui::BeginMenu("Edit")) {
+    std::string u = "Undo " + app.doc.history().undo_label();
+    std::string r = "Redo " + app.doc.history().redo_label();
+    if (ImGui::MenuItem(u.c_str(), "Ctrl+Z", false, app.doc.history().can_undo())) app.cmd_undo();
+    ui_mark("Undo");
+    if (ImGui::MenuItem(r.c_str(), "Ctrl+Shift+Z", false, app.doc.history().can_redo()))
+      app.cmd_redo();
+    ui_mark("Redo");
+    ImGui::EndMenu();
+  }
+  ui_mark("Edit");
+  if (ImGui::BeginMenu("View")) {
+    ImGui::MenuItem("Inspector", nullptr, &app.panels.inspector);
+    ImGui::MenuItem("Viewport", nullptr, &app.panels.viewport);
+    ImGui::MenuItem("Timeline", nullptr, &app.panels.timeline);
+    ImGui::MenuItem("Jobs", nullptr, &app.panels.jobs);
+    ImGui::MenuItem("Log", nullptr, &app.panels.log);
+    ImGui::EndMenu();
+  }
+  ui_mark("View");
+  ImGui::TextDisabled("  %s", app.doc.title().c_str());
+  ImGui::EndMainMenuBar();
+}
+
+}  // namespace pliant::editor

@@ -1,0 +1,29 @@
+#include "ui/ui_mark.h"
+
+#include <imgui.h>
+
+namespace pliant::editor {
+
+namespace {
+UiMarks* g_marks = nullptr;
+}
+
+void UiMarks::begin_frame() {
+  previous_.swap(current_);
+  current_.clear();
+}
+
+const UiRect* UiMarks::find(const std::string& label) const {
+  auto it = previous_.find(label);
+  return it == previous_.end() ? nullptr : &it->second;
+}
+
+void set_ui_marks(UiMarks* marks) { g_marks = marks; }
+
+void ui_mark(const std::string& label) {
+  if (!g_marks) return;
+  ImVec2 a = ImGui::GetItemRectMin(), b = ImGui::GetItemRectMax();
+  g_marks->add(label, UiRect{a.x, a.y, b.x, b.y});
+}
+
+}  // namespace pliant::editor
