@@ -39,8 +39,9 @@ void main() {
   float t0, t1;
   if (!hit_box(o, d, t0, t1)) discard;
   float dt = length(2.0 * u_half) / float(u_steps);
-  float light_dt = dt * 2.0;
-  float t = t0 + dt * hash12(gl_FragCoord.xy);
+  float light_dt = dt;
+  float jitter = hash12(gl_FragCoord.xy);
+  float t = t0 + dt * jitter;
   float transmittance = 1.0;
   vec3 radiance = vec3(0.0);
   for (int i = 0; i < 1024 && t < t1; ++i, t += dt) {
@@ -48,10 +49,10 @@ void main() {
     float rho = density_at(p);
     if (rho > 1e-4) {
       float a = 1.0 - exp(-u_sigma * rho * dt);
-      // Optical depth toward the light (6 samples), for self-shadowing.
+      // Optical depth toward the light (12 samples), for self-shadowing.
       float tau = 0.0;
-      for (int k = 1; k <= 6; ++k) tau += density_at(p + u_light_dir * light_dt * float(k));
-      float lit = 0.35 + 0.65 * exp(-u_sigma * tau * light_dt);
+      for (int k = 1; k <= 12; ++k) tau += density_at(p + u_light_dir * light_dt * float(k));
+      float lit = 0.22 + 0.78 * exp(-u_sigma * tau * light_dt);
       radiance += transmittance * a * lit * u_smoke_color;
       transmittance *= 1.0 - a;
       if (transmittance < 0.004) break;

@@ -31,7 +31,7 @@ void Smoke2DDrawer::upload(const Field& density, const Field* velocity) {
     velocity_ = velocity->data;
 }
 
-int Smoke2DDrawer::arrow_stride(int nx, int ny) { return std::max(1, std::max(nx, ny) / 24); }
+int Smoke2DDrawer::arrow_stride(int nx, int ny) { return std::max(1, std::max(nx, ny) / 16); }
 
 void Smoke2DDrawer::add_arrows(float half_w, float half_h, LineDrawer& lines) const {
   const int k = arrow_stride(nx_, ny_);
@@ -66,6 +66,18 @@ void Smoke2DDrawer::draw(const Mat4& mvp, float half_w, float half_h, const View
   if (nx_ == 0) return;
   glEnable(GL_BLEND);
   glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+  const float cell = 2.0f * half_w / static_cast<float>(nx_);
+  if (view.show_grid) {
+    // Faint lines every 8th of the longest side (in whole cells), under the smoke.
+    const int step = std::max(1, std::max(nx_, ny_) / 8);
+    const LineDrawer::Color faint{1, 1, 1, 0.08f};
+    for (int i = step; i < nx_; i += step)
+      lines.add({-half_w + i * cell, -half_h, 0}, {-half_w + i * cell, half_h, 0}, faint);
+    for (int j = step; j < ny_; j += step)
+      lines.add({-half_w, -half_h + j * cell, 0}, {half_w, -half_h + j * cell, 0}, faint);
+    lines.draw(mvp);
+  }
+
   program_.use();
   program_.set("u_mvp", mvp);
   program_.set("u_half", half_w, half_h);
@@ -80,14 +92,7 @@ void Smoke2DDrawer::draw(const Mat4& mvp, float half_w, float half_h, const View
   glBindTexture(GL_TEXTURE_2D, 0);
 
   if (view.show_grid) {
-    // Faint lines every 8th of the longest side (in whole cells), then the outline.
-    const float cell = 2.0f * half_w / static_cast<float>(nx_);
-    const int step = std::max(1, std::max(nx_, ny_) / 8);
-    const LineDrawer::Color faint{1, 1, 1, 0.08f}, outline{0.75f, 0.78f, 0.85f, 0.9f};
-    for (int i = step; i < nx_; i += step)
-      lines.add({-half_w + i * cell, -half_h, 0}, {-half_w + i * cell, half_h, 0}, faint);
-    for (int j = step; j < ny_; j += step)
-      lines.add({-half_w, -half_h + j * cell, 0}, {half_w, -half_h + j * cell, 0}, faint);
+    const LineDrawer::Color outline{0.75f, 0.78f, 0.85f, 0.9f};
     const Vec3 c00{-half_w, -half_h, 0}, c10{half_w, -half_h, 0}, c11{half_w, half_h, 0}, c01{-half_w, half_h, 0};
     lines.add(c00, c10, outline);
     lines.add(c10, c11, outline);

@@ -20,7 +20,7 @@ class Smoke2DDrawer {
   void draw(const Mat4& mvp, float half_w, float half_h, const ViewSettings& view, LineDrawer& lines);
   void shutdown();
 
-  // Velocity arrow spacing in cells: about 24 arrows along the longest side.
+  // Velocity arrow spacing in cells: about 16 arrows along the longest side.
   static int arrow_stride(int nx, int ny);
 
  private:

@@ -48,8 +48,9 @@ void Smoke3DDrawer::draw(const Mat4& view_proj, const Vec3& half, const ViewSett
   // About two samples per cell along the longest axis.
   program_.set("u_steps", std::clamp(2 * std::max({nx_, ny_, nz_}), 32, 512));
   program_.set("u_smoke_color", view.smoke_color[0], view.smoke_color[1], view.smoke_color[2]);
-  // Light from above, front-right (y up).
-  const float l[3] = {0.35f, 0.85f, 0.4f};
+  // Light from above and to the left of the default view (y up), so the
+  // self-shadowed lower right shows the volume's shape.
+  const float l[3] = {-0.5f, 0.8f, 0.3f};
   const float n = std::sqrt(l[0] * l[0] + l[1] * l[1] + l[2] * l[2]);
   program_.set("u_light_dir", l[0] / n, l[1] / n, l[2] / n);
   program_.set("u_density", 0);

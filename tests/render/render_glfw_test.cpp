@@ -36,8 +36,9 @@ TEST(GlfwRender, WindowRendersTheSameBlobAsEgl) {
     const auto img = render_frame(*platform, renderer, frame_of({gaussian_blob_2d(64, 48, 40, 30, 6.0f)}), {},
                                   golden_view());
     // The EGL golden; a window may use another driver, so allow a little more.
-    if (!updating_goldens())
+    if (!updating_goldens()) {
       EXPECT_TRUE(matches_golden(img, golden_path("blob2d"), diff_path("glfw_blob2d"), 24, 2.0));
+    }
     renderer.shutdown();
   }
   platform->present();

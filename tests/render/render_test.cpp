@@ -139,6 +139,17 @@ TEST_F(EglRender, SphereCentreIsLitCornerIsBackground) {
   EXPECT_LT(luma(thin, kWidth / 2, kHeight / 2), luma(img, kWidth / 2, kHeight / 2) - 30.0f);
 }
 
+// Density index j grows up the screen and i to the right (the default camera
+// looks from +z, turned 30 degrees toward +x, so +x still points right).
+TEST_F(EglRender, VolumeUpIsUpAndRightIsRight) {
+  auto view = golden_view();
+  view.show_grid = false;
+  const Image up = render(frame_of({sphere_3d_at(32, 6, 15.5f, 25, 15.5f)}), {}, view);
+  EXPECT_GT(mean_luma(up, 0, 0, kWidth, kHeight / 2), mean_luma(up, 0, kHeight / 2, kWidth, kHeight) + 5);
+  const Image right = render(frame_of({sphere_3d_at(32, 6, 25, 15.5f, 15.5f)}), {}, view);
+  EXPECT_GT(mean_luma(right, kWidth / 2, 0, kWidth, kHeight), mean_luma(right, 0, 0, kWidth / 2, kHeight) + 5);
+}
+
 TEST_F(EglRender, RenderingIsDeterministic) {
   const Record f = frame_of({sphere_3d(32, 10.0f)});
   const auto r = editor::compare(render(f), render(f), 0, 0.0);

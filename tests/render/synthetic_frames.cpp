@@ -26,12 +26,16 @@ Field vortex_velocity_2d(int nx, int ny, float cx, float cy) {
 }
 
 Field sphere_3d(int n, float radius_cells) {
-  Field f{"density", {uint32_t(n), uint32_t(n), uint32_t(n)}, std::vector<float>(size_t(n) * n * n)};
   const float c = 0.5f * (n - 1);
+  return sphere_3d_at(n, radius_cells, c, c, c);
+}
+
+Field sphere_3d_at(int n, float radius_cells, float cx, float cy, float cz) {
+  Field f{"density", {uint32_t(n), uint32_t(n), uint32_t(n)}, std::vector<float>(size_t(n) * n * n)};
   for (int k = 0; k < n; ++k)
     for (int j = 0; j < n; ++j)
       for (int i = 0; i < n; ++i) {
-        const float r = std::sqrt((i - c) * (i - c) + (j - c) * (j - c) + (k - c) * (k - c));
+        const float r = std::sqrt((i - cx) * (i - cx) + (j - cy) * (j - cy) + (k - cz) * (k - cz));
         f.data[(size_t(k) * n + j) * n + i] = std::clamp(radius_cells - r + 0.5f, 0.0f, 1.0f);
       }
   return f;

@@ -10,6 +10,8 @@ Field gaussian_blob_2d(int nx, int ny, float cx, float cy, float sigma, float pe
 Field vortex_velocity_2d(int nx, int ny, float cx, float cy);
 // density [n, n, n]: 1 inside radius r (cells) about the centre, with a one-cell smooth edge.
 Field sphere_3d(int n, float radius_cells);
+// The same sphere about cell (cx, cy, cz).
+Field sphere_3d_at(int n, float radius_cells, float cx, float cy, float cz);
 // density of the given shape filled with a constant.
 Field uniform_density(std::vector<uint32_t> shape, float value);
 
