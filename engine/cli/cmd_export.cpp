@@ -66,7 +66,7 @@ int run_export(const ExportOptions& o) {
     return kExitDone;
   } catch (const CancelledError&) {
     restore();
-    events.error("cancelled");
+    events.emit({{"event", "cancelled"}});
     return kExitCancelled;
   } catch (const std::exception& e) {
     restore();
