@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <memory>
 
+#include <omp.h>
+
 #include "advection.h"
 #include "forces.h"
 #include "pliant/smoke/smoke.h"
@@ -69,7 +71,9 @@ void smoke_step(const SmokeModel& m, SmokeState& s, StepStats* stats) {
 
   StepStats st;
   double max_div = 0;
+  StepTimings& tm = ws.timings;
   for (int sub = 0; sub < m.substeps; ++sub) {
+    double t0 = omp_get_wtime();
     // Sources are active on [start_s, end_s).
     for (const Source& src : m.sources)
       if (s.time_s >= src.start_s && s.time_s < src.end_s) apply_source(g, src, dt, s.density.data(), vel);
@@ -80,6 +84,8 @@ void smoke_step(const SmokeModel& m, SmokeState& s, StepStats* stats) {
       else add_vortex(g, f, dt, vel);
     }
 
+    double t1 = omp_get_wtime();
+    tm.forces_s += t1 - t0;
     // Advect velocity by itself (frozen copy as the advecting field).
     std::copy(s.u.begin(), s.u.end(), ws.u0.begin());
     std::copy(s.v.begin(), s.v.end(), ws.v0.begin());
@@ -87,18 +93,24 @@ void smoke_step(const SmokeModel& m, SmokeState& s, StepStats* stats) {
     if (m.advection == Advection::Upwind) advect_upwind_velocity(g, frozen, dt, vel, ws.face_tmp.data());
     else advect_semi_lagrangian_velocity(g, frozen, dt, vel);
 
+    t0 = omp_get_wtime();
+    tm.advect_velocity_s += t0 - t1;
     const ProjectionStats ps = project(g, ws.poisson, method, m.pressure_tolerance, m.pressure_max_iterations,
                                        vel, ws.phi.data(), ws.rhs.data());
     st.pressure_iterations += ps.iterations;
     st.pressure_residual = std::max(st.pressure_residual, ps.relative_residual);
     max_div = std::max(max_div, ps.max_divergence_after);
 
+    t1 = omp_get_wtime();
+    tm.project_s += t1 - t0;
     if (m.advection == Advection::Upwind) {
       advect_upwind_cells(g, vel, dt, s.density.data(), ws.density_tmp.data());
     } else {
       advect_semi_lagrangian_cells(g, vel, dt, s.density.data(), ws.density_tmp.data());
       s.density.swap(ws.density_tmp);  // swap keeps both buffers; no allocation
     }
+    tm.advect_density_s += omp_get_wtime() - t1;
+    tm.substeps += 1;
     s.time_s += dt;
   }
   std::transform(ws.phi.begin(), ws.phi.end(), s.pressure.begin(), [](double p) { return float(p); });

@@ -11,6 +11,13 @@
 
 namespace pliant::smoke {
 
+// Seconds spent per phase by smoke_step on this thread, summed since the last
+// reset (the benchmark's profile; perf is not available everywhere).
+struct StepTimings {
+  double forces_s = 0, advect_velocity_s = 0, project_s = 0, advect_density_s = 0;
+  long long substeps = 0;
+};
+
 struct SmokeWorkspace {
   explicit SmokeWorkspace(const MacGrid& g);
   bool fits(const MacGrid& g) const;
@@ -21,6 +28,7 @@ struct SmokeWorkspace {
   std::vector<float> density_tmp;     // advected density / upwind scratch
   std::vector<float> face_tmp;        // upwind scratch for one velocity component
   std::vector<double> phi, rhs;       // projection potential and right-hand side
+  StepTimings timings;
 };
 
 // The calling thread's workspace for grid g (created or rebuilt when g changes).
