@@ -19,10 +19,14 @@ std::string run_headless(App& app, const HeadlessRunOptions& opt) {
     } catch (const ScriptError& e) {
       return e.what();
     }
-    tmp = fs::temp_directory_path() / ("pliant-editor-" + std::to_string(::getpid()));
+    fs::path script_tmp = opt.tmp_dir;
+    if (script_tmp.empty()) {
+      tmp = fs::temp_directory_path() / ("pliant-editor-" + std::to_string(::getpid()));
+      script_tmp = tmp;
+    }
     std::error_code ec;
-    fs::create_directories(tmp, ec);
-    runner = std::make_unique<ScriptRunner>(std::move(s), tmp);
+    fs::create_directories(script_tmp, ec);
+    runner = std::make_unique<ScriptRunner>(std::move(s), script_tmp);
     runner->attach(app);
   }
   std::string err;

@@ -13,7 +13,8 @@ struct HeadlessRunOptions {
   std::filesystem::path screenshot;  // written after the last frame ("" = none)
   bool viewport_only = false;
   int frames = 2;
-  int max_frames = 100000;           // safety net against a script that never ends
+  int max_frames = 100000;
+  std::filesystem::path tmp_dir;     // $TMP of the script ("" = a fresh folder, removed after)           // safety net against a script that never ends
 };
 
 // Returns "" on success, else the error (a script error names file and line).

@@ -7,7 +7,7 @@
 //   drag X0 Y0 X1 Y1 [frames]
 //   scroll DY
 //   key CTRL+SHIFT+Z          modifiers + one key (S, O, Z, Y, SPACE, LEFT, F5, ENTER...)
-//   type TEXT                 the rest of the line
+//   type TEXT                 the rest of the line ($TMP expands)
 //   wait N                    UI frames
 //   wait_job [timeout_s]      until the newest job has ended (default 60 s)
 //   wait_frames N [timeout_s] until the take has N frames

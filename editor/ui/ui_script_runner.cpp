@@ -185,6 +185,7 @@ bool ScriptRunner::run_command(App& app, const ScriptCommand& c) {
   }
   if (c.op == "type") {
     in.chars = a[0];
+    for (size_t k; (k = in.chars.find("$TMP")) != std::string::npos;) in.chars.replace(k, 4, tmp_.string());
     return true;
   }
   if (c.op == "wait") {
@@ -198,7 +199,7 @@ bool ScriptRunner::run_command(App& app, const ScriptCommand& c) {
       return false;
     }
     JobStatus st = j->snapshot();
-    if (st.ended() && st.exit_code >= 0) return instant();
+    if (st.ended() && st.exit_code >= 0) return true;  // next frame: the app has logged it
     if (elapsed() > timeout)
       fail(c, "job still " + std::string(job_state_name(st.state)) + " after " +
                   std::to_string(timeout) + " s");
@@ -207,7 +208,7 @@ bool ScriptRunner::run_command(App& app, const ScriptCommand& c) {
   if (c.op == "wait_frames") {
     int n = static_cast<int>(num(a[0]));
     double timeout = a.size() > 1 ? num(a[1]) : 60;
-    if (app.take.frame_count() >= n) return instant();
+    if (app.take.frame_count() >= n) return true;
     if (elapsed() > timeout)
       fail(c, "the take has " + std::to_string(app.take.frame_count()) + " frames, not " + a[0] +
                   ", after " + std::to_string(timeout) + " s");
