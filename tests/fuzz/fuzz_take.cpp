@@ -52,6 +52,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   }
   if (again.size() != good || (good && std::memcmp(again.data(), data, good) != 0)) __builtin_trap();
 
+  // The on-disk path costs file I/O: check it on every 8th input (always on
+  // the first, so replaying one crash input runs it).
+  static unsigned calls = 0;
+  if (calls++ % 8 != 0) return 0;
   {
     std::ofstream out(take_dir() / "frames.bin", std::ios::binary | std::ios::trunc);
     out.write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));

@@ -63,6 +63,9 @@ Scene parse_scene(const std::string& text, const std::string& file_label,
     throw InputError(file_label, "",
                      "invalid JSON at line " + std::to_string(line) + ", column " +
                          std::to_string(column) + ": " + parse_error_detail(e.what()));
+  } catch (const nlohmann::json::exception& e) {
+    // e.g. out_of_range.406 "number overflow parsing '2e308'", which has no position.
+    throw InputError(file_label, "", "invalid JSON: " + parse_error_detail(e.what()));
   }
   if (!scene.doc.is_object()) throw InputError(file_label, "", "expected a JSON object at the top level");
   JsonReader r(scene.doc, file_label);

@@ -33,6 +33,9 @@ TEST(Scene, SyntaxErrorsGiveLineAndColumn) {
   EXPECT_EQ(msg.rfind("a.json: invalid JSON at line 3, column 11: ", 0), 0u) << msg;
   const std::string msg2 = error_of([&] { parse_scene("{\"pliant\": 1,", "b.json"); });
   EXPECT_EQ(msg2.rfind("b.json: invalid JSON at line 1, column ", 0), 0u) << msg2;
+  // Found by fuzz_scene: nlohmann reports overflow as out_of_range, not parse_error.
+  EXPECT_EQ(error_of([&] { parse_scene(R"({"pliant": 1, "x": 2e308})", "c.json"); }),
+            "c.json: invalid JSON: number overflow parsing '2e308'");
 }
 
 TEST(Scene, EnvelopeChecks) {
