@@ -16,7 +16,8 @@ const char* log_level_name(LogLevel level);  // "debug", "info", "warn", "error"
 LogSink set_log_sink(LogSink sink);
 // Messages below `level` are dropped (default Info); returns the old level.
 LogLevel set_log_level(LogLevel level);
-// Thread-safe; sinks are called under a mutex, one message at a time.
+// Thread-safe; sinks are called under a mutex, one message at a time (so a
+// sink must not log itself).
 void log(LogLevel level, const std::string& message);
 inline void log_debug(const std::string& m) { log(LogLevel::Debug, m); }
 inline void log_info(const std::string& m) { log(LogLevel::Info, m); }
