@@ -1,7 +1,7 @@
 // bench_smoke_sim: cell-steps per second of the forward smoke simulation (128^2 and
 // 64^3, 1 and 2 threads, with a per-phase profile) and the pressure solve, MGPCG
 // against Jacobi-PCG on the same right-hand side in the same run.
-//   bench_smoke_sim [--quick] [--out bench/results/smoke_sim.json]
+//   bench_smoke_sim [--quick] [--max-threads N] [--out bench/results/smoke_sim.json]
 // Prints one JSON object per case and writes all of them (with machine info) to --out.
 #include <omp.h>
 #include <unistd.h>
@@ -154,19 +154,21 @@ void pressure_case(const std::string& name, const SmokeModel& m, int threads, in
 int main(int argc, char** argv) {
   bool quick = false;
   std::string out_path = "bench/results/smoke_sim.json";
+  int max_threads = std::min(2, omp_get_num_procs());
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--quick") {
       quick = true;
+    } else if (a == "--max-threads" && i + 1 < argc) {
+      max_threads = std::max(1, std::atoi(argv[++i]));
     } else if (a == "--out" && i + 1 < argc) {
       out_path = argv[++i];
     } else {
-      std::cerr << "usage: bench_smoke_sim [--quick] [--out PATH]\n";
+      std::cerr << "usage: bench_smoke_sim [--quick] [--max-threads N] [--out PATH]\n";
       return 2;
     }
   }
   const json machine = machine_info();
-  const int max_threads = std::min(2, omp_get_num_procs());
   const double t_start = now_s();
 
   // Forward simulation, 1 and 2 threads (speed-up is the ratio of the two rows).

@@ -7,17 +7,17 @@ namespace pliant::smoke {
 namespace {
 
 // Grid-unit backtrace with the RK2 midpoint rule; clamped to the box when closed.
-inline std::array<double, 3> backtrace(const MacGrid& g, const FaceVelocity& vel, double dt_h,
+inline std::array<double, 3> backtrace(const MacGrid& g, const VelocitySampler& vel, double dt_h,
                                        std::array<double, 3> p) {
   auto clamp = [&](std::array<double, 3>& x) {
     if (g.periodic) return;
     for (int a = 0; a < g.dim; ++a) x[a] = std::clamp(x[a], 0.0, double(g.n[a]));
   };
-  const auto v0 = sample_velocity(g, vel, p[0], p[1], p[2]);
+  const auto v0 = vel(p[0], p[1], p[2]);
   std::array<double, 3> mid = p;
   for (int a = 0; a < g.dim; ++a) mid[a] -= 0.5 * dt_h * v0[a];
   clamp(mid);
-  const auto v1 = sample_velocity(g, vel, mid[0], mid[1], mid[2]);
+  const auto v1 = vel(mid[0], mid[1], mid[2]);
   for (int a = 0; a < g.dim; ++a) p[a] -= dt_h * v1[a];
   clamp(p);
   return p;
@@ -26,6 +26,7 @@ inline std::array<double, 3> backtrace(const MacGrid& g, const FaceVelocity& vel
 void sl_advect_array(const MacGrid& g, const FaceVelocity& vel, double dt, const FieldLayout& l,
                      int stagger_axis, const float* q_in, float* q_out) {
   const double dt_h = dt / g.h;
+  const VelocitySampler sampler(g, vel);
 #pragma omp parallel for collapse(2) schedule(static)
   for (int k = 0; k < l.size[2]; ++k)
     for (int j = 0; j < l.size[1]; ++j)
@@ -39,29 +40,40 @@ void sl_advect_array(const MacGrid& g, const FaceVelocity& vel, double dt, const
           }
         }
         std::array<double, 3> p{i + l.offset[0], j + l.offset[1], k + l.offset[2]};
-        p = backtrace(g, vel, dt_h, p);
+        p = backtrace(g, sampler, dt_h, p);
         q_out[e] = float(sample(q_in, l, p[0], p[1], p[2]));
       }
 }
 
+// What the flux of one upwind update needs, built once per call.
+struct UpwindContext {
+  const MacGrid& g;
+  const FieldLayout& l;  // layout of the advected array
+  bool cells;            // l is the cell layout: CV faces are the MAC faces
+  FieldLayout face[3];
+  const float* comp[3];
+};
+
 // Flux (per unit area, in q*m/s) through the control-volume face between element e
 // at (i,j,k) and its +1 neighbour along `axis`; 0 where a closed box has no neighbour.
-inline double upwind_flux(const MacGrid& g, const FieldLayout& l, const FaceVelocity& vel,
-                          const float* q, int axis, int i, int j, int k) {
+inline double upwind_flux(const UpwindContext& c, const float* q, int axis, int i, int j, int k) {
   std::array<int, 3> nb{i, j, k};
   nb[axis] += 1;
-  if (nb[axis] == l.size[axis]) {
-    if (!g.periodic) return 0.0;
+  if (nb[axis] == c.l.size[axis]) {
+    if (!c.g.periodic) return 0.0;
     nb[axis] = 0;
   }
-  // Advecting velocity at the CV face: exact MAC face values for cells, interpolated
-  // (averages of two faces) for the staggered momentum control volumes.
-  const FieldLayout fl = g.face_layout(axis);
-  const float* comp = axis == 0 ? vel.u : (axis == 1 ? vel.v : vel.w);
-  std::array<double, 3> p{i + l.offset[0], j + l.offset[1], k + l.offset[2]};
-  p[axis] += 0.5;
-  const double ua = sample(comp, fl, p[0], p[1], p[2]);
-  const double up = ua > 0 ? q[l.index(i, j, k)] : q[l.index(nb[0], nb[1], nb[2])];
+  // Advecting velocity at the CV face: the MAC face value for cells, interpolated
+  // (the average of two faces) for the staggered momentum control volumes.
+  double ua;
+  if (c.cells) {
+    ua = c.comp[axis][c.g.face_hi(axis, i, j, k)];
+  } else {
+    std::array<double, 3> p{i + c.l.offset[0], j + c.l.offset[1], k + c.l.offset[2]};
+    p[axis] += 0.5;
+    ua = sample(c.comp[axis], c.face[axis], p[0], p[1], p[2]);
+  }
+  const double up = ua > 0 ? q[c.l.index(i, j, k)] : q[c.l.index(nb[0], nb[1], nb[2])];
   return ua * up;
 }
 
@@ -106,6 +118,8 @@ void upwind_step(const MacGrid& g, const FieldLayout& l, const FaceVelocity& vel
   int stagger = -1;
   for (int a = 0; a < g.dim; ++a)
     if (l.offset[a] == 0.0) stagger = a;
+  const UpwindContext ctx{g, l, stagger < 0, {g.face_layout(0), g.face_layout(1), g.face_layout(2)},
+                          {vel.u, vel.v, vel.w}};
 #pragma omp parallel for collapse(2) schedule(static)
   for (int k = 0; k < l.size[2]; ++k)
     for (int j = 0; j < l.size[1]; ++j)
@@ -121,14 +135,14 @@ void upwind_step(const MacGrid& g, const FieldLayout& l, const FaceVelocity& vel
         double net = 0;  // sum over axes of F_hi - F_lo
         const std::array<int, 3> c{i, j, k};
         for (int a = 0; a < g.dim; ++a) {
-          net += upwind_flux(g, l, vel, q, a, i, j, k);
+          net += upwind_flux(ctx, q, a, i, j, k);
           std::array<int, 3> lo = c;
           lo[a] -= 1;
           if (lo[a] < 0) {
             if (!g.periodic) continue;  // closed wall: no inflow
             lo[a] = l.size[a] - 1;
           }
-          net -= upwind_flux(g, l, vel, q, a, lo[0], lo[1], lo[2]);
+          net -= upwind_flux(ctx, q, a, lo[0], lo[1], lo[2]);
         }
         scratch[e] = float(q[e] - dt_h * net);
       }

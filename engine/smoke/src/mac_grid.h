@@ -123,14 +123,26 @@ struct FaceVelocityMut {
   operator FaceVelocity() const { return {u, v, w}; }
 };
 
-// Velocity (m/s) at a grid-unit position, interpolated from the faces.
+// Velocity (m/s) at grid-unit positions, interpolated from the faces. Holds the
+// face layouts so hot loops do not rebuild them per sample.
+struct VelocitySampler {
+  VelocitySampler(const MacGrid& g, const FaceVelocity& vel)
+      : dim(g.dim), vel(vel), lu(g.face_layout(0)), lv(g.face_layout(1)), lw(g.face_layout(2)) {}
+  std::array<double, 3> operator()(double px, double py, double pz) const {
+    std::array<double, 3> r{0, 0, 0};
+    r[0] = sample(vel.u, lu, px, py, pz);
+    r[1] = sample(vel.v, lv, px, py, pz);
+    if (dim == 3) r[2] = sample(vel.w, lw, px, py, pz);
+    return r;
+  }
+  int dim;
+  FaceVelocity vel;
+  FieldLayout lu, lv, lw;
+};
+
 inline std::array<double, 3> sample_velocity(const MacGrid& g, const FaceVelocity& vel, double px,
                                              double py, double pz) {
-  std::array<double, 3> r{0, 0, 0};
-  r[0] = sample(vel.u, g.face_layout(0), px, py, pz);
-  r[1] = sample(vel.v, g.face_layout(1), px, py, pz);
-  if (g.dim == 3) r[2] = sample(vel.w, g.face_layout(2), px, py, pz);
-  return r;
+  return VelocitySampler(g, vel)(px, py, pz);
 }
 
 // Divergence (1/s) of the face velocity into `div` (one value per cell).

@@ -38,7 +38,12 @@ TEST_P(UpwindConservation, TotalDensityConstantAndNonNegative) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Boundaries, UpwindConservation,
-                         ::testing::Values(Case{2, false}, Case{2, true}, Case{3, false}, Case{3, true}));
+                         ::testing::Values(Case{2, false}, Case{2, true}, Case{3, false}, Case{3, true}),
+                         [](const ::testing::TestParamInfo<Case>& info) {
+                           std::string name = std::to_string(info.param.dim);
+                           name += info.param.periodic ? "d_periodic" : "d_closed";
+                           return name;
+                         });
 
 // Without sub-stepping, a Courant number > 1 makes the explicit update negative:
 // this is what upwind_substeps guards against (and shows the test can fail).

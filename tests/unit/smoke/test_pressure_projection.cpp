@@ -13,11 +13,11 @@ struct Case {
   bool periodic;
 };
 
-class Projection : public ::testing::TestWithParam<Case> {};
+class ProjectionGrid : public ::testing::TestWithParam<Case> {};
 
 // After projection the divergence is gone (to the solver tolerance, limited by the
 // float face storage), and both solvers give the same velocity (second method).
-TEST_P(Projection, DivergenceFreeAndSolversAgree) {
+TEST_P(ProjectionGrid, DivergenceFreeAndSolversAgree) {
   const Case c = GetParam();
   const MacGrid g = make_grid(c.dim, c.n, c.periodic);
   const test::Velocity v0 = test::random_velocity(g, 17);
@@ -46,10 +46,18 @@ TEST_P(Projection, DivergenceFreeAndSolversAgree) {
   EXPECT_LT(d2, 1e-5 * v0.max_abs());
 }
 
-INSTANTIATE_TEST_SUITE_P(Grids, Projection,
+std::string case_name(const ::testing::TestParamInfo<Case>& info) {
+  const Case& c = info.param;
+  std::string s = std::to_string(c.n[0]) + "x" + std::to_string(c.n[1]);
+  if (c.dim == 3) s += "x" + std::to_string(c.n[2]);
+  return s + (c.periodic ? "_periodic" : "_closed");
+}
+
+INSTANTIATE_TEST_SUITE_P(Sizes, ProjectionGrid,
                          ::testing::Values(Case{2, {96, 64, 1}, false}, Case{2, {48, 40, 1}, true},
                                            Case{3, {24, 16, 20}, false}, Case{3, {16, 12, 8}, true},
-                                           Case{2, {37, 21, 1}, false}));
+                                           Case{2, {37, 21, 1}, false}),
+                         case_name);
 
 // A gradient field is removed completely; a divergence-free field is untouched.
 TEST(Projection, RemovesGradientKeepsSolenoidal) {
