@@ -36,32 +36,63 @@ inline Neighbours neighbours(const PoissonLevel& L, const double* x, int i, int 
   return {s, cnt};
 }
 
+// Calls fn(c, neighbour_sum, neighbour_count) for the cells i = i_start, i_start +
+// step, ... of row (j, k). Interior cells take a branch-free stencil; only rows and
+// columns touching the boundary go through the general (wall/wrap) path.
+template <class Fn>
+inline void for_row(const PoissonLevel& L, const double* x, int j, int k, int i_start, int step, Fn&& fn) {
+  const int nx = L.n[0], ny = L.n[1], nz = L.n[2];
+  const size_t sy = size_t(nx), sz = size_t(nx) * ny;
+  const size_t row = sy * j + sz * k;
+  const bool inner = j > 0 && j < ny - 1 && (L.dim == 2 || (k > 0 && k < nz - 1));
+  auto general = [&](int i) {
+    const Neighbours nb = neighbours(L, x, i, j, k);
+    fn(row + i, nb.sum, nb.count);
+  };
+  if (!inner || nx < 3) {
+    for (int i = i_start; i < nx; i += step) general(i);
+    return;
+  }
+  int i = i_start;
+  if (i == 0) {
+    general(0);
+    i += step;
+  }
+  const int count = 2 * L.dim;
+  if (L.dim == 2) {
+    for (; i < nx - 1; i += step) {
+      const size_t c = row + i;
+      fn(c, x[c - 1] + x[c + 1] + x[c - sy] + x[c + sy], count);
+    }
+  } else {
+    for (; i < nx - 1; i += step) {
+      const size_t c = row + i;
+      fn(c, x[c - 1] + x[c + 1] + x[c - sy] + x[c + sy] + x[c - sz] + x[c + sz], count);
+    }
+  }
+  if (i == nx - 1) general(i);
+}
+
 }  // namespace
 
 void poisson_apply(const PoissonLevel& L, const double* x, double* y) {
-  const int nx = L.n[0], ny = L.n[1], nz = L.n[2];
+  const int ny = L.n[1], nz = L.n[2];
 #pragma omp parallel for collapse(2) schedule(static) if (L.cells() >= kOmpMinCells)
   for (int k = 0; k < nz; ++k)
     for (int j = 0; j < ny; ++j)
-      for (int i = 0; i < nx; ++i) {
-        const size_t c = i + size_t(nx) * (j + size_t(ny) * k);
-        const Neighbours nb = neighbours(L, x, i, j, k);
-        y[c] = nb.count * x[c] - nb.sum;
-      }
+      for_row(L, x, j, k, 0, 1, [&](size_t c, double sum, int count) { y[c] = count * x[c] - sum; });
 }
 
 double poisson_residual(const PoissonLevel& L, const double* b, const double* x, double* r) {
-  const int nx = L.n[0], ny = L.n[1], nz = L.n[2];
+  const int ny = L.n[1], nz = L.n[2];
   double rr = 0;
 #pragma omp parallel for collapse(2) schedule(static) reduction(+ : rr) if (L.cells() >= kOmpMinCells)
   for (int k = 0; k < nz; ++k)
     for (int j = 0; j < ny; ++j)
-      for (int i = 0; i < nx; ++i) {
-        const size_t c = i + size_t(nx) * (j + size_t(ny) * k);
-        const Neighbours nb = neighbours(L, x, i, j, k);
-        r[c] = b[c] - (nb.count * x[c] - nb.sum);
+      for_row(L, x, j, k, 0, 1, [&](size_t c, double sum, int count) {
+        r[c] = b[c] - (count * x[c] - sum);
         rr += r[c] * r[c];
-      }
+      });
   return rr;
 }
 
@@ -76,28 +107,23 @@ void poisson_diagonal(const PoissonLevel& L, double* diag) {
 }
 
 void poisson_gauss_seidel_colour(const PoissonLevel& L, const double* b, double* x, int colour) {
-  const int nx = L.n[0], ny = L.n[1], nz = L.n[2];
+  const int ny = L.n[1], nz = L.n[2];
 #pragma omp parallel for collapse(2) schedule(static) if (L.cells() >= kOmpMinCells)
   for (int k = 0; k < nz; ++k)
     for (int j = 0; j < ny; ++j)
-      for (int i = ((j + k + colour) & 1); i < nx; i += 2) {
-        const size_t c = i + size_t(nx) * (j + size_t(ny) * k);
-        const Neighbours nb = neighbours(L, x, i, j, k);
-        x[c] = (b[c] + nb.sum) / nb.count;
-      }
+      for_row(L, x, j, k, (j + k + colour) & 1, 2,
+              [&](size_t c, double sum, int count) { x[c] = (b[c] + sum) / count; });
 }
 
 void poisson_jacobi_sweep(const PoissonLevel& L, const double* b, double* x, double* tmp,
                           double omega) {
-  const int nx = L.n[0], ny = L.n[1], nz = L.n[2];
+  const int ny = L.n[1], nz = L.n[2];
 #pragma omp parallel for collapse(2) schedule(static) if (L.cells() >= kOmpMinCells)
   for (int k = 0; k < nz; ++k)
     for (int j = 0; j < ny; ++j)
-      for (int i = 0; i < nx; ++i) {
-        const size_t c = i + size_t(nx) * (j + size_t(ny) * k);
-        const Neighbours nb = neighbours(L, x, i, j, k);
-        tmp[c] = x[c] + omega * (b[c] - (nb.count * x[c] - nb.sum)) / nb.count;
-      }
+      for_row(L, x, j, k, 0, 1, [&](size_t c, double sum, int count) {
+        tmp[c] = x[c] + omega * (b[c] - (count * x[c] - sum)) / count;
+      });
   const size_t n = L.cells();
 #pragma omp parallel for schedule(static) if (n >= kOmpMinCells)
   for (size_t c = 0; c < n; ++c) x[c] = tmp[c];
