@@ -20,6 +20,7 @@ void add_validate_command(CLI::App& app, Action& action);
 void add_info_command(CLI::App& app, Action& action);
 void add_export_command(CLI::App& app, Action& action);
 void add_plugins_command(CLI::App& app, Action& action);
+void add_sweep_command(CLI::App& app, Action& action);
 
 // Loads the default plugin folders, then each of `extra_folders`.
 void load_plugins(PluginHost& host, const std::vector<std::filesystem::path>& extra_folders);

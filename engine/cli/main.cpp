@@ -22,6 +22,7 @@ int main(int argc, char** argv) {
   pliant::cli::add_info_command(app, action);
   pliant::cli::add_export_command(app, action);
   pliant::cli::add_plugins_command(app, action);
+  pliant::cli::add_sweep_command(app, action);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

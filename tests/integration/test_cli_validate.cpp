@@ -96,7 +96,7 @@ TEST_F(Validate, RunRefusesInvalidSceneWithExit2AndJsonError) {
 }
 
 TEST_F(Validate, HelpOnEverySubcommandAndVersion) {
-  for (const char* sub : {"run", "validate", "info", "export", "plugins"}) {
+  for (const char* sub : {"run", "validate", "info", "export", "plugins", "sweep"}) {
     const ProcessResult r = pliant({sub, "--help"});
     EXPECT_EQ(r.exit_code, 0) << sub;
     EXPECT_TRUE(contains(r.out, "Usage:")) << sub << ": " << r.out;
