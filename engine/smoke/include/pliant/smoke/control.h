@@ -1,0 +1,118 @@
+// Keyframe control of smoke (Pan & Manocha, "Efficient solver for spacetime
+// control of smoke", ACM TOG 2017; ALGORITHMS.md section 2). Public entry points.
+//
+// Model (per frame i = 0..T-1, grid units as in smoke.h):
+//   u_{i+1}   = P( A_sl(u_i, u_i) + dt f_i )     velocity: self-advection, force, projection
+//   rho_{i+1} = A_up(rho_i, u_{i+1})             density: conservative upwind (Eq. 3.2)
+// Objective:
+//   E(f) = sum_k w_k ||rho_{t_k} - rho*_k||^2 + r sum_i ||f_i||^2
+// (plain sums over cells / faces, no cell-volume factor, so r means the same at
+// every resolution only up to a factor h^dim; scenes state r for their grid).
+// Two solvers minimise E: ADMM with a spacetime multigrid (the paper's method,
+// `method: "admm"`) and L-BFGS with discrete-adjoint gradients (the baseline,
+// `method: "lbfgs"`). Forces found by either are checked by control_evaluate,
+// which re-simulates them with the plain forward model above.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "pliant/core/progress.h"
+#include "pliant/core/scene.h"
+#include "pliant/smoke/smoke.h"
+
+namespace pliant::smoke {
+
+// A face-velocity-shaped array per frame: u faces, then v faces, then w faces
+// (counts as MacGrid::face_count), concatenated. Used for forces and velocities.
+using FaceSeries = std::vector<std::vector<float>>;
+
+struct Keyframe {
+  int frame = 0;                 // 1..T
+  double weight = 1.0;
+  std::vector<float> density;    // target, one value per cell
+  std::string source;            // what it came from ("text 'F'", "mask a.png", ...) for messages
+};
+
+// Resolution of a preview (a coarser level of the spacetime multigrid).
+struct GridDims {
+  int dim = 2;
+  std::array<int, 3> n{1, 1, 1};
+};
+
+enum class ControlMethod { Admm, Lbfgs };
+
+struct ControlModel {
+  SmokeModel sim;                      // grid, boundary, dt_s (one frame), frames = T
+  std::vector<float> initial_density;  // rho_0, one per cell
+  std::vector<Keyframe> keyframes;     // sorted by frame
+  std::vector<uint8_t> solid;          // obstacle cells (1 = solid); empty = none
+  double r = 1e3;                      // ghost-force regularisation
+  ControlMethod method = ControlMethod::Admm;
+  int max_iterations = 50;             // ADMM outer loops or L-BFGS iterations
+  double tolerance = 1e-4;             // relative stopping tolerance
+  // ADMM specifics (ignored by L-BFGS).
+  double admm_penalty = 1.0;           // beta of the augmented Lagrangian
+  int ao_iterations = 10;              // fixed-point iterations per AO solve
+  int nso_vcycles = 4;                 // FAS V-cycles per NSO solve
+  bool progressive_preview = true;     // write coarse-level previews first
+};
+
+// Parses the scene's "control" section (kind "smoke"); keyframe targets come from
+// engine/geom (masks, images, text, meshes). Throws InputError naming the field
+// (frame past T, empty mask, unreadable image, ...).
+ControlModel control_compile(const Scene& scene);
+
+struct Trajectory {
+  std::vector<std::vector<float>> density;  // T+1 frames, cells each
+  FaceSeries velocity;                      // T+1 frames
+};
+// Plain forward simulation of the control model under forces f (T entries).
+Trajectory control_forward(const ControlModel& m, const FaceSeries& f);
+// E(f) and, when grad != nullptr, dE/df by the discrete adjoint of control_forward.
+double control_objective(const ControlModel& m, const FaceSeries& f, FaceSeries* grad);
+
+struct KeyframeMetrics {
+  int frame = 0;
+  double relative_l2 = 0;  // ||rho - rho*|| / ||rho*||
+  double iou = 0;          // of rho and rho* thresholded at half of rho*'s max
+};
+struct ControlMetrics {
+  double objective = 0, control_energy = 0, max_divergence = 0;
+  std::vector<KeyframeMetrics> keyframes;
+  double iou_min = 0;
+};
+// Re-simulates f with control_forward and measures it against the keyframes.
+ControlMetrics control_evaluate(const ControlModel& m, const FaceSeries& f);
+
+// The optimisation state: plain, copyable, checkpointed once per outer
+// iteration so `pliant run --resume` continues a killed run.
+struct ControlState {
+  int iteration = 0;
+  FaceSeries force;                  // current forces (T entries)
+  FaceSeries velocity, split, dual;  // ADMM: AO velocities u, NSO velocities z, scaled dual
+  std::vector<double> objective_history;
+  std::vector<double> primal_residual_history, dual_residual_history;
+  double wall_s = 0;
+};
+ControlState control_init(const ControlModel& m);  // zero forces, rest fluid
+std::vector<uint8_t> control_state_serialize(const ControlState& s);
+ControlState control_state_deserialize(const std::vector<uint8_t>& bytes);  // throws on bad data
+
+// Called after every outer iteration with the state (to checkpoint and report);
+// a coarse-level preview of the density (T+1 frames at reduced resolution, with
+// its grid) may be passed during progressive preview.
+struct ControlCallbacks {
+  std::function<void(const ControlState&)> on_iteration;
+  std::function<void(const GridDims&, const std::vector<std::vector<float>>&)> on_preview;
+};
+
+// Both run until tolerance, max_iterations or cancellation (progress.check_cancelled()).
+void control_solve_lbfgs(const ControlModel& m, ControlState& s, Progress& progress,
+                         const ControlCallbacks& cb = {});
+void control_solve_admm(const ControlModel& m, ControlState& s, Progress& progress,
+                        const ControlCallbacks& cb = {});
+
+}  // namespace pliant::smoke
