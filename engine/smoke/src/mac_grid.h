@@ -81,8 +81,11 @@ inline AxisWeights axis_weights(double x, int size, double offset, bool periodic
   double g = x - offset;
   if (periodic) {
     const double fl = std::floor(g);
-    int i0 = int(fl) % size;
-    if (i0 < 0) i0 += size;
+    int i0 = int(fl);
+    if (i0 < 0 || i0 >= size) {  // rare: only points that left the periodic box
+      i0 %= size;
+      if (i0 < 0) i0 += size;
+    }
     const int i1 = (i0 + 1 == size) ? 0 : i0 + 1;
     return {i0, i1, g - fl};
   }

@@ -48,9 +48,13 @@ TEST_P(ProjectionGrid, DivergenceFreeAndSolversAgree) {
 
 std::string case_name(const ::testing::TestParamInfo<Case>& info) {
   const Case& c = info.param;
-  std::string s = std::to_string(c.n[0]) + "x" + std::to_string(c.n[1]);
-  if (c.dim == 3) s += "x" + std::to_string(c.n[2]);
-  return s + (c.periodic ? "_periodic" : "_closed");
+  std::string s = std::to_string(c.n[0]);
+  for (int a = 1; a < c.dim; ++a) {
+    s += 'x';
+    s += std::to_string(c.n[a]);
+  }
+  s += c.periodic ? "_periodic" : "_closed";
+  return s;
 }
 
 INSTANTIATE_TEST_SUITE_P(Sizes, ProjectionGrid,
