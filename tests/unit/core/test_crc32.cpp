@@ -21,6 +21,27 @@ TEST(Crc32, ChainsLikeZlib) {
   EXPECT_EQ(crc_of(b, crc_of(a)), crc_of(a + b));
 }
 
+// Bit-at-a-time definition of the same CRC: the slow second method.
+uint32_t crc_bitwise(const std::string& s) {
+  uint32_t c = 0xFFFFFFFFu;
+  for (unsigned char b : s) {
+    c ^= b;
+    for (int k = 0; k < 8; ++k) c = (c >> 1) ^ (0xEDB88320u & (0u - (c & 1u)));
+  }
+  return ~c;
+}
+
+TEST(Crc32, MatchesBitwiseDefinitionForEveryLengthAndAlignment) {
+  std::string s;
+  uint32_t x = 12345;
+  for (int i = 0; i < 300; ++i) s += static_cast<char>((x = x * 1103515245u + 12345u) >> 24);
+  for (size_t start = 0; start < 9; ++start)
+    for (size_t len = 0; start + len <= s.size(); len += 7) {
+      const std::string part = s.substr(start, len);
+      ASSERT_EQ(crc_of(part), crc_bitwise(part)) << start << "+" << len;
+    }
+}
+
 TEST(Crc32, DetectsEverySingleBitFlip) {
   std::string s = "frames.bin payload";
   const uint32_t good = crc_of(s);
