@@ -10,9 +10,10 @@ namespace {
 
 using Crash = CliTest;
 
-// Long enough (64x64, 400 frames) that the job is surely mid-run when the
-// test has seen a few frame events; the test kills it right then.
-constexpr int kLongFrames = 400;
+// Long enough (64x64, 2000 frames: ~5 s to finish in a Release build) that
+// the job is surely mid-run when the test has seen a few frame events, even
+// on a loaded machine; the test kills it right then, so it stays fast.
+constexpr int kLongFrames = 2000;
 constexpr int kFramesBeforeKill = 3;
 
 // Starts `pliant run` and returns once `count` frame events have arrived.
