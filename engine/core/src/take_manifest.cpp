@@ -25,7 +25,12 @@ nlohmann::json Manifest::to_json() const {
 Manifest Manifest::from_json(const nlohmann::json& j) {
   JsonReader r(j, "take.json");
   Manifest m;
-  m.schema = static_cast<int>(r.required_integer("schema", 1, 1));
+  if (!r.has("schema")) r.fail("schema", "missing required field; expected take schema version 1");
+  r.accept("schema");
+  if (j.at("schema") != 1)
+    r.fail("schema", "expected take schema version 1, got " +
+                         j.at("schema").dump(-1, ' ', false, nlohmann::json::error_handler_t::replace));
+  m.schema = 1;
   m.kind = r.string("kind", "");
   m.scene_file = r.string("scene_file", "");
   if (r.has("scene")) m.scene = j.at("scene");

@@ -1,6 +1,7 @@
 // Encoding and decoding of frames.bin records (byte layout in take.h).
 // Decoding treats its input as hostile: every length is checked against the
 // bytes that remain before anything is allocated (the fuzzers depend on it).
+#include <algorithm>
 #include <bit>
 #include <cstring>
 #include <limits>
@@ -103,7 +104,7 @@ bool decode_payload(const uint8_t* p, size_t size, std::vector<Field>* fields) {
   if (count > remaining() / 4) return false;
   if (fields) {
     fields->clear();
-    fields->reserve(count);
+    fields->reserve(std::min<uint32_t>(count, 64));  // grows with real fields only
   }
   for (uint32_t i = 0; i < count; ++i) {
     if (remaining() < 2) return false;

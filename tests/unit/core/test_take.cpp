@@ -177,6 +177,13 @@ TEST(Take, ManifestErrorsNameTheFile) {
   }
   write_text(dir / "take.json", "{");
   EXPECT_THROW(TakeReader{dir.path()}, InputError);
+  write_text(dir / "take.json", R"({"schema": 2})");
+  try {
+    TakeReader r(dir.path());
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), (dir / "take.json").string() + ": /schema: expected take schema version 1, got 2");
+  }
 }
 
 TEST(Take, ReaderFollowsAGrowingFile) {
