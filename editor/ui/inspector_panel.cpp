@@ -36,7 +36,7 @@ void draw_resolution(Document& doc, int dim) {
     uint64_t key = ImGui::GetID("resolution");
     doc.set("/grid/resolution", json(std::vector<int>(n, n + dim)), key);
   }
-  ui_mark("/grid/resolution");
+  ui_mark_field("/grid/resolution");
 }
 
 void draw_sources(Document& doc, int dim) {
@@ -167,7 +167,7 @@ void draw_inspector_panel(App& app, const PanelRect& r) {
   } else {
     ImGui::TextColored(ImVec4(0.5f, 0.85f, 0.5f, 1), "scene is valid");
   }
-  ImGui::PushItemWidth(-150);
+  ImGui::PushItemWidth(-140);
   json_text(doc, "name", "/name");
   const json& s = doc.scene();
   std::string kind = s.is_object() ? s.value("kind", std::string()) : std::string();

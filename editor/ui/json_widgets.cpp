@@ -35,7 +35,7 @@ bool json_double(Document& doc, const char* label, const std::string& ptr, doubl
   bool changed = ImGui::DragScalar(label, ImGuiDataType_Double, &v, speed, lo < hi ? &lo : nullptr,
                                    lo < hi ? &hi : nullptr, fmt);
   if (changed) commit(doc, ptr, v, label);
-  ui_mark(ptr);
+  ui_mark_field(ptr);
   return changed;
 }
 
@@ -44,7 +44,7 @@ bool json_int(Document& doc, const char* label, const std::string& ptr, int def,
   int v = j && j->is_number() ? j->get<int>() : def;
   bool changed = ImGui::DragInt(label, &v, 0.25f, lo, hi);
   if (changed) commit(doc, ptr, v, label);
-  ui_mark(ptr);
+  ui_mark_field(ptr);
   return changed;
 }
 
@@ -62,7 +62,7 @@ bool json_choice(Document& doc, const char* label, const std::string& ptr, const
     }
     ImGui::EndCombo();
   }
-  ui_mark(ptr);
+  ui_mark_field(ptr);
   return changed;
 }
 
@@ -74,7 +74,7 @@ bool json_vec(Document& doc, const char* label, const std::string& ptr, int dim,
       if ((*j)[i].is_number()) v[i] = (*j)[i].get<double>();
   bool changed = ImGui::DragScalarN(label, ImGuiDataType_Double, v, dim, speed, nullptr, nullptr, "%.3f");
   if (changed) commit(doc, ptr, json(std::vector<double>(v, v + dim)), label);
-  ui_mark(ptr);
+  ui_mark_field(ptr);
   return changed;
 }
 
@@ -84,7 +84,7 @@ bool json_text(Document& doc, const char* label, const std::string& ptr) {
   std::snprintf(buf, sizeof buf, "%s", j && j->is_string() ? j->get<std::string>().c_str() : "");
   bool changed = ImGui::InputText(label, buf, sizeof buf);
   if (changed) commit(doc, ptr, std::string(buf), label);
-  ui_mark(ptr);
+  ui_mark_field(ptr);
   return changed;
 }
 
@@ -93,7 +93,7 @@ bool json_bool(Document& doc, const char* label, const std::string& ptr, bool de
   bool v = j && j->is_boolean() ? j->get<bool>() : def;
   bool changed = ImGui::Checkbox(label, &v);
   if (changed) doc.set(ptr, v);
-  ui_mark(ptr);
+  ui_mark_field(ptr);
   return changed;
 }
 

@@ -26,8 +26,8 @@ void draw_log_panel(App& app, const PanelRect& r) {
   ImGui::SameLine();
   ImGui::Checkbox("auto-scroll", &view.auto_scroll);
   ImGui::SameLine();
-  ImGui::SetNextItemWidth(100);
-  ImGui::Combo("level", &view.min_level, "debug\0info\0warning\0error\0");
+  ImGui::SetNextItemWidth(80);
+  ImGui::Combo("##level", &view.min_level, "debug\0info\0warning\0error\0");
   ImGui::Separator();
   ImGui::BeginChild("log_lines", ImVec2(0, 0), false, ImGuiWindowFlags_HorizontalScrollbar);
   for (const auto& l : app.log.lines()) {

@@ -14,6 +14,7 @@ void TakeView::open(const fs::path& dir) {
   playing = false;
   user_scrubbed = false;
   play_accum_ = 0;
+  was_running_ = false;
 }
 
 void TakeView::close() {
@@ -66,9 +67,10 @@ void TakeView::update(double dt_s) {
         break;
       }
     }
-  } else if (!user_scrubbed && status() == "running") {
-    frame = n - 1;
+  } else if (!user_scrubbed && (status() == "running" || was_running_)) {
+    frame = n - 1;  // follow the newest frame, once more when the job ends
   }
+  was_running_ = status() == "running";
   frame = std::clamp(frame, 0, n - 1);
 }
 

@@ -40,6 +40,7 @@ class TakeView {
   std::unique_ptr<TakeReader> reader_;
   std::string error_;
   double play_accum_ = 0;
+  bool was_running_ = false;
 };
 
 }  // namespace pliant::editor

@@ -26,4 +26,12 @@ void ui_mark(const std::string& label) {
   g_marks->add(label, UiRect{a.x, a.y, b.x, b.y});
 }
 
+void ui_mark_field(const std::string& label) {
+  if (!g_marks) return;
+  ImVec2 a = ImGui::GetItemRectMin(), b = ImGui::GetItemRectMax();
+  float w = ImGui::CalcItemWidth();
+  if (w > 0 && a.x + w < b.x) b.x = a.x + w;
+  g_marks->add(label, UiRect{a.x, a.y, b.x, b.y});
+}
+
 }  // namespace pliant::editor

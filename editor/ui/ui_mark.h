@@ -29,5 +29,8 @@ class UiMarks {
 void set_ui_marks(UiMarks* marks);
 // Records the last ImGui item's rectangle under `label`.
 void ui_mark(const std::string& label);
+// For labelled fields (drags, inputs, combos): only the input frame, whose
+// width is the current item width, so a click lands on the field, not its label.
+void ui_mark_field(const std::string& label);
 
 }  // namespace pliant::editor

@@ -28,6 +28,8 @@
 #include <string>
 #include <vector>
 
+#include "ui/ui_mark.h"
+
 namespace pliant::editor {
 
 class App;
@@ -86,6 +88,8 @@ class ScriptRunner {
   // Drag/click plans.
   float x0_ = 0, y0_ = 0, x1_ = 0, y1_ = 0;
   int frames_ = 0, button_ = 0, y_base_ = 0;  // y_base_: frame the item was found
+  UiRect last_;  // item rectangle seen on the previous frame
+  bool have_last_ = false;
   std::string pending_shot_;
   bool pending_viewport_ = false;
   std::vector<std::string> shots_;

@@ -5,6 +5,7 @@
 #include <cctype>
 #include <cmath>
 #include <sstream>
+#include <thread>
 
 #include "render/screenshot.h"
 #include "ui/app.h"
@@ -19,6 +20,9 @@ namespace {
 enum class Step { Wait, Done, DoneInstant };
 
 float num(const std::string& s) { return std::strtof(s.c_str(), nullptr); }
+
+// Headless frames do not wait for vsync: while a job works, leave it the CPU.
+void yield_cpu() { std::this_thread::sleep_for(std::chrono::milliseconds(15)); }
 
 // "CTRL+SHIFT+Z" -> modifiers + key index; false if the key is unknown.
 bool parse_key(const std::string& spec, InjectedInput& in, int* key) {
@@ -129,8 +133,20 @@ bool ScriptRunner::run_command(App& app, const ScriptCommand& c) {
     return true;
   };
   // Finds a marked item, waiting a few frames for it to appear.
+  // The rectangle must be the same on two frames in a row: windows that size
+  // themselves (popups) settle over a couple of frames.
   auto locate = [&](const std::string& label, const UiRect** r) {
     *r = app.marks.find(label);
+    if (*r) {
+      const UiRect& q = **r;
+      bool stable = phase_ > 0 && have_last_ && q.x0 == last_.x0 && q.y0 == last_.y0 &&
+                    q.x1 == last_.x1 && q.y1 == last_.y1;
+      last_ = q;
+      have_last_ = true;
+      if (!stable) *r = nullptr;
+    } else {
+      have_last_ = false;
+    }
     if (!*r && phase_ > 30) {
       std::string known;
       for (const auto& [k, v] : app.marks.last_frame()) known += (known.empty() ? "" : ", ") + k;
@@ -200,6 +216,7 @@ bool ScriptRunner::run_command(App& app, const ScriptCommand& c) {
     }
     JobStatus st = j->snapshot();
     if (st.ended() && st.exit_code >= 0) return true;  // next frame: the app has logged it
+    yield_cpu();
     if (elapsed() > timeout)
       fail(c, "job still " + std::string(job_state_name(st.state)) + " after " +
                   std::to_string(timeout) + " s");
@@ -209,6 +226,7 @@ bool ScriptRunner::run_command(App& app, const ScriptCommand& c) {
     int n = static_cast<int>(num(a[0]));
     double timeout = a.size() > 1 ? num(a[1]) : 60;
     if (app.take.frame_count() >= n) return true;
+    yield_cpu();
     if (elapsed() > timeout)
       fail(c, "the take has " + std::to_string(app.take.frame_count()) + " frames, not " + a[0] +
                   ", after " + std::to_string(timeout) + " s");

@@ -1,0 +1,194 @@
+// Document edits through the UI (mock platform: ImGui runs, no pixels):
+// undo/redo of an inspector drag, save + reopen, crash recovery, bad drops.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <fstream>
+#include <thread>
+
+#include "doc/autosave.h"
+#include "editor_harness.h"
+#include "pliant/core/scene.h"
+
+namespace pliant::editor::test {
+
+using nlohmann::json;
+
+TEST(EditorUi, InspectorDragIsOneUndoStepAndCtrlZRestoresExactJson) {
+  EditorHarness h("undo");
+  fs::path scene = h.copy_scene("small_plume.json");
+  h.start(scene, /*gl=*/false);
+  const json original = h.app->doc.scene();
+  ASSERT_EQ(h.run("wait 2\ndrag_item /buoyancy_m_per_s2 60 0 12\nwait 2\n"), "");
+  const json edited = h.app->doc.scene();
+  ASSERT_NE(edited, original);
+  EXPECT_GT(edited["buoyancy_m_per_s2"].get<double>(), 2.0);  // dragged right: larger
+  EXPECT_EQ(h.app->doc.history().size(), 1u) << "a drag must merge into one undo step";
+  EXPECT_TRUE(h.app->doc.dirty());
+  // Everything but the dragged value is untouched.
+  json a = edited, b = original;
+  a.erase("buoyancy_m_per_s2");
+  b.erase("buoyancy_m_per_s2");
+  EXPECT_EQ(a, b);
+
+  ASSERT_EQ(h.run("key CTRL+Z\nwait 1\n"), "");
+  EXPECT_EQ(h.app->doc.scene(), original);
+  EXPECT_FALSE(h.app->doc.dirty());
+  ASSERT_EQ(h.run("key CTRL+SHIFT+Z\nwait 1\n"), "");
+  EXPECT_EQ(h.app->doc.scene(), edited);
+  ASSERT_EQ(h.run("key CTRL+Z\nwait 1\nkey CTRL+Y\nwait 1\n"), "");
+  EXPECT_EQ(h.app->doc.scene(), edited);
+  // The Edit menu's Undo does the same.
+  ASSERT_EQ(h.run("click_item Edit\nwait 2\nclick_item Undo\nwait 1\n"), "");
+  EXPECT_EQ(h.app->doc.scene(), original);
+}
+
+TEST(EditorUi, SaveAsAndReopenGiveIdenticalJson) {
+  EditorHarness h("save");
+  fs::path scene = h.copy_scene("small_plume.json");
+  h.start(scene, false);
+  fs::path saved = h.dir / "saved.json";
+  ASSERT_EQ(h.run("wait 2\n"
+                  "drag_item /time/dt_s 30 0 6\n"
+                  "drag_item /grid/cell_size_m 25 0 6\n"
+                  "click_item \"Add source\"\n"
+                  "wait 2\n"),
+            "");
+  const json edited = h.app->doc.scene();
+  ASSERT_EQ(edited["sources"].size(), 2u);
+  ASSERT_EQ(h.run("key CTRL+SHIFT+S\nwait 3\nkey CTRL+A\ntype $TMP/saved.json\nkey ENTER\nwait 2\n"
+                  "expect Saved\n"),
+            "");
+  ASSERT_TRUE(fs::exists(saved));
+  EXPECT_FALSE(h.app->doc.dirty());
+  EXPECT_EQ(h.app->doc.path(), saved);
+  // Reopen: first something else, then the saved file through Ctrl+O.
+  h.app->cmd_open(scene);
+  ASSERT_NE(h.app->doc.scene(), edited);
+  ASSERT_EQ(h.run("key CTRL+O\nwait 3\ntype $TMP/saved.json\nkey ENTER\nwait 2\nexpect Opened\n"), "");
+  EXPECT_EQ(h.app->doc.path(), saved);
+  EXPECT_EQ(h.app->doc.scene(), edited);
+  EXPECT_EQ(load_scene(saved).doc, edited);
+  // The saved file went into the recent list.
+  ASSERT_FALSE(h.app->recent.items().empty());
+  EXPECT_EQ(h.app->recent.items().front(), saved.string());
+}
+
+int reaped_child_pid() {
+  pid_t p = ::fork();
+  if (p == 0) ::_exit(0);
+  int st;
+  ::waitpid(p, &st, 0);
+  return p;
+}
+
+// A crashed session leaves its lock (dead pid) and an autosave newer than the file.
+void fake_crashed_session(const fs::path& cfg, const fs::path& scene, const json& unsaved) {
+  int pid = reaped_child_pid();
+  fs::create_directories(cfg / "sessions");
+  fs::create_directories(cfg / "autosave");
+  fs::last_write_time(scene, fs::file_time_type::clock::now() - std::chrono::hours(1));
+  std::ofstream(cfg / "sessions" / (std::to_string(pid) + ".lock")) << pid << "\n";
+  save_json_atomic(cfg / "autosave" / (std::to_string(pid) + ".json"),
+                   json{{"file", scene.string()}, {"scene", unsaved}, {"saved_unix_s", 0}});
+}
+
+TEST(EditorUi, RecoveryPromptRecoverRestoresTheUnsavedEdit) {
+  EditorHarness h("recover");
+  fs::path scene = h.copy_scene("small_plume.json");
+  json unsaved = load_scene(scene).doc;
+  unsaved["buoyancy_m_per_s2"] = 3.25;
+  unsaved["name"] = "edited before the crash";
+  fake_crashed_session(h.dir / "config", scene, unsaved);
+  h.start(scene, false);
+  ASSERT_TRUE(h.app->recovery.has_value());
+  EXPECT_EQ(h.app->doc.scene()["buoyancy_m_per_s2"], 2.0);
+  ASSERT_EQ(h.run("wait 2\nclick_item recovery_prompt\nclick_item Recover\nwait 2\n"
+                  "expect_json /buoyancy_m_per_s2 3.25\nexpect Recovered\n"),
+            "");
+  EXPECT_EQ(h.app->doc.scene(), unsaved);
+  EXPECT_EQ(h.app->doc.path(), scene);
+  EXPECT_TRUE(h.app->doc.dirty());  // recovered work is not on disk yet
+  EXPECT_FALSE(h.app->recovery.has_value());
+  // The dead session's files are gone: no second prompt next time.
+  Autosave probe(h.dir / "config", 30);
+  EXPECT_FALSE(probe.find_recovery().has_value());
+}
+
+TEST(EditorUi, RecoveryPromptDiscardKeepsTheFile) {
+  EditorHarness h("discard");
+  fs::path scene = h.copy_scene("small_plume.json");
+  json unsaved = load_scene(scene).doc;
+  unsaved["buoyancy_m_per_s2"] = 7.0;
+  fake_crashed_session(h.dir / "config", scene, unsaved);
+  h.start(scene, false);
+  ASSERT_TRUE(h.app->recovery.has_value());
+  ASSERT_EQ(h.run("wait 2\nclick_item Discard\nwait 2\n"), "");
+  EXPECT_EQ(h.app->doc.scene(), load_scene(scene).doc);
+  EXPECT_FALSE(h.app->doc.dirty());
+  Autosave probe(h.dir / "config", 30);
+  EXPECT_FALSE(probe.find_recovery().has_value());
+}
+
+TEST(EditorUi, AutosaveWritesTheDirtyDocumentAndCleanExitRemovesIt) {
+  EditorHarness h("autosave_app");
+  fs::path scene = h.copy_scene("small_plume.json");
+  h.start(scene, false, 1280, 720, /*autosave_s=*/0.05);
+  fs::path as = h.dir / "config" / "autosave" / (std::to_string(::getpid()) + ".json");
+  fs::path lock = h.dir / "config" / "sessions" / (std::to_string(::getpid()) + ".lock");
+  EXPECT_TRUE(fs::exists(lock));
+  ASSERT_EQ(h.run("wait 2\ndrag_item /buoyancy_m_per_s2 40 0 6\nwait 2\n"), "");
+  // Frames are fast: give the 0.05 s interval real time to pass.
+  for (int i = 0; i < 50 && !fs::exists(as); ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    h.app->frame();
+  }
+  ASSERT_TRUE(fs::exists(as));
+  std::ifstream in(as);
+  json j = json::parse(in);
+  EXPECT_EQ(j["scene"], h.app->doc.scene());
+  h.app->shutdown(true);
+  EXPECT_FALSE(fs::exists(as));
+  EXPECT_FALSE(fs::exists(lock));
+}
+
+TEST(EditorUi, DroppedInvalidSceneShowsTheErrorAndKeepsTheDocument) {
+  EditorHarness h("drop");
+  fs::path scene = h.copy_scene("small_plume.json");
+  h.start(scene, false);
+  ASSERT_EQ(h.run("wait 2\ndrag_item /buoyancy_m_per_s2 30 0 6\nwait 1\n"), "");
+  const json before = h.app->doc.scene();
+  std::ofstream(h.dir / "broken.json") << "{\n  \"pliant\": 1,\n  \"kind\": \"smoke\",\n  oops\n}\n";
+  std::ofstream(h.dir / "wrong_kind.json") << R"({"pliant": 1, "kind": "teapot", "name": "x"})";
+  ASSERT_EQ(h.run("drop $TMP/broken.json\nwait 2\nexpect broken.json\nexpect \"cannot open scene\"\n"), "");
+  EXPECT_EQ(h.app->doc.scene(), before);
+  EXPECT_EQ(h.app->doc.path(), scene);
+  EXPECT_TRUE(h.app->doc.dirty());
+  EXPECT_NE(h.app->status().find("broken.json"), std::string::npos) << h.app->status();
+  ASSERT_EQ(h.run("drop $TMP/wrong_kind.json\nwait 2\nexpect wrong_kind.json\n"), "");
+  EXPECT_EQ(h.app->doc.scene(), before);
+  // A valid scene dropped afterwards does open.
+  fs::path other = h.dir / "other.json";
+  json o = before;
+  o["name"] = "other";
+  save_json_atomic(other, o);
+  ASSERT_EQ(h.run("drop $TMP/other.json\nwait 2\n"), "");
+  EXPECT_EQ(h.app->doc.path(), other);
+  EXPECT_EQ(h.app->doc.scene()["name"], "other");
+}
+
+TEST(EditorUi, ScriptErrorsNameTheLineAndItem) {
+  EditorHarness h("script_err");
+  fs::path scene = h.copy_scene("small_plume.json");
+  h.start(scene, false);
+  std::string err = h.run("wait 1\nclick_item NoSuchButton\n", "missing.txt");
+  EXPECT_NE(err.find("missing.txt:2: click_item: no item 'NoSuchButton'"), std::string::npos) << err;
+  err = h.run("wait 1\n\nexpect_json /buoyancy_m_per_s2 99\n", "json.txt");
+  EXPECT_NE(err.find("json.txt:3: expect_json: /buoyancy_m_per_s2 is 2.0, expected 99"), std::string::npos)
+      << err;
+  err = h.run("key CTRL+NOPE\n", "key.txt");
+  EXPECT_NE(err.find("key.txt:1: key: unknown key"), std::string::npos) << err;
+}
+
+}  // namespace pliant::editor::test
