@@ -1,11 +1,26 @@
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cmath>
+#include <cstdlib>
+#include <new>
 
 #include "pliant/smoke/smoke.h"
 #include "forces.h"
 #include "smoke_test_util.h"
 #include "smoke_workspace.h"
+
+// Counts heap allocations while `g_count_allocations` is set (this test binary
+// replaces the global operator new; everything else behaves as usual).
+static std::atomic<bool> g_count_allocations{false};
+static std::atomic<long> g_allocations{0};
+void* operator new(std::size_t n) {
+  if (g_count_allocations.load(std::memory_order_relaxed)) g_allocations.fetch_add(1);
+  if (void* p = std::malloc(n ? n : 1)) return p;
+  throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
 
 namespace pliant::smoke {
 namespace {
@@ -130,6 +145,31 @@ TEST(SmokeStep, CopiedStateStepsIdentically) {
   EXPECT_EQ(s.u, copy.u);
   EXPECT_EQ(s.density, copy.density);
   EXPECT_GT(test::sum(s.v), 0.0);  // periodic: buoyancy adds net upward momentum
+}
+
+// Scratch lives in a per-thread workspace built on the first step: later steps of
+// the same grid allocate nothing (semi-Lagrangian and upwind, both solvers).
+TEST(SmokeStep, NoAllocationAfterTheFirstStep) {
+  for (Advection adv : {Advection::SemiLagrangian, Advection::Upwind})
+    for (PressureSolver ps : {PressureSolver::MultigridPCG, PressureSolver::JacobiPCG}) {
+      SmokeModel m = small_model(3, Boundary::Closed);
+      m.advection = adv;
+      m.pressure_solver = ps;
+      m.buoyancy_m_per_s2 = 1.0;
+      Source src;
+      src.shape.center_m = {0.12, 0.1, 0.1};
+      src.shape.radius_m = 0.05;
+      m.sources = {src};
+      SmokeState s = smoke_init(m);
+      StepStats st;
+      smoke_step(m, s, &st);
+      g_allocations = 0;
+      g_count_allocations = true;
+      for (int f = 0; f < 3; ++f) smoke_step(m, s, &st);
+      g_count_allocations = false;
+      EXPECT_EQ(g_allocations.load(), 0);
+      EXPECT_GT(st.total_density, 0.0);
+    }
 }
 
 }  // namespace
