@@ -103,9 +103,10 @@ class EglPlatform final : public Platform {
       eglDestroyContext(dpy_, ctx_);
       ctx_ = EGL_NO_CONTEXT;
     }
-    // EGL hands every caller the same display for the same device: terminate it
-    // only when the last platform using it goes, or the others lose their contexts.
-    if (--live_displays() == 0) eglTerminate(dpy_);
+    // No eglTerminate: EGL hands every caller the same display for a device, so
+    // terminating would break other live platforms; and keeping the driver loaded
+    // makes the next init cheap (the process exit releases it).
+    eglReleaseThread();
     dpy_ = EGL_NO_DISPLAY;
   }
 
@@ -180,13 +181,7 @@ class EglPlatform final : public Platform {
     EGLint major = 0, minor = 0;
     if (!eglInitialize(d, &major, &minor)) return false;
     dpy_ = d;
-    ++live_displays();
     return true;
-  }
-
-  static int& live_displays() {
-    static int n = 0;
-    return n;
   }
 
   bool create_context(std::string* why) {
