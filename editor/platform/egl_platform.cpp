@@ -2,11 +2,13 @@
 // EGL_EXT_platform_device software device (Mesa llvmpipe/swrast), falls back
 // to EGL_PLATFORM_SURFACELESS_MESA. The context has no surface; an FBO with
 // RGBA8 colour and depth24/stencil8 stands in for the default framebuffer.
+// PLIANT_EGL_PLATFORM=surfaceless in the environment forces the fallback.
 #include <EGL/egl.h>
 #include <EGL/eglext.h>
 #include <GL/gl.h>
 #include <GL/glext.h>
 
+#include <cstdlib>
 #include <cstring>
 #include <string>
 #include <utility>
@@ -120,16 +122,21 @@ class EglPlatform final : public Platform {
   // Device platform first (a software device if there is one), then surfaceless Mesa.
   bool open_display(std::string* why) {
     const char* client_ext = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
-    if (client_ext == nullptr)
-      *why = "no EGL client extensions (is libEGL/Mesa installed?)";
     auto get_platform_display = reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(
         eglGetProcAddress("eglGetPlatformDisplayEXT"));
-    if (get_platform_display == nullptr) {
-      *why = "eglGetPlatformDisplayEXT is missing (needs EGL_EXT_platform_base)";
+    if (client_ext == nullptr || get_platform_display == nullptr) {
+      *why = "no EGL client extensions or eglGetPlatformDisplayEXT (no EGL vendor library found?);"
+             " install Mesa's EGL (libegl-mesa0) for the llvmpipe software renderer";
       return false;
     }
     std::string tried;
-    if (has_extension(client_ext, "EGL_EXT_platform_device") && try_device_platform(get_platform_display, &tried))
+    // PLIANT_EGL_PLATFORM=surfaceless skips the device platform (tests the fallback).
+    const char* forced = std::getenv("PLIANT_EGL_PLATFORM");
+    if (forced != nullptr && std::string(forced) == "surfaceless")
+      tried += " device platform skipped (PLIANT_EGL_PLATFORM=surfaceless);";
+    else if (!has_extension(client_ext, "EGL_EXT_platform_device"))
+      tried += " EGL_EXT_platform_device not available;";
+    else if (try_device_platform(get_platform_display, &tried))
       return true;
     if (has_extension(client_ext, "EGL_MESA_platform_surfaceless")) {
       EGLDisplay d = get_platform_display(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);

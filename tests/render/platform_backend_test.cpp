@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <imgui.h>
 
+#include <cstdlib>
 #include <memory>
 
 #include "platform/platform.h"
@@ -53,6 +54,10 @@ TEST_P(PlatformBackend, ReportsSizeAndKind) {
   if (platform_->has_gl()) {
     EXPECT_NE(platform_->default_framebuffer(), 0u);  // headless draws into an FBO
     EXPECT_NE(platform_->gl_description().find("OpenGL"), std::string::npos) << platform_->gl_description();
+    const char* forced = std::getenv("PLIANT_EGL_PLATFORM");
+    if (GetParam() == "egl" && forced && std::string(forced) == "surfaceless") {
+      EXPECT_NE(platform_->gl_description().find("SURFACELESS"), std::string::npos) << platform_->gl_description();
+    }
   }
 }
 
