@@ -11,7 +11,7 @@ inline std::array<double, 3> backtrace(const MacGrid& g, const VelocitySampler& 
                                        std::array<double, 3> p) {
   auto clamp = [&](std::array<double, 3>& x) {
     if (g.periodic) return;
-    for (int a = 0; a < g.dim; ++a) x[a] = std::clamp(x[a], 0.0, double(g.n[a]));
+    for (int a = 0; a < g.dim; ++a) x[a] = x[a] >= 0.0 ? std::min(x[a], double(g.n[a])) : 0.0;
   };
   const auto v0 = vel(p[0], p[1], p[2]);
   std::array<double, 3> mid = p;

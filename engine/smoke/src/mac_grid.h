@@ -79,7 +79,10 @@ struct AxisWeights {
 };
 inline AxisWeights axis_weights(double x, int size, double offset, bool periodic) {
   double g = x - offset;
+  // NaN/Inf positions (a blown-up velocity) map to sample 0 instead of an
+  // out-of-range index, so the caller's NaN check can report the frame.
   if (periodic) {
+    if (!(std::abs(g) < 1e9)) g = 0.0;
     const double fl = std::floor(g);
     int i0 = int(fl);
     if (i0 < 0 || i0 >= size) {  // rare: only points that left the periodic box
@@ -90,7 +93,7 @@ inline AxisWeights axis_weights(double x, int size, double offset, bool periodic
     return {i0, i1, g - fl};
   }
   if (size == 1) return {0, 0, 0.0};
-  g = std::clamp(g, 0.0, double(size - 1));
+  g = g >= 0.0 ? std::min(g, double(size - 1)) : 0.0;  // also NaN -> 0
   int i0 = std::min(int(g), size - 2);
   return {i0, i0 + 1, g - i0};
 }
