@@ -9,6 +9,7 @@
 #include "commands.h"
 #include "pliant/core/error.h"
 #include "pliant/core/job.h"
+#include "pliant/core/log.h"
 #include "pliant/core/plugin_host.h"
 #include "pliant/core/progress.h"
 #include "pliant/core/take.h"
@@ -49,7 +50,11 @@ int run_export(const ExportOptions& o) {
   struct sigaction old_int {}, old_term {};
   sigaction(SIGINT, &sa, &old_int);
   sigaction(SIGTERM, &sa, &old_term);
+  // Plugin and engine log lines become {"event":"log",...} lines while exporting.
+  LogSink old_sink = set_log_sink(
+      [&events](LogLevel level, const std::string& m) { events.log(log_level_name(level), m); });
   auto restore = [&] {
+    set_log_sink(std::move(old_sink));
     sigaction(SIGINT, &old_int, nullptr);
     sigaction(SIGTERM, &old_term, nullptr);
     g_export_progress = nullptr;
