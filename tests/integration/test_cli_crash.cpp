@@ -15,6 +15,9 @@ using Crash = CliTest;
 // on a loaded machine; the test kills it right then, so it stays fast.
 constexpr int kLongFrames = 2000;
 constexpr int kFramesBeforeKill = 3;
+// For kill -9: past the first checkpoint (the smoke job writes one every 10
+// frames), so --resume has one to start from.
+constexpr int kFramesBeforeKill9 = 12;
 
 // Starts `pliant run` and returns once `count` frame events have arrived.
 int wait_for_frames(LiveProcess& p, int count) {
@@ -63,8 +66,8 @@ TEST_F(Crash, Kill9KeepsEveryCompleteFrameAndResumes) {
   {
     LiveProcess p({kPliant, "run", scene.string(), "--take", take_dir.string(), "--threads", "1"},
                   dir_ / "stderr.txt");
-    const int seen = wait_for_frames(p, kFramesBeforeKill);
-    ASSERT_EQ(seen, kFramesBeforeKill);
+    const int seen = wait_for_frames(p, kFramesBeforeKill9);
+    ASSERT_EQ(seen, kFramesBeforeKill9);
     p.send_signal(SIGKILL);
     const ProcessResult r = p.finish(nullptr);
     EXPECT_EQ(r.term_signal, SIGKILL);
@@ -73,7 +76,9 @@ TEST_F(Crash, Kill9KeepsEveryCompleteFrameAndResumes) {
   TakeReader take(take_dir);
   EXPECT_EQ(take.manifest().status, "running");  // nobody finished it
   const size_t kept = take.frame_count();
-  ASSERT_GE(kept, size_t(kFramesBeforeKill));
+  ASSERT_GE(kept, size_t(kFramesBeforeKill9));
+  Record checkpoint;
+  const bool has_checkpoint = take.latest(RecordKind::Checkpoint, &checkpoint);
   ASSERT_LT(kept, size_t(kLongFrames));  // it was killed mid-run
 
   // A re-run of the same scene for exactly the frames that survived must
@@ -100,9 +105,9 @@ TEST_F(Crash, Kill9KeepsEveryCompleteFrameAndResumes) {
     }
   }
 
-  // --resume is accepted on the killed take and completes it. The smoke job
-  // does not checkpoint yet, so it re-simulates from frame 0; a horizon two
-  // frames past the last kept one keeps the test fast (also under ASan).
+  // --resume is accepted on the killed take and completes it, from the last
+  // checkpoint when there is one (else from frame 0). A horizon two frames past
+  // the last kept one keeps the test fast (also under ASan).
   const int resume_frames = last_kept.index + 2;
   auto resume_doc = smoke_scene(64, 64, resume_frames);
   const fs::path resume_scene = write_scene("resume.json", resume_doc);
@@ -112,6 +117,13 @@ TEST_F(Crash, Kill9KeepsEveryCompleteFrameAndResumes) {
   const auto events = parse_json_lines(resumed.out);
   ASSERT_FALSE(events.empty());
   EXPECT_EQ(events.back()["event"], "done");
+  int resumed_frames = 0;
+  for (const auto& e : events) resumed_frames += e["event"] == "frame";
+  if (has_checkpoint) {  // it continued after the checkpoint instead of starting over
+    EXPECT_EQ(resumed_frames, resume_frames - checkpoint.index);
+  } else {
+    EXPECT_EQ(resumed_frames, resume_frames + 1);
+  }
   TakeReader done(take_dir);
   EXPECT_EQ(done.manifest().status, "done");
   EXPECT_EQ(done.manifest().frames_expected, resume_frames);
