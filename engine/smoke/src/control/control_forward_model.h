@@ -1,0 +1,110 @@
+// The control forward model in double precision and its discrete adjoint
+// (control.h: u_{i+1} = P(A_sl(u_i, u_i) + dt f_i), rho_{i+1} = A_up(rho_i, u_{i+1})).
+//
+// Own operators instead of advection.h's float ones, because the adjoint must be
+// the exact transpose of what the forward computes (gradient check to 1e-5):
+//  * A_sl: first-order (Euler) backtrace x_b = x - (dt/h) U(x) and bi/trilinear
+//    sampling with mac_grid.h's layouts (clamped when closed, wrapped when periodic).
+//    Its adjoint scatters with the same weights and adds the derivative of the sample
+//    w.r.t. the backtrace position (dS/dx_b, zero where the position was clamped)
+//    times dx_b/du = -(dt/h) * interpolation weights of U (McNamara et al. 2004).
+//  * P: exact projection u - D^T (D D^T)^+ D u (CG to a tight tolerance from a zero
+//    start, so P is a fixed symmetric operator and is its own adjoint).
+//  * A_up: conservative upwind flux form; the sub-step count S is computed from
+//    u_{i+1} in the forward pass and held fixed by the adjoint (piecewise-smooth
+//    map; the upwind choice has zero measure of kinks).
+// Obstacles: faces touching solid cells are masked (zeroed) before and after P.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "../mac_grid.h"
+#include "../pressure_projection.h"
+#include "pliant/smoke/control.h"
+
+namespace pliant::smoke::control_detail {
+
+using Vec = std::vector<double>;
+
+class ForwardOps {
+ public:
+  ForwardOps(const ControlModel& m, double pressure_tolerance);
+
+  const MacGrid& grid() const { return g_; }
+  size_t faces() const { return faces_; }
+  size_t cells() const { return g_.cells(); }
+  size_t face_offset(int axis) const { return off_[axis]; }
+  const FieldLayout& layout(int axis) const { return lay_[axis]; }
+  bool is_wall_face(int axis, size_t local) const;
+  double dt() const { return dt_; }
+
+  // out = A_sl(u) (walls 0); out must not alias u.
+  void advect_velocity(const Vec& u, Vec& out) const;
+  // u_bar += (d A_sl(u) / d u)^T out_bar.
+  void advect_velocity_adjoint(const Vec& u, const Vec& out_bar, Vec& u_bar) const;
+  // u = M P M u (M: obstacle mask and walls). Symmetric.
+  void project(Vec& u);
+  // Sub-steps for the density: dt * max cell outflow / h <= 1.
+  int density_substeps(const Vec& u) const;
+  // q_out = q - (dt_sub/h) div(F), F = u * q_upwind.
+  void upwind_step(const Vec& u, double dt_sub, const Vec& q, Vec& q_out) const;
+  // Given q_out_bar: q_bar = (dq_out/dq)^T q_out_bar; u_bar += (dq_out/du)^T q_out_bar.
+  void upwind_step_adjoint(const Vec& u, double dt_sub, const Vec& q, const Vec& q_out_bar, Vec& q_bar,
+                           Vec& u_bar) const;
+  void mask(Vec& u) const;
+  double max_divergence(const Vec& u) const;  // 1/s
+  // Projection statistics since construction (for metrics and tests).
+  long projections = 0, pressure_iterations = 0;
+  double worst_pressure_residual = 0;
+
+ private:
+  // Cell on the low / high side of face `local` of component `axis` (-1 at a closed wall).
+  long lo_cell(int axis, size_t local) const;
+  long hi_cell(int axis, size_t local) const;
+
+  MacGrid g_;
+  double dt_;
+  std::array<FieldLayout, 3> lay_;
+  std::array<size_t, 4> off_{0, 0, 0, 0};
+  size_t faces_ = 0;
+  std::vector<uint8_t> face_mask_;  // 1 = forced to zero (walls, obstacle faces)
+  bool has_obstacles_ = false;
+  PoissonSolver poisson_;
+  double tol_;
+  Vec phi_, rhs_;
+};
+
+// Runs small grids on one thread for its lifetime: below ~4k cells every OpenMP
+// fork/join (also inside the Poisson solver) costs more than the work, and on a
+// loaded machine much more (measured 100x on the unit-test grids).
+class SerialBelow {
+ public:
+  explicit SerialBelow(size_t cells, size_t threshold = 4096);
+  ~SerialBelow();
+  SerialBelow(const SerialBelow&) = delete;
+  SerialBelow& operator=(const SerialBelow&) = delete;
+
+ private:
+  int previous_ = 0;
+};
+
+struct TrajectoryD {
+  std::vector<Vec> rho, u;     // T+1 frames
+  std::vector<int> substeps;   // density sub-steps of step i (T entries)
+};
+
+// Forward simulation from rest with rho_0 = m.initial_density.
+void forward_d(const ControlModel& m, ForwardOps& ops, const std::vector<Vec>& f, TrajectoryD& out);
+// Keyframe term sum_k w_k ||rho_tk - rho*_k||^2 of a trajectory.
+double keyframe_error_d(const ControlModel& m, const TrajectoryD& t);
+// E(f) and, if grad, dE/df by the discrete adjoint.
+double objective_d(const ControlModel& m, ForwardOps& ops, const std::vector<Vec>& f, std::vector<Vec>* grad);
+
+// Default projection tolerance of the control model (tight: the adjoint needs P symmetric).
+inline constexpr double kControlPressureTolerance = 1e-10;
+
+std::vector<Vec> to_double(const FaceSeries& f);
+FaceSeries to_float(const std::vector<Vec>& f);
+
+}  // namespace pliant::smoke::control_detail
