@@ -11,12 +11,14 @@ class HeadlessImGuiClock {
  public:
   // Sets io.DisplaySize (framebuffer scale 1) and io.DeltaTime: fixed_dt_s when
   // > 0 (deterministic runs), else real elapsed time, never below 1e-4 s
-  // (ImGui asserts DeltaTime > 0). No-op without a current ImGui context.
+  // (ImGui asserts DeltaTime > 0). Also sets io.KeyMap as ImGui's GLFW backend
+  // does (GLFW key codes), so a script presses Enter with
+  // io.KeysDown[io.KeyMap[ImGuiKey_Enter]] = true, the same as in a window.
+  // No-op without a current ImGui context.
   void new_frame(int width, int height, double fixed_dt_s);
 
  private:
   bool started_ = false;
-  bool keymap_set_ = false;
   std::chrono::steady_clock::time_point last_;
 };
 

@@ -37,8 +37,8 @@ bool well_formed(const Field& f) {
 
 Renderer::Renderer() : impl_(new Impl) {}
 Renderer::~Renderer() {
-  // GL objects need the context: call shutdown() while it is current. Here we
-  // only free memory (GL handles of a destroyed context are gone anyway).
+  // Call shutdown() while the context is current. Without a current context
+  // GLVND turns the glDelete* calls of the handles into no-ops, so this is safe.
   delete impl_;
 }
 

@@ -103,6 +103,28 @@ TEST_P(PlatformBackend, InjectedClickPressesButton) {
   EXPECT_TRUE(clicked);
 }
 
+// Keys use GLFW's codes, as in a window: an injected Enter activates the
+// keyboard-focused text field's "enter returns true" path.
+TEST_P(PlatformBackend, InjectedEnterKeyReachesImGui) {
+  ImGuiIO& io = ImGui::GetIO();
+  platform_->new_frame();
+  EXPECT_EQ(io.KeyMap[ImGuiKey_Enter], 257);  // GLFW_KEY_ENTER
+  EXPECT_EQ(io.KeyMap[ImGuiKey_A], 'A');
+  char text[32] = "abc";
+  bool entered = false;
+  for (int f = 0; f < 4; ++f) {
+    io.KeysDown[io.KeyMap[ImGuiKey_Enter]] = (f == 2);
+    platform_->new_frame();
+    ImGui::NewFrame();
+    ImGui::Begin("keys");
+    if (f == 0) ImGui::SetKeyboardFocusHere();
+    entered |= ImGui::InputText("field", text, sizeof text, ImGuiInputTextFlags_EnterReturnsTrue);
+    ImGui::End();
+    ImGui::Render();
+  }
+  EXPECT_TRUE(entered);
+}
+
 TEST_P(PlatformBackend, DropsAreQueuedAndTakenOnce) {
   EXPECT_TRUE(platform_->take_dropped_files().empty());
   platform_->inject_drop({"/tmp/a.json", "/tmp/b.png"});
