@@ -2,6 +2,7 @@
 // provide, and which were refused (wrong API version, not a plugin, load failed).
 #include <cstdio>
 #include <memory>
+#include <system_error>
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
@@ -61,7 +62,13 @@ int list_plugins(const PluginsOptions& o) {
 
 void load_plugins(PluginHost& host, const std::vector<std::filesystem::path>& extra_folders) {
   host.load_default_folders();
-  for (const auto& folder : extra_folders) host.load_folder(folder);
+  for (const auto& folder : extra_folders) {
+    std::error_code ec;
+    if (!std::filesystem::is_directory(folder, ec)) {
+      std::fprintf(stderr, "warning: plugin folder %s does not exist\n", folder.c_str());
+    }
+    host.load_folder(folder);
+  }
 }
 
 void add_plugins_command(CLI::App& app, Action& action) {
