@@ -6,14 +6,14 @@
 namespace pliant::smoke {
 namespace {
 
-// Grid-unit backtrace with the RK2 midpoint rule; clamped to the box when closed.
+// Grid-unit backtrace with the RK2 midpoint rule from p, whose velocity v0 the
+// caller knows; clamped to the box when closed.
 inline std::array<double, 3> backtrace(const MacGrid& g, const VelocitySampler& vel, double dt_h,
-                                       std::array<double, 3> p) {
+                                       std::array<double, 3> p, const std::array<double, 3>& v0) {
   auto clamp = [&](std::array<double, 3>& x) {
     if (g.periodic) return;
     for (int a = 0; a < g.dim; ++a) x[a] = x[a] >= 0.0 ? std::min(x[a], double(g.n[a])) : 0.0;
   };
-  const auto v0 = vel(p[0], p[1], p[2]);
   std::array<double, 3> mid = p;
   for (int a = 0; a < g.dim; ++a) mid[a] -= 0.5 * dt_h * v0[a];
   clamp(mid);
@@ -23,25 +23,38 @@ inline std::array<double, 3> backtrace(const MacGrid& g, const VelocitySampler& 
   return p;
 }
 
+// stagger_axis < 0: cell-centred q (v0 = average of the two faces per axis);
+// otherwise q is that face component (v0 along it is the face value itself, the
+// other components are interpolated). Both skip a full velocity interpolation.
 void sl_advect_array(const MacGrid& g, const FaceVelocity& vel, double dt, const FieldLayout& l,
                      int stagger_axis, const float* q_in, float* q_out) {
   const double dt_h = dt / g.h;
   const VelocitySampler sampler(g, vel);
+  const float* comp[3] = {vel.u, vel.v, vel.w};
+  const FieldLayout* layout[3] = {&sampler.lu, &sampler.lv, &sampler.lw};
 #pragma omp parallel for collapse(2) schedule(static)
   for (int k = 0; k < l.size[2]; ++k)
     for (int j = 0; j < l.size[1]; ++j)
       for (int i = 0; i < l.size[0]; ++i) {
         const size_t e = l.index(i, j, k);
-        if (stagger_axis >= 0 && !g.periodic) {
-          const int ia = stagger_axis == 0 ? i : (stagger_axis == 1 ? j : k);
-          if (ia == 0 || ia == g.n[stagger_axis]) {
-            q_out[e] = 0.0f;  // closed wall
-            continue;
+        const std::array<double, 3> p{i + l.offset[0], j + l.offset[1], k + l.offset[2]};
+        std::array<double, 3> v0{0, 0, 0};
+        if (stagger_axis < 0) {
+          for (int a = 0; a < g.dim; ++a)
+            v0[a] = 0.5 * (double(comp[a][g.face_lo(a, i, j, k)]) + comp[a][g.face_hi(a, i, j, k)]);
+        } else {
+          if (!g.periodic) {
+            const int ia = stagger_axis == 0 ? i : (stagger_axis == 1 ? j : k);
+            if (ia == 0 || ia == g.n[stagger_axis]) {
+              q_out[e] = 0.0f;  // closed wall
+              continue;
+            }
           }
+          for (int a = 0; a < g.dim; ++a)
+            v0[a] = a == stagger_axis ? double(q_in[e]) : sample(comp[a], *layout[a], p[0], p[1], p[2]);
         }
-        std::array<double, 3> p{i + l.offset[0], j + l.offset[1], k + l.offset[2]};
-        p = backtrace(g, sampler, dt_h, p);
-        q_out[e] = float(sample(q_in, l, p[0], p[1], p[2]));
+        const std::array<double, 3> b = backtrace(g, sampler, dt_h, p, v0);
+        q_out[e] = float(sample(q_in, l, b[0], b[1], b[2]));
       }
 }
 
