@@ -3,6 +3,7 @@
 //               [--pliant PATH]
 // Windowed by default (GLFW); --headless uses EGL with a fixed 1/60 s step,
 // runs the UI script, writes the screenshot and exits (nonzero on failure).
+// With --script or --screenshot a window does the same and then closes.
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
@@ -65,7 +66,8 @@ int main(int argc, char** argv) {
   std::signal(SIGINT, on_signal);
 
   int code = 0;
-  if (headless) {
+  // Scripts and screenshots also work in a window (same loop, real clock).
+  if (headless || !script.empty() || !screenshot.empty()) {
     HeadlessRunOptions h;
     h.script = script;
     h.screenshot = screenshot;

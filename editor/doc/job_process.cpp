@@ -1,6 +1,7 @@
 #include "doc/job_process.h"
 
 #include <cerrno>
+#include <chrono>
 #include <csignal>
 #include <cstring>
 #include <ctime>
@@ -49,10 +50,19 @@ fs::path default_take_dir(const fs::path& scene_file, const fs::path& config_dir
 }
 
 JobProcess::~JobProcess() {
-  if (reader_.joinable()) {
-    cancel();
-    reader_.join();
+  if (!reader_.joinable()) return;
+  cancel();
+  // A job cancels at its next safe point; one that does not within 5 s is killed
+  // so quitting the editor never hangs on it.
+  for (int i = 0; i < 500; ++i) {
+    if (snapshot().exit_code >= 0) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
+  {
+    std::lock_guard<std::mutex> lk(mu_);
+    if (status_.exit_code < 0 && pid_ > 0) ::kill(pid_, SIGKILL);
+  }
+  reader_.join();
 }
 
 bool JobProcess::start(const JobSpec& spec, std::string* err) {

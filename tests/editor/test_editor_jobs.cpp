@@ -90,6 +90,15 @@ TEST(EditorJobs, CancelLeavesACancelledTakeAndTheUiKeepsRendering) {
   EXPECT_LT(s, 10.0);
   EXPECT_EQ(h.app->take.frame, static_cast<int>(take.frame_count()) - 2);
   EXPECT_EQ(h.app->take.status(), "cancelled");
+
+  // Dropping the take folder on the window opens it again (from frame 0).
+  fs::path take_dir = h.app->take.dir();
+  h.app->cmd_new();
+  EXPECT_TRUE(h.app->take.dir().empty());
+  ASSERT_EQ(h.run("drop " + take_dir.string() + "\nwait 2\nexpect \"Opened take\"\n"), "");
+  EXPECT_EQ(h.app->take.dir(), take_dir);
+  EXPECT_EQ(h.app->take.frame_count(), static_cast<int>(take.frame_count()));
+  EXPECT_EQ(h.app->take.frame, 0);
 }
 
 TEST(EditorJobs, BinaryReportsScriptErrorsWithTheLine) {
@@ -118,6 +127,16 @@ TEST(EditorJobs, BinaryReportsScriptErrorsWithTheLine) {
   Image img = read_png(png.string(), &err);
   EXPECT_EQ(img.width, 800) << err;
   EXPECT_EQ(img.height, 600);
+
+  // --viewport-only writes just the viewport panel's image: smaller than the window.
+  cmd = std::string(PLIANT_EDITOR_BIN) + " --headless --size 800x600 --viewport-only --screenshot " +
+        png.string() + " " + scene.string() + " 2>&1";
+  EXPECT_EQ(std::system(cmd.c_str()), 0);
+  img = read_png(png.string(), &err);
+  ASSERT_FALSE(img.empty()) << err;
+  EXPECT_LT(img.width, 800);
+  EXPECT_LT(img.height, 600);
+  EXPECT_GT(img.width, 100);
 }
 
 }  // namespace pliant::editor::test
