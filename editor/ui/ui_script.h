@@ -4,7 +4,7 @@
 //
 //   move X Y                  mouse to window pixel
 //   click [left|right|middle] [X Y]
-//   drag X0 Y0 X1 Y1 [frames]
+//   drag X0 Y0 X1 Y1 [frames] [left|right|middle]
 //   scroll DY
 //   key CTRL+SHIFT+Z          modifiers + one key (S, O, Z, Y, SPACE, LEFT, F5, ENTER...)
 //   type TEXT                 the rest of the line ($TMP expands)

@@ -19,7 +19,7 @@ struct Arity {
 
 const std::map<std::string, Arity>& commands() {
   static const std::map<std::string, Arity> m = {
-      {"move", {2, 2}},        {"click", {0, 3}},        {"drag", {4, 5}},
+      {"move", {2, 2}},        {"click", {0, 3}},        {"drag", {4, 6}},
       {"scroll", {1, 1}},      {"key", {1, 1}},          {"type", {1, 1}},
       {"wait", {1, 1}},        {"wait_job", {0, 1}},     {"wait_frames", {1, 2}},
       {"click_item", {1, 2}},  {"drag_item", {3, 4}},    {"set_frame", {1, 1}},
@@ -113,7 +113,11 @@ Script parse_script(const std::string& text, const std::string& file_label,
       for (int k = from; k < std::min(to, n); ++k)
         if (!is_number(c.args[k])) fail(c.op + ": argument " + std::to_string(k + 1) + " '" + c.args[k] + "' is not a number");
     };
-    if (c.op == "move" || c.op == "drag" || c.op == "scroll" || c.op == "wait" ||
+    if (c.op == "drag" && n == 6) {
+      if (c.args[5] != "left" && c.args[5] != "right" && c.args[5] != "middle")
+        fail("drag: unknown button '" + c.args[5] + "'");
+      need_num(0, 5);
+    } else if (c.op == "move" || c.op == "drag" || c.op == "scroll" || c.op == "wait" ||
         c.op == "wait_job" || c.op == "wait_frames" || c.op == "set_frame")
       need_num(0, n);
     if (c.op == "drag_item") need_num(1, n);

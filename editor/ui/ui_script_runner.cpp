@@ -177,7 +177,7 @@ bool ScriptRunner::run_command(App& app, const ScriptCommand& c) {
     if (phase_ == 0) {
       x0_ = num(a[0]), y0_ = num(a[1]), x1_ = num(a[2]), y1_ = num(a[3]);
       frames_ = std::max(1, a.size() > 4 ? static_cast<int>(num(a[4])) : 10);
-      button_ = 0;
+      button_ = a.size() > 5 ? (a[5] == "right" ? 1 : a[5] == "middle" ? 2 : 0) : 0;
     }
     return drag_phases(phase_);
   }

@@ -160,7 +160,7 @@ TEST(UiScript, ParseErrorsNameTheLine) {
     parse_script("move 1 2\ndrag 1 2 3\n", "d.txt", ".");
     FAIL();
   } catch (const ScriptError& e) {
-    EXPECT_NE(std::string(e.what()).find("d.txt:2: drag: expected 4 to 5 arguments, got 3"),
+    EXPECT_NE(std::string(e.what()).find("d.txt:2: drag: expected 4 to 6 arguments, got 3"),
               std::string::npos)
         << e.what();
   }

@@ -178,6 +178,33 @@ TEST(EditorUi, DroppedInvalidSceneShowsTheErrorAndKeepsTheDocument) {
   EXPECT_EQ(h.app->doc.scene()["name"], "other");
 }
 
+TEST(EditorUi, ViewportMouseMovesTheCameraAndResetViewRestoresIt) {
+  EditorHarness h("camera");
+  h.start(h.copy_scene("small_plume.json"), false);
+  ASSERT_EQ(h.run("wait 2\n"), "");
+  const UiRect* v = h.app->marks.find("viewport");
+  ASSERT_NE(v, nullptr);
+  const OrbitCamera home = h.app->viewport.camera;
+  std::string cx = std::to_string(static_cast<int>(v->cx())), cy = std::to_string(static_cast<int>(v->cy()));
+  ASSERT_EQ(h.run("move " + cx + " " + cy + "\nwait 1\nscroll 2\nwait 1\n"), "");
+  EXPECT_NE(h.app->viewport.camera.zoom2d, home.zoom2d);
+  EXPECT_NE(h.app->viewport.camera.distance, home.distance);
+  // Right-drag pans, left-drag orbits.
+  std::string x1 = std::to_string(static_cast<int>(v->cx()) + 80);
+  OrbitCamera before_pan = h.app->viewport.camera;
+  ASSERT_EQ(h.run("drag " + cx + " " + cy + " " + x1 + " " + cy + " 8 right\nwait 1\n"), "");
+  EXPECT_NE(h.app->viewport.camera.pan2d, before_pan.pan2d);
+  EXPECT_EQ(h.app->viewport.camera.yaw_deg, home.yaw_deg);
+  ASSERT_EQ(h.run("drag " + cx + " " + cy + " " + x1 + " " + cy + " 8\nwait 1\n"), "");
+  EXPECT_NE(h.app->viewport.camera.yaw_deg, home.yaw_deg);
+  ASSERT_EQ(h.run("click_item \"Reset view\"\nwait 1\n"), "");
+  EXPECT_EQ(h.app->viewport.camera.zoom2d, home.zoom2d);
+  EXPECT_EQ(h.app->viewport.camera.pan2d, home.pan2d);
+  EXPECT_EQ(h.app->viewport.camera.yaw_deg, home.yaw_deg);
+  // Camera moves are view state, not document edits.
+  EXPECT_FALSE(h.app->doc.history().can_undo());
+}
+
 TEST(EditorUi, ScriptErrorsNameTheLineAndItem) {
   EditorHarness h("script_err");
   fs::path scene = h.copy_scene("small_plume.json");

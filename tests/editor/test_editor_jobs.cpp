@@ -36,6 +36,13 @@ TEST(EditorJobs, RunScrubAndViewportMatchesGolden) {
   JobStatus st = h.app->newest_job()->snapshot();
   EXPECT_EQ(st.state, JobState::Done);
   EXPECT_EQ(st.exit_code, 0);
+  // Timeline hotkeys: Left/Right step, Space plays (25 fps at a fixed 1/60 s).
+  ASSERT_EQ(h.run("key LEFT\nwait 1\nkey LEFT\nwait 1\nkey RIGHT\nwait 1\n"), "");
+  EXPECT_EQ(h.app->take.frame, 29);
+  ASSERT_EQ(h.run("key SPACE\nwait 24\nkey SPACE\nwait 1\n"), "");
+  EXPECT_FALSE(h.app->take.playing);
+  EXPECT_GE(h.app->take.frame, 29 + 9);  // ~26 frames of 1/60 s at 25 fps = ~10.8
+  EXPECT_LE(h.app->take.frame, 29 + 12);
   // The take lives beside the scene.
   EXPECT_EQ(h.app->take.dir().parent_path(), fs::path(scene.string() + ".takes"));
 
@@ -70,7 +77,7 @@ TEST(EditorJobs, CancelLeavesACancelledTakeAndTheUiKeepsRendering) {
   EditorHarness h("cancel");
   fs::path scene = h.copy_scene("long_plume.json");
   h.start(scene, true, 1280, 720);
-  ASSERT_EQ(h.run("wait 2\nclick_item Run\nwait_frames 3 60\nclick_item Cancel\n"
+  ASSERT_EQ(h.run("wait 2\nkey F5\nwait_frames 3 60\nclick_item Cancel\n"
                   "wait_job 30\nexpect \"Job 1: cancelled\"\n"),
             "");
   JobStatus st = h.app->newest_job()->snapshot();
