@@ -39,6 +39,13 @@ std::vector<int> decode_utf8(const std::string& s) {
 
 }  // namespace
 
+std::filesystem::path default_font_path(const std::filesystem::path& scene_dir) {
+  const std::filesystem::path beside = scene_dir / ".." / "fonts" / "DejaVuSans-Bold.ttf";
+  std::error_code ec;
+  if (std::filesystem::exists(beside, ec)) return beside;
+  return PLIANT_DEFAULT_FONT;
+}
+
 CoverageImage render_text(const std::string& text, const std::filesystem::path& font_file,
                           const std::string& font_label, int pixel_height) {
   if (text.empty()) throw GeomError("text \"\": empty text");

@@ -88,7 +88,10 @@ void ForwardOps::upwind_step_adjoint(const Vec& u, double dt_sub, const Vec& q, 
       if (lo < 0 || hi < 0) continue;
       const double v = uc[a][e];
       const double Fbar = kk * (qob[size_t(hi)] - qob[size_t(lo)]);
-      ub[e] += Fbar * (v > 0 ? q[size_t(lo)] : q[size_t(hi)]);
+      // At v == 0 (fluid at rest) the flux has a kink; take the mean of the one-sided
+      // derivatives so the first L-BFGS step from rest sees both neighbours.
+      const double up = v > 0 ? q[size_t(lo)] : (v < 0 ? q[size_t(hi)] : 0.5 * (q[size_t(lo)] + q[size_t(hi)]));
+      ub[e] += Fbar * up;
     }
   }
 }

@@ -28,6 +28,9 @@ void threshold_coverage(CoverageImage& img, double threshold, const std::string&
 // Renders `text` (UTF-8, one line) with the TrueType font at pixel_height pixels per
 // em, tightly cropped with a 1-pixel margin. Throws GeomError on an empty text, an
 // unreadable font or glyphs that render nothing.
+// The shipped default font (assets/fonts/DejaVuSans-Bold.ttf): looked up beside a
+// scene folder first (<scene_dir>/../fonts/), then in the source tree it was built from.
+std::filesystem::path default_font_path(const std::filesystem::path& scene_dir);
 CoverageImage render_text(const std::string& text, const std::filesystem::path& font_file,
                           const std::string& font_label, int pixel_height = 128);
 

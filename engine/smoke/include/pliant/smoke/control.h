@@ -115,4 +115,11 @@ void control_solve_lbfgs(const ControlModel& m, ControlState& s, Progress& progr
 void control_solve_admm(const ControlModel& m, ControlState& s, Progress& progress,
                         const ControlCallbacks& cb = {});
 
+// The job for smoke scenes with a "control" section (part A, control_job.cpp):
+// solve, checkpoint per outer iteration (--resume continues), previews, then the
+// re-simulated frames (density, velocity, force) and metrics.
+bool scene_has_control(const Scene& scene);
+nlohmann::json smoke_control_run_job(JobContext& ctx);
+int smoke_control_job_frames(const Scene& scene);
+
 }  // namespace pliant::smoke
