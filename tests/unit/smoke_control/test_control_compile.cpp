@@ -1,0 +1,141 @@
+// The scene's "control" section: the shipped scenes compile; invalid keyframes are
+// InputErrors naming the JSON pointer (issue 3: frame past T, empty mask, mesh that
+// fails to load, unreadable image).
+#include <gtest/gtest.h>
+#include <stb/stb_image_write.h>
+
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+
+#include "pliant/core/error.h"
+#include "pliant/core/scene.h"
+#include "pliant/smoke/control.h"
+
+namespace pliant::smoke {
+namespace {
+
+const std::filesystem::path kScenes = std::filesystem::path(PLIANT_ASSETS_DIR) / "scenes";
+
+// A 2D control scene with the given keyframes JSON (and optional 3D grid).
+Scene scene_with(const std::string& keyframes, bool three_d = false, const std::string& extra = "") {
+  const std::string grid = three_d ? R"("resolution": [8, 8, 8], "cell_size_m": 0.125)"
+                                   : R"("resolution": [16, 16], "cell_size_m": 0.0625)";
+  const std::string text = R"({"pliant": 1, "kind": "smoke", "grid": {)" + grid +
+                           R"(}, "time": {"dt_s": 0.05, "frames": 10}, "control": {"method": "lbfgs", "r": 0.01,
+     "initial_density": [{"type": "circle", "radius": 0.2}],
+     "keyframes": )" + keyframes + extra + "}}";
+  return parse_scene(text, "test_scene.json", std::filesystem::temp_directory_path());
+}
+
+std::string error_of(const Scene& s) {
+  try {
+    control_compile(s);
+  } catch (const InputError& e) {
+    return e.pointer() + " | " + e.problem();
+  }
+  return "no error";
+}
+
+TEST(ControlCompile, CircleToSquareScene) {
+  const Scene s = load_scene(kScenes / "smoke_circle_to_square.json");
+  ASSERT_TRUE(scene_has_control(s));
+  const ControlModel m = control_compile(s);
+  EXPECT_EQ(m.sim.n[0], 32);
+  EXPECT_EQ(m.sim.frames, 20);
+  ASSERT_EQ(m.keyframes.size(), 1u);
+  EXPECT_EQ(m.keyframes[0].frame, 20);
+  double mass = 0, target = 0;
+  for (float v : m.initial_density) mass += v;
+  for (float v : m.keyframes[0].density) target += v;
+  EXPECT_NEAR(mass, std::numbers::pi * 0.15 * 0.15 * 1024, 0.02 * mass);
+  EXPECT_NEAR(target, 4 * 0.133 * 0.133 * 1024, 0.02 * target);
+  EXPECT_EQ(m.method, ControlMethod::Admm);
+}
+
+TEST(ControlCompile, TextKeyframesOfTheFluidScene) {
+  const Scene s = load_scene(kScenes / "smoke_fluid_letters.json");
+  const ControlModel m = control_compile(s);
+  ASSERT_EQ(m.keyframes.size(), 5u);
+  for (const Keyframe& k : m.keyframes) {
+    double ink = 0;
+    for (float v : k.density) ink += v;
+    EXPECT_GT(ink, 500) << k.source;  // a letter covers hundreds of 128^2 cells
+    EXPECT_LT(ink, 0.3 * 128 * 128) << k.source;
+  }
+  EXPECT_EQ(m.keyframes[0].source, "text \"F\"");
+}
+
+TEST(ControlCompile, FramePastTheEndNamesThePointer) {
+  const Scene s = scene_with(R"([{"frame": 5, "target": {"type": "circle", "radius": 0.1}},
+                                 {"frame": 11, "target": {"type": "circle", "radius": 0.1}}])");
+  EXPECT_EQ(error_of(s), "/control/keyframes/1/frame | expected a frame in 1..10, got 11");
+  const Scene z = scene_with(R"([{"frame": 0, "target": {"type": "circle", "radius": 0.1}}])");
+  EXPECT_EQ(error_of(z), "/control/keyframes/0/frame | expected a frame in 1..10, got 0");
+}
+
+TEST(ControlCompile, EmptyMaskAndUnreadableImage) {
+  const auto dir = std::filesystem::temp_directory_path();
+  std::vector<unsigned char> black(16 * 16, 3);
+  ASSERT_TRUE(stbi_write_png((dir / "pliant_black_mask.png").string().c_str(), 16, 16, 1, black.data(), 16));
+  const Scene s = scene_with(R"([{"frame": 3, "target": {"type": "mask", "file": "pliant_black_mask.png"}}])");
+  const std::string e = error_of(s);
+  EXPECT_NE(e.find("/control/keyframes/0/target/file | pliant_black_mask.png: mask is empty after thresholding"),
+            std::string::npos) << e;
+  std::filesystem::remove(dir / "pliant_black_mask.png");
+  std::ofstream(dir / "pliant_not_an_image.png") << "hello";
+  const Scene u = scene_with(R"([{"frame": 3, "target": {"type": "image", "file": "pliant_not_an_image.png"}}])");
+  const std::string eu = error_of(u);
+  EXPECT_NE(eu.find("/control/keyframes/0/target/file | pliant_not_an_image.png: cannot read image"), std::string::npos)
+      << eu;
+  std::filesystem::remove(dir / "pliant_not_an_image.png");
+}
+
+TEST(ControlCompile, MeshErrors) {
+  const Scene flat = scene_with(R"([{"frame": 3, "target": {"type": "mesh", "file": "bunny.obj"}}])");
+  EXPECT_NE(error_of(flat).find("mesh targets need a 3D grid"), std::string::npos);
+  const Scene missing = scene_with(R"([{"frame": 3, "target": {"type": "mesh", "file": "no_such_bunny.obj"}}])", true);
+  EXPECT_NE(error_of(missing).find("/control/keyframes/0/target/file | no_such_bunny.obj: cannot load mesh"),
+            std::string::npos)
+      << error_of(missing);
+}
+
+TEST(ControlCompile, OtherBadInput) {
+  EXPECT_EQ(error_of(scene_with("[]")), "/control/keyframes | expected at least one keyframe (\"keyframes\" or \"sequence\")");
+  EXPECT_NE(error_of(scene_with(R"([{"frame": 3, "target": {"type": "text", "text": ""}}])")).find("empty text"),
+            std::string::npos);
+  EXPECT_NE(error_of(scene_with(R"([{"frame": 3, "target": {"type": "circle", "radius": 0.1, "center": [3, 3]}}])"))
+                .find("target is empty"),
+            std::string::npos);
+  EXPECT_NE(error_of(scene_with(R"([{"frame": 3, "target": {"type": "circle", "radius": 0.1}}])", false,
+                                R"(, "r": -1)"))
+                .find("/control/r"),
+            std::string::npos);
+  EXPECT_NE(error_of(scene_with(R"([{"frame": 3, "target": {"type": "circle", "radius": 0.1, "colour": 1}}])"))
+                .find("/control/keyframes/0/target/colour"),
+            std::string::npos);
+}
+
+TEST(ControlCompile, SequenceOfImages) {
+  const auto dir = std::filesystem::temp_directory_path() / "pliant_seq";
+  std::filesystem::create_directories(dir);
+  std::vector<unsigned char> px(8 * 8, 0);
+  for (int f = 2; f <= 6; f += 2) {
+    px[size_t(f) * 8 + 3] = 255;
+    px[size_t(f) * 8 + 4] = 255;
+    char name[64];
+    std::snprintf(name, sizeof name, "shape_%03d.png", f);
+    ASSERT_TRUE(stbi_write_png((dir / name).string().c_str(), 8, 8, 1, px.data(), 8));
+  }
+  const Scene s = scene_with(R"([])", false,
+                             R"(, "sequence": {"images": "pliant_seq/shape_%03d.png", "first_frame": 2, "every": 2,
+                                 "height": 1.0, "weight": 0.5})");
+  const ControlModel m = control_compile(s);
+  ASSERT_EQ(m.keyframes.size(), 3u);  // frames 2, 4, 6 (8 is missing)
+  EXPECT_EQ(m.keyframes[1].frame, 4);
+  EXPECT_EQ(m.keyframes[1].weight, 0.5);
+  std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace pliant::smoke
