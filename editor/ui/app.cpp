@@ -24,6 +24,7 @@ App::~App() { shutdown(false); }
 
 bool App::init(std::unique_ptr<Platform> platform, std::string* err) {
   platform_ = std::move(platform);
+  job_threads = opt_.job_threads;
   if (ImGui::GetCurrentContext() == nullptr) {
     IMGUI_CHECKVERSION();
     ImGui::CreateContext();
@@ -130,10 +131,13 @@ void App::poll_jobs() {
       if (shown == JobState::Failed) {
         msg += ": " + st.error;
         log.add(LogLevel::Error, src, msg);
+        status_ = msg;
+        status_error_ = true;
+        continue;
       } else {
         log.add(LogLevel::Info, src, msg);
       }
-      status_ = msg;
+      set_status(msg);
     }
   }
 }

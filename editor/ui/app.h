@@ -101,8 +101,14 @@ class App {
   const AppOptions& options() const { return opt_; }
   // The validation error of the current scene ("" when valid); cached per revision.
   const std::string& scene_error();
-  void set_status(const std::string& s) { status_ = s; }
+  // The status line; errors show in red until the next status.
+  void set_status(const std::string& s, bool error = false) {
+    status_ = s;
+    status_error_ = error;
+  }
   const std::string& status() const { return status_; }
+  bool status_is_error() const { return status_error_; }
+  int job_threads = 0;  // --threads for new jobs (0 = OpenMP default)
   JobProcess* newest_job() { return jobs.empty() ? nullptr : jobs.back().get(); }
   uint64_t frame_count() const { return frames_; }
 
@@ -133,7 +139,7 @@ class App {
   AppOptions opt_;
   std::unique_ptr<Platform> platform_;
   bool gl_ = false, imgui_owned_ = false, gl_backend_ = false, renderer_ok_ = false;
-  bool quit_requested_ = false, shut_down_ = false;
+  bool quit_requested_ = false, shut_down_ = false, status_error_ = false;
   std::string status_;
   std::string scene_error_;
   uint64_t scene_error_revision_ = ~uint64_t(0);

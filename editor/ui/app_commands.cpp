@@ -15,7 +15,7 @@ namespace fs = std::filesystem;
 void App::cmd_new() {
   new_document(doc);
   take.close();
-  status_ = "New scene";
+  set_status("New scene");
   log.info("new scene from " + (default_scene_path().empty() ? std::string("the built-in template")
                                                              : default_scene_path().string()));
 }
@@ -23,13 +23,13 @@ void App::cmd_new() {
 bool App::cmd_open(const fs::path& path) {
   std::string err = open_document(doc, path);
   if (!err.empty()) {
-    status_ = "Open failed: " + err;
+    set_status("Open failed: " + err, true);
     log.error("cannot open scene: " + err);
     return false;
   }
   recent.add(path);
   take.close();
-  status_ = "Opened " + path.string();
+  set_status("Opened " + path.string());
   log.info(status_);
   return true;
 }
@@ -45,12 +45,12 @@ bool App::cmd_save() {
 bool App::cmd_save_as(const fs::path& path) {
   std::string err = save_document_as(doc, path);
   if (!err.empty()) {
-    status_ = "Save failed: " + err;
+    set_status("Save failed: " + err, true);
     log.error(err);
     return false;
   }
   recent.add(path);
-  status_ = "Saved " + path.string();
+  set_status("Saved " + path.string());
   log.info(status_);
   return true;
 }
@@ -58,37 +58,37 @@ bool App::cmd_save_as(const fs::path& path) {
 bool App::cmd_open_take(const fs::path& dir) {
   std::error_code ec;
   if (!fs::exists(dir / "take.json", ec)) {
-    status_ = "Not a take (no take.json): " + dir.string();
+    set_status("Not a take (no take.json): " + dir.string(), true);
     log.error(status_);
     return false;
   }
   take.open(dir);
   doc.take_dir = dir;
-  status_ = "Opened take " + dir.string();
+  set_status("Opened take " + dir.string());
   log.info(status_);
   return true;
 }
 
 void App::cmd_undo() {
   std::string label = doc.history().undo_label();
-  if (doc.undo()) status_ = "Undo " + label;
+  if (doc.undo()) set_status("Undo " + label);
 }
 
 void App::cmd_redo() {
   std::string label = doc.history().redo_label();
-  if (doc.redo()) status_ = "Redo " + label;
+  if (doc.redo()) set_status("Redo " + label);
 }
 
 bool App::cmd_run() {
   if (const std::string& e = scene_error(); !e.empty()) {
-    status_ = "Cannot run: " + e;
+    set_status("Cannot run: " + e, true);
     log.error(status_);
     return false;
   }
   JobSpec spec;
   spec.pliant = opt_.pliant.empty() ? default_pliant_binary() : opt_.pliant;
   spec.take = default_take_dir(doc.path(), opt_.config_dir);
-  spec.threads = opt_.job_threads;
+  spec.threads = job_threads;
   // The job runs what the user sees, saved or not: write the scene beside the
   // take (same folder depth as the take, so the job never reads a half-saved file).
   spec.scene = doc.has_path() && !doc.dirty() ? doc.path()
@@ -98,7 +98,7 @@ bool App::cmd_run() {
     fs::create_directories(spec.take.parent_path(), ec);
     if (spec.scene != doc.path()) save_json_atomic(spec.scene, doc.scene());
   } catch (const std::exception& e) {
-    status_ = std::string("Cannot run: ") + e.what();
+    set_status(std::string("Cannot run: ") + e.what(), true);
     log.error(status_);
     return false;
   }
@@ -106,11 +106,11 @@ bool App::cmd_run() {
   job->id = ++job_counter_;
   std::string err;
   if (!job->start(spec, &err)) {
-    status_ = "Cannot run: " + err;
+    set_status("Cannot run: " + err, true);
     log.error(status_);
     return false;
   }
-  status_ = "Job " + std::to_string(job->id) + " started: " + spec.take.string();
+  set_status("Job " + std::to_string(job->id) + " started: " + spec.take.string());
   log.info(status_);
   jobs.push_back(std::move(job));
   job_seen_state.push_back(JobState::Starting);
@@ -122,7 +122,7 @@ bool App::cmd_run() {
 void App::cmd_cancel(size_t i) {
   if (i >= jobs.size()) return;
   jobs[i]->cancel();
-  status_ = "Cancelling job " + std::to_string(jobs[i]->id);
+  set_status("Cancelling job " + std::to_string(jobs[i]->id));
   log.info(status_);
 }
 
@@ -153,10 +153,10 @@ void App::recover(bool accept) {
     doc.reset(recovery->scene, have_disk ? recovery->file : fs::path(),
               have_disk ? &on_disk : &empty);
     take.close();
-    status_ = "Recovered unsaved work" +
-              (recovery->file.empty() ? std::string() : " of " + recovery->file.string());
+    set_status("Recovered unsaved work" +
+               (recovery->file.empty() ? std::string() : " of " + recovery->file.string()));
   } else {
-    status_ = "Discarded the autosave of session " + std::to_string(recovery->pid);
+    set_status("Discarded the autosave of session " + std::to_string(recovery->pid));
   }
   log.info(status_);
   Autosave::forget(*recovery);

@@ -2,6 +2,7 @@
 // curve, Cancel. A failed job's message is shown in red.
 #include <imgui.h>
 
+#include <algorithm>
 #include <string>
 
 #include "ui/app.h"
@@ -20,10 +21,14 @@ void draw_jobs_panel(App& app, const PanelRect& r) {
   if (!valid) ImGui::EndDisabled();
   ui_mark("Run");
   ImGui::SameLine();
-  ImGui::TextDisabled("%s", valid ? "runs the scene as edited" : "fix the scene first");
+  ImGui::SetNextItemWidth(80);
+  if (ImGui::InputInt("threads", &app.job_threads)) app.job_threads = std::max(0, app.job_threads);
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("--threads for new jobs (0: all cores)");
+  if (!valid) ImGui::TextColored(kErrorColor, "fix the scene first (see the inspector)");
   if (!app.status().empty()) {
     ImGui::PushTextWrapPos(0);
-    ImGui::TextUnformatted(app.status().c_str());
+    if (app.status_is_error()) ImGui::TextColored(kErrorColor, "%s", app.status().c_str());
+    else ImGui::TextUnformatted(app.status().c_str());
     ImGui::PopTextWrapPos();
     ui_mark("status");
   }

@@ -47,6 +47,10 @@ void draw_menu_bar(App& app) {
   }
   ui_mark("View");
   ImGui::TextDisabled("  %s", app.doc.title().c_str());
+  if (app.status_is_error()) {
+    ImGui::SameLine();
+    ImGui::TextColored(ImVec4(1.0f, 0.35f, 0.3f, 1.0f), "   %s", app.status().c_str());
+  }
   ImGui::EndMainMenuBar();
 }
 

@@ -166,6 +166,7 @@ TEST(EditorUi, DroppedInvalidSceneShowsTheErrorAndKeepsTheDocument) {
   EXPECT_EQ(h.app->doc.path(), scene);
   EXPECT_TRUE(h.app->doc.dirty());
   EXPECT_NE(h.app->status().find("broken.json"), std::string::npos) << h.app->status();
+  EXPECT_TRUE(h.app->status_is_error());
   ASSERT_EQ(h.run("drop $TMP/wrong_kind.json\nwait 2\nexpect wrong_kind.json\n"), "");
   EXPECT_EQ(h.app->doc.scene(), before);
   // A valid scene dropped afterwards does open.
