@@ -128,16 +128,10 @@ void App::poll_jobs() {
     if (shown != job_seen_state[i]) {
       job_seen_state[i] = shown;
       std::string msg = "Job " + std::to_string(j.id) + ": " + job_state_name(shown);
-      if (shown == JobState::Failed) {
-        msg += ": " + st.error;
-        log.add(LogLevel::Error, src, msg);
-        status_ = msg;
-        status_error_ = true;
-        continue;
-      } else {
-        log.add(LogLevel::Info, src, msg);
-      }
-      set_status(msg);
+      bool failed = shown == JobState::Failed;
+      if (failed) msg += ": " + st.error;
+      log.add(failed ? LogLevel::Error : LogLevel::Info, src, msg);
+      set_status(msg, failed);
     }
   }
 }

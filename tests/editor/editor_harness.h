@@ -44,7 +44,7 @@ class EditorHarness {
   void start(const fs::path& scene, bool gl, int w = 1280, int h = 720, double autosave_s = 0) {
     AppOptions o;
     o.scene = scene;
-    o.pliant = PLIANT_BIN;
+    o.pliant = pliant;
     o.config_dir = dir / "config";
     o.width = w;
     o.height = h;
@@ -69,6 +69,7 @@ class EditorHarness {
   }
 
   fs::path dir;
+  fs::path pliant = PLIANT_BIN;  // the job binary (tests may substitute a fake)
   std::unique_ptr<App> app;
 };
 

@@ -206,6 +206,32 @@ TEST(EditorUi, ViewportMouseMovesTheCameraAndResetViewRestoresIt) {
   EXPECT_FALSE(h.app->doc.history().can_undo());
 }
 
+TEST(EditorUi, FailedJobShowsItsMessageInTheStatusAndLog) {
+  EditorHarness h("failjob");
+  // A stand-in for `pliant run` that fails the way the protocol says.
+  h.pliant = h.dir / "fake-pliant";
+  std::ofstream(h.pliant) << "#!/bin/sh\n"
+                             "echo '{\"event\":\"start\",\"kind\":\"smoke\",\"take\":\"t\",\"frames\":3}'\n"
+                             "echo '{\"event\":\"log\",\"level\":\"warning\",\"message\":\"args: '\"$*\"'\"}'\n"
+                             "echo '{\"event\":\"error\",\"message\":\"s.json: /grid: boom\"}'\n"
+                             "exit 2\n";
+  fs::permissions(h.pliant, fs::perms::owner_all);
+  h.start(h.copy_scene("small_plume.json"), false);
+  ASSERT_EQ(h.run("wait 2\nclick_item Run\nwait_job 20\nexpect \"Job 1: failed: s.json: /grid: boom\"\n"), "");
+  JobStatus st = h.app->newest_job()->snapshot();
+  EXPECT_EQ(st.state, JobState::Failed);
+  EXPECT_EQ(st.exit_code, 2);
+  EXPECT_TRUE(h.app->status_is_error());
+  // The job got `run SCENE --take DIR --threads 1`.
+  bool saw_args = false;
+  for (const auto& l : h.app->log.lines())
+    if (l.level == LogLevel::Warning && l.message.find("args: run ") == 0 &&
+        l.message.find(" --take ") != std::string::npos &&
+        l.message.find(" --threads 1") != std::string::npos)
+      saw_args = true;
+  EXPECT_TRUE(saw_args);
+}
+
 TEST(EditorUi, ScriptErrorsNameTheLineAndItem) {
   EditorHarness h("script_err");
   fs::path scene = h.copy_scene("small_plume.json");
