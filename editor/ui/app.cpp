@@ -5,6 +5,8 @@
 #include <imgui.h>
 #include <imgui_impl_opengl3.h>
 
+#include <cstdio>
+
 #include "doc/config_dir.h"
 #include "doc/doc_commands.h"
 #include "render/screenshot.h"
@@ -82,7 +84,16 @@ void App::shutdown(bool clean) {
   shut_down_ = true;
   for (auto& j : jobs) j->cancel();
   jobs.clear();  // joins the reader threads
-  if (autosave && clean) autosave->end_session();
+  if (autosave && clean) {
+    // Closing a window with unsaved edits keeps them: the autosave stays and the
+    // next start offers to recover it. Headless runs are automation: always clean.
+    if (doc.dirty() && platform_ && !platform_->headless() && autosave->write_now(doc)) {
+      std::fprintf(stderr, "pliant-editor: unsaved changes kept in %s; the next start offers to recover them\n",
+                   autosave->autosave_file().c_str());
+    } else {
+      autosave->end_session();
+    }
+  }
   if (gl_) {
     if (viewport.fbo) glDeleteFramebuffers(1, &viewport.fbo);
     if (viewport.color_tex) glDeleteTextures(1, &viewport.color_tex);

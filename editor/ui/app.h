@@ -74,6 +74,7 @@ class App {
   bool init(std::unique_ptr<Platform> platform, std::string* err);
   void frame();
   // clean: removes the session lock and autosave (an unclean exit keeps them).
+  // A window closed with unsaved edits keeps them too, for the recovery prompt.
   void shutdown(bool clean = true);
   bool should_quit() const;
   void request_quit() { quit_requested_ = true; }
