@@ -1,6 +1,7 @@
 // Golden-image checks for GoogleTest (render tests and scripted editor tests).
 //
 //   pliant::test::expect_matches_golden(image, golden_path, diff_path, max_tol, mean_tol);
+//   PLIANT_EXPECT_MATCHES_GOLDEN(image, golden_path, diff_path[, max_tol[, mean_tol]]);
 //
 // Compares `image` with the PNG at golden_path (editor::compare: max per-channel
 // difference <= max_tol and mean difference <= mean_tol). On failure it writes
@@ -37,3 +38,7 @@ inline void expect_matches_golden(const editor::Image& image, const std::string&
 }
 
 }  // namespace pliant::test
+
+// Same check; the failure is reported at the caller's line.
+#define PLIANT_EXPECT_MATCHES_GOLDEN(image, golden_path, ...) \
+  EXPECT_TRUE(::pliant::test::matches_golden(image, golden_path, __VA_ARGS__))

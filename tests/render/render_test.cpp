@@ -49,7 +49,7 @@ class EglRender : public ::testing::Test {
 };
 
 TEST_F(EglRender, Blob2DMatchesGolden) {
-  expect_matches_golden(render(blob_frame()), golden_path("blob2d"), diff_path("blob2d"));
+  PLIANT_EXPECT_MATCHES_GOLDEN(render(blob_frame()), golden_path("blob2d"), diff_path("blob2d"));
 }
 
 TEST_F(EglRender, Blob2DWithVelocityArrowsMatchesGolden) {
@@ -57,14 +57,14 @@ TEST_F(EglRender, Blob2DWithVelocityArrowsMatchesGolden) {
   view.show_velocity = true;
   const Record f = frame_of({gaussian_blob_2d(64, 48, 40, 30, 6.0f), vortex_velocity_2d(64, 48, 32, 24)});
   const Image img = render(f, {}, view);
-  expect_matches_golden(img, golden_path("blob2d_velocity"), diff_path("blob2d_velocity"));
+  PLIANT_EXPECT_MATCHES_GOLDEN(img, golden_path("blob2d_velocity"), diff_path("blob2d_velocity"));
   // The arrows change the picture compared to the same frame without them.
   view.show_velocity = false;
   EXPECT_GT(editor::compare(img, render(f, {}, view), 8, 0.5).max_diff, 64);
 }
 
 TEST_F(EglRender, Sphere3DMatchesGolden) {
-  expect_matches_golden(render(frame_of({sphere_3d(32, 10.0f)})), golden_path("sphere3d"), diff_path("sphere3d"));
+  PLIANT_EXPECT_MATCHES_GOLDEN(render(frame_of({sphere_3d(32, 10.0f)})), golden_path("sphere3d"), diff_path("sphere3d"));
 }
 
 // The golden comparison can fail: a shifted blob is far outside its tolerance.
