@@ -58,8 +58,9 @@ void draw_jobs_panel(App& app, const PanelRect& r) {
     if (!st.objective.empty()) {
       char ov[64];
       std::snprintf(ov, sizeof ov, "objective %.3g", st.objective.back());
+      ImGui::SetNextItemWidth(-1);  // PlotLines takes the item width when its size.x is 0
       ImGui::PlotLines("##objective", st.objective.data(), static_cast<int>(st.objective.size()), 0,
-                       ov, FLT_MAX, FLT_MAX, ImVec2(-1, 48));
+                       ov, FLT_MAX, FLT_MAX, ImVec2(0, 48));
     }
     if (st.state == JobState::Failed) {
       ImGui::PushTextWrapPos(0);
