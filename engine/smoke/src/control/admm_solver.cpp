@@ -1,0 +1,197 @@
+#include "admm_solver.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "../smoke_workspace.h"
+#include "ao_solver.h"
+#include "control_forward_model.h"
+#include "nso_solver.h"
+#include "spacetime_multigrid_transfer.h"
+
+namespace pliant::smoke {
+
+using control_detail::Vec;
+using Series = std::vector<Vec>;
+
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+double norm(const Series& a) {
+  double s = 0;
+  for (const auto& v : a)
+    for (double x : v) s += x * x;
+  return std::sqrt(s);
+}
+
+double diff_norm(const Series& a, const Series& b) {
+  double s = 0;
+  for (size_t t = 0; t < a.size(); ++t)
+    for (size_t e = 0; e < a[t].size(); ++e) s += (a[t][e] - b[t][e]) * (a[t][e] - b[t][e]);
+  return std::sqrt(s);
+}
+
+Series to_d(const FaceSeries& f) { return control_detail::to_double(f); }
+FaceSeries to_f(const Series& f) { return control_detail::to_float(f); }
+
+// Forces that make the plain forward model follow z (see admm_solver.h).
+Series forces_from_velocity(control_detail::ForwardOps& ops, const Series& z) {
+  const size_t F = ops.faces();
+  const double dt = ops.dt();
+  Series f(z.size(), Vec(F, 0.0));
+  Vec zr(F, 0.0), a(F, 0.0), next(F);
+  for (size_t t = 0; t < z.size(); ++t) {
+    ops.advect_velocity(zr, a);
+    Vec& ft = f[t];
+    for (size_t e = 0; e < F; ++e) ft[e] = z[t][e] - a[e];
+    ops.project(ft);
+    for (size_t e = 0; e < F; ++e) next[e] = a[e] + ft[e], ft[e] /= dt;
+    ops.project(next);
+    zr.swap(next);
+  }
+  return f;
+}
+
+}  // namespace
+
+void admm_run(const ControlModel& m, ControlState& s, Progress& progress, const ControlCallbacks& cb,
+              std::vector<AdmmIterationStats>* stats) {
+  using clock = std::chrono::steady_clock;
+  const int T = m.sim.frames;
+  control_detail::ForwardOps ops(m, control_detail::kControlPressureTolerance);
+  const size_t F = ops.faces();
+  const double beta = m.admm_penalty;
+  auto sized = [&](const FaceSeries& x) { return int(x.size()) == T && (T == 0 || x[0].size() == F); };
+  if (!sized(s.split) || !sized(s.velocity) || !sized(s.dual)) {
+    // Start from the trajectory of the current forces (zero: rest).
+    control_detail::TrajectoryD tr;
+    Series f0 = sized(s.force) ? to_d(s.force) : Series(T, Vec(F, 0.0));
+    control_detail::forward_d(m, ops, f0, tr);
+    Series z(tr.u.begin() + 1, tr.u.end());
+    s.split = to_f(z);
+    s.velocity = s.split;
+    s.dual.assign(T, std::vector<float>(F, 0.0f));
+  }
+  Series u = to_d(s.velocity), z = to_d(s.split), lam = to_d(s.dual), c(T, Vec(F)), d(T, Vec(F));
+  AoSolver ao(m, ops);
+  NsoSolver nso(m, ops);
+  progress.stage("admm", m.max_iterations);
+  while (s.iteration < m.max_iterations) {
+    progress.check_cancelled();
+    const auto t0 = clock::now();
+    AdmmIterationStats it;
+    for (int t = 0; t < T; ++t)
+      for (size_t e = 0; e < F; ++e) c[t][e] = z[t][e] - lam[t][e];
+    ao.solve(u, c, beta, m.ao_iterations);
+    it.ao_s = seconds_since(t0);
+    progress.check_cancelled();
+    const auto t1 = clock::now();
+    for (int t = 0; t < T; ++t)
+      for (size_t e = 0; e < F; ++e) d[t][e] = u[t][e] + lam[t][e];
+    const Series z_prev = z;
+    const NsoStats ns = nso.solve(z, d, beta, m.nso_vcycles);
+    it.vcycle_factors = ns.vcycle_factors;
+    it.nso_s = seconds_since(t1);
+    for (int t = 0; t < T; ++t)
+      for (size_t e = 0; e < F; ++e) lam[t][e] += u[t][e] - z[t][e];
+    it.primal = diff_norm(u, z) / std::max({norm(u), norm(z), 1e-30});
+    it.dual = diff_norm(z, z_prev) / std::max(norm(lam), 1e-30);
+    const auto t2 = clock::now();
+    const Series f = forces_from_velocity(ops, z);
+    it.objective = control_detail::objective_d(m, ops, f, nullptr);
+    it.forces_s = seconds_since(t2);
+    s.force = to_f(f);
+    s.velocity = to_f(u);
+    s.split = to_f(z);
+    s.dual = to_f(lam);
+    s.objective_history.push_back(it.objective);
+    s.primal_residual_history.push_back(it.primal);
+    s.dual_residual_history.push_back(it.dual);
+    s.wall_s += seconds_since(t0);
+    ++s.iteration;
+    if (stats) stats->push_back(it);
+    progress.report(s.iteration, it.objective);
+    if (cb.on_iteration) cb.on_iteration(s);
+    if (s.iteration >= 2 && it.primal < m.tolerance && it.dual < m.tolerance) break;
+  }
+}
+
+bool admm_coarsen_model(const ControlModel& m, ControlModel& coarse) {
+  const MacGrid g = model_grid(m.sim);
+  const SpacetimeGrid fine(g, 1);
+  if (!fine.coarsenable()) return false;
+  const SpacetimeGrid cg = fine.coarsened();
+  coarse = m;
+  for (int a = 0; a < g.dim; ++a) coarse.sim.n[a] = cg.g.n[a];
+  coarse.sim.cell_size_m = 2 * m.sim.cell_size_m;
+  auto restrict_density = [&](const std::vector<float>& x) {
+    std::vector<double> xf(x.begin(), x.end()), xc(cg.cells());
+    restrict_cells(fine, cg, xf.data(), xc.data());
+    return std::vector<float>(xc.begin(), xc.end());
+  };
+  coarse.initial_density = restrict_density(m.initial_density);
+  for (auto& k : coarse.keyframes) k.density = restrict_density(k.density);
+  if (!m.solid.empty()) {
+    std::vector<float> s(m.solid.begin(), m.solid.end());
+    const auto sc = restrict_density(s);
+    coarse.solid.assign(sc.size(), 0);
+    for (size_t i = 0; i < sc.size(); ++i) coarse.solid[i] = sc[i] > 0.5f;
+  }
+  return true;
+}
+
+void control_solve_admm(const ControlModel& m, ControlState& s, Progress& progress, const ControlCallbacks& cb) {
+  const int T = m.sim.frames;
+  // Progressive preview: solve at half (or quarter) resolution first, show it, and
+  // prolong its velocities and dual as the fine initial guess.
+  if (m.progressive_preview && s.iteration == 0 && s.split.empty()) {
+    std::vector<ControlModel> chain{m};
+    ControlModel c;
+    while (chain.size() < 3 && chain.back().sim.n[0] > 32 && admm_coarsen_model(chain.back(), c)) chain.push_back(c);
+    if (chain.size() > 1) {
+      ControlModel& cm = chain.back();
+      cm.progressive_preview = false;
+      cm.max_iterations = std::max(3, m.max_iterations / 4);
+      ControlState cs = control_init(cm);
+      admm_run(cm, cs, progress, {}, nullptr);
+      if (cb.on_preview) {
+        control_detail::ForwardOps ops(cm, control_detail::kControlPressureTolerance);
+        control_detail::TrajectoryD tr;
+        control_detail::forward_d(cm, ops, to_d(cs.force), tr);
+        GridDims gd;
+        gd.dim = cm.sim.dim;
+        gd.n = cm.sim.n;
+        std::vector<std::vector<float>> dens;
+        for (const auto& r : tr.rho) dens.emplace_back(r.begin(), r.end());
+        cb.on_preview(gd, dens);
+      }
+      FaceSeries* series[3] = {&cs.velocity, &cs.split, &cs.dual};
+      for (int l = int(chain.size()) - 2; l >= 0; --l) {
+        const SpacetimeGrid fg(model_grid(chain[l].sim), 1), cg(model_grid(chain[l + 1].sim), 1);
+        for (FaceSeries* x : series)
+          for (int t = 0; t < T; ++t) {
+            std::vector<double> xc((*x)[t].begin(), (*x)[t].end()), xf(fg.faces());
+            prolong_faces(fg, cg, xc.data(), xf.data());
+            (*x)[t].assign(xf.begin(), xf.end());
+          }
+      }
+      s.velocity = cs.velocity;
+      s.split = cs.split;
+      s.dual = cs.dual;
+      // The prolonged z is not exactly divergence-free: project it.
+      control_detail::ForwardOps ops(m, control_detail::kControlPressureTolerance);
+      for (auto& zt : s.split) {
+        Vec v(zt.begin(), zt.end());
+        ops.project(v);
+        zt.assign(v.begin(), v.end());
+      }
+    }
+  }
+  admm_run(m, s, progress, cb, nullptr);
+}
+
+}  // namespace pliant::smoke

@@ -1,0 +1,33 @@
+// The ADMM outer loop of control_solve_admm (Pan & Manocha 2017; ALGORITHMS.md 2).
+// Variables (frames 1..T): AO velocities u, NSO velocities z, scaled dual lambda.
+//   AO:   u <- argmin keyframe error(rho(u)) + beta/2 ||u - (z - lambda)||^2   (ao_solver.h)
+//   NSO:  z <- argmin r ||f(z)||^2 + beta/2 ||z - (u + lambda)||^2, div z = 0  (nso_solver.h)
+//   dual: lambda += u - z
+// Residuals (relative): primal ||u - z|| / max(||u||, ||z||), dual ||z - z_prev|| / ||lambda||
+// (Boyd et al. 2011, Sec. 3.3); stop when both are below tolerance.
+// Forces: a forward sweep re-simulates the plain model, f_i = P(z_{i+1} - A(z'_i))/dt with
+// z' the re-simulated velocity, so P(A z'_i + dt f_i) = P z_{i+1}: control_forward
+// reproduces the projected NSO velocities, and f is divergence-free (least norm).
+// ControlState: velocity = u, split = z, dual = lambda, each T entries (frames 1..T).
+#pragma once
+#include <vector>
+
+#include "pliant/smoke/control.h"
+
+namespace pliant::smoke {
+
+struct AdmmIterationStats {
+  double objective = 0, primal = 0, dual = 0, ao_s = 0, nso_s = 0, forces_s = 0;
+  std::vector<double> vcycle_factors;
+};
+
+// Runs ADMM outer iterations on s until tolerance / max_iterations / cancellation.
+// `stats` (optional) receives one entry per iteration.
+void admm_run(const ControlModel& m, ControlState& s, Progress& progress, const ControlCallbacks& cb,
+              std::vector<AdmmIterationStats>* stats);
+
+// The model at half resolution (keyframes and initial density restricted), for the
+// progressive preview; false when the grid cannot be halved.
+bool admm_coarsen_model(const ControlModel& m, ControlModel& coarse);
+
+}  // namespace pliant::smoke

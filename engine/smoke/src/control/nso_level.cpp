@@ -1,0 +1,190 @@
+#include "nso_level.h"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace pliant::smoke {
+
+NsoLevel::NsoLevel(const SpacetimeGrid& sg) : sg_(sg) {
+  const size_t TF = size_t(sg.T) * sg.faces(), TC = size_t(sg.T) * sg.cells();
+  x.assign(TF, 0.0);
+  F.assign(TF, 0.0);
+  res_mom.assign(TF, 0.0);
+  e_.assign(TF, 0.0);
+  zbar.assign(TF, 0.0);
+  q.assign(TC, 0.0);
+  G.assign(TC, 0.0);
+  res_div.assign(TC, 0.0);
+  wall_.resize(sg.faces());
+  for (size_t f = 0; f < sg.faces(); ++f) wall_[f] = is_wall_face(sg, f);
+  A_.resize(std::max(0, sg.T - 1));
+  vel_scratch_.resize(size_t(std::max(1, omp_get_max_threads())) * sg.faces());
+  const int m = 2 * sg.g.dim + 1;
+  scratch_.resize(std::max(1, omp_get_max_threads()));
+  for (auto& s : scratch_) {
+    const size_t blocks = size_t(sg.T) * m * m;
+    s.B.resize(blocks), s.L.resize(blocks), s.U.resize(blocks), s.schur.resize(blocks), s.sinv_u.resize(blocks);
+    s.rhs.resize(size_t(sg.T) * m);
+    s.piv.resize(size_t(sg.T) * m);
+  }
+}
+
+void NsoLevel::linearise(const double* zb, double dt) {
+  const size_t Fn = sg_.faces();
+  if (zb != zbar.data()) std::copy(zb, zb + size_t(sg_.T) * Fn, zbar.begin());
+#pragma omp parallel for schedule(dynamic) if (sg_.parallel())
+  for (int t = 0; t < sg_.T - 1; ++t)
+    build_sl_stencil(sg_, zbar.data() + t * Fn, dt, vel_scratch_.data() + size_t(omp_get_thread_num()) * Fn,
+                     A_[t]);
+}
+
+void NsoLevel::apply(const double* xx, const double* qq, double* out_mom, double* out_div) {
+  const MacGrid& g = sg_.g;
+  const size_t Fn = sg_.faces(), Cn = sg_.cells();
+  const int T = sg_.T;
+  const double inv_h = 1.0 / g.h;
+  // e_t = x_t - A_{t-1} x_{t-1}
+#pragma omp parallel for schedule(static) if (sg_.parallel())
+  for (int t = 0; t < T; ++t) {
+    double* e = e_.data() + t * Fn;
+    const double* xt = xx + t * Fn;
+    if (t == 0) {
+      std::copy(xt, xt + Fn, e);
+    } else {
+      sl_apply(sg_, A_[t - 1], xx + (t - 1) * Fn, e);
+      for (size_t f = 0; f < Fn; ++f) e[f] = xt[f] - e[f];
+    }
+  }
+#pragma omp parallel for schedule(static) if (sg_.parallel())
+  for (int t = 0; t < T; ++t) {
+    double* o = out_mom + t * Fn;
+    const double* xt = xx + t * Fn;
+    const double* e = e_.data() + t * Fn;
+    for (size_t f = 0; f < Fn; ++f) o[f] = w_ * e[f] + bm_ * xt[f];
+    if (t + 1 < T) sl_apply_transpose_add(sg_, A_[t], -w_, e_.data() + (t + 1) * Fn, o);
+    // D^T q and D x, cell by cell.
+    const double* qt = qq + t * Cn;
+    double* d = out_div + t * Cn;
+    for (int k = 0; k < g.n[2]; ++k)
+      for (int j = 0; j < g.n[1]; ++j)
+        for (int i = 0; i < g.n[0]; ++i) {
+          const size_t c = g.cell(i, j, k);
+          double div = 0;
+          for (int a = 0; a < g.dim; ++a) {
+            const size_t lo = sg_.off[a] + g.face_lo(a, i, j, k), hi = sg_.off[a] + g.face_hi(a, i, j, k);
+            div += xt[hi] - xt[lo];
+            o[hi] += inv_h * qt[c];
+            o[lo] -= inv_h * qt[c];
+          }
+          d[c] = inv_h * div;
+        }
+    for (size_t f = 0; f < Fn; ++f)
+      if (wall_[f]) o[f] = xt[f];
+  }
+}
+
+double NsoLevel::residual() {
+  apply(x.data(), q.data(), res_mom.data(), res_div.data());
+  double sm = 0, sd = 0;
+  const size_t TF = res_mom.size(), TC = res_div.size();
+#pragma omp parallel for schedule(static) reduction(+ : sm) if (sg_.parallel())
+  for (size_t e = 0; e < TF; ++e) {
+    res_mom[e] = wall_[e % sg_.faces()] ? 0.0 : F[e] - res_mom[e];  // walls are fixed, not solved
+    sm += res_mom[e] * res_mom[e];
+  }
+#pragma omp parallel for schedule(static) reduction(+ : sd) if (sg_.parallel())
+  for (size_t e = 0; e < TC; ++e) {
+    res_div[e] = G[e] - res_div[e];
+    sd += res_div[e] * res_div[e];
+  }
+  const double s = w_ * sg_.g.h;
+  return std::sqrt(sm + s * s * sd);
+}
+
+void NsoLevel::solve_cell(int i, int j, int k, int thread) {
+  const MacGrid& g = sg_.g;
+  const int dim = g.dim, m = 2 * dim + 1, mm = m * m, T = sg_.T;
+  const size_t Fn = sg_.faces(), Cn = sg_.cells();
+  const size_t c = g.cell(i, j, k);
+  size_t phi[6];
+  bool wall[6];
+  double sgn[6];
+  for (int a = 0; a < dim; ++a) {
+    phi[2 * a] = sg_.off[a] + g.face_lo(a, i, j, k);
+    phi[2 * a + 1] = sg_.off[a] + g.face_hi(a, i, j, k);
+    sgn[2 * a] = -1.0 / g.h;
+    sgn[2 * a + 1] = 1.0 / g.h;
+  }
+  for (int p = 0; p < 2 * dim; ++p) wall[p] = wall_[phi[p]];
+  ThreadScratch& s = scratch_[thread];
+  std::fill(s.B.begin(), s.B.end(), 0.0);
+  std::fill(s.L.begin(), s.L.end(), 0.0);
+  std::fill(s.U.begin(), s.U.end(), 0.0);
+  const int qi = 2 * dim;
+  for (int t = 0; t < T; ++t) {
+    double* B = s.B.data() + size_t(t) * mm;
+    double* r = s.rhs.data() + size_t(t) * m;
+    for (int p = 0; p < 2 * dim; ++p) {
+      if (wall[p]) {
+        B[p * m + p] = 1.0;
+        r[p] = 0.0;
+        continue;
+      }
+      B[p * m + p] = w_ + bm_ + (t + 1 < T ? w_ * A_[t].ata_diag[phi[p]] : 0.0);
+      B[p * m + qi] = B[qi * m + p] = sgn[p];
+      r[p] = res_mom[t * Fn + phi[p]];
+    }
+    r[qi] = res_div[t * Cn + c];
+    for (int a = 0; a < dim; ++a) {
+      const int lo = 2 * a, hi = 2 * a + 1;
+      if (wall[lo] || wall[hi] || t + 1 >= T) continue;
+      const double v = w_ * A_[t].ata_hi[phi[lo]];
+      B[lo * m + hi] += v;
+      B[hi * m + lo] += v;
+    }
+    if (t > 0) {  // L_t = -w A_{t-1}[local, local]; U_{t-1} = L_t^T
+      double* L = s.L.data() + size_t(t) * mm;
+      double* U = s.U.data() + size_t(t - 1) * mm;
+      for (int a = 0; a < dim; ++a)
+        for (int p = 2 * a; p < 2 * a + 2; ++p)
+          for (int pp = 2 * a; pp < 2 * a + 2; ++pp) {
+            if (wall[p] || wall[pp]) continue;
+            const double v = -w_ * sl_entry(A_[t - 1], phi[p], phi[pp]);
+            L[p * m + pp] = v;
+            U[pp * m + p] = v;
+          }
+    }
+  }
+  const BlockTridiagonalScratch bs{s.schur.data(), s.sinv_u.data(), s.piv.data()};
+  if (!block_tridiagonal_solve(T, m, s.B.data(), s.L.data(), s.U.data(), s.rhs.data(), bs)) return;
+  for (int t = 0; t < T; ++t) {
+    const double* d = s.rhs.data() + size_t(t) * m;
+    for (int p = 0; p < 2 * dim; ++p)
+      if (!wall[p]) x[t * Fn + phi[p]] += d[p];
+    q[t * Cn + c] += d[qi];
+  }
+}
+
+void NsoLevel::smooth_colour(int colour) {
+  residual();
+  const MacGrid& g = sg_.g;
+  const int pi = colour & 1, pj = (colour >> 1) & 1, pk = (colour >> 2) & 1;
+  const int nj = (g.n[1] - pj + 1) / 2, nk = g.dim == 3 ? (g.n[2] - pk + 1) / 2 : 1;
+  const bool par = sg_.parallel();
+#pragma omp parallel for collapse(2) schedule(dynamic, 4) if (par)
+  for (int kk = 0; kk < nk; ++kk)
+    for (int jj = 0; jj < nj; ++jj) {
+      const int k = g.dim == 3 ? 2 * kk + pk : 0, j = 2 * jj + pj;
+      const int thread = omp_get_thread_num();
+      for (int i = pi; i < g.n[0]; i += 2) solve_cell(i, j, k, thread);
+    }
+}
+
+void NsoLevel::smooth(bool forward) {
+  const int colours = 1 << sg_.g.dim;
+  for (int c = 0; c < colours; ++c) smooth_colour(forward ? c : colours - 1 - c);
+}
+
+}  // namespace pliant::smoke

@@ -1,0 +1,66 @@
+// One level of the NSO spacetime problem, linearised (Picard) around zbar:
+//   min_x  (w/2) sum_t ||x_t - A_{t-1} x_{t-1}||^2 + (bm/2) sum_t ||x_t||^2 - <F, x>
+//   s.t.   D x_t = G_t                                  (t = 0..T-1 is frame t+1)
+// with w = 2 r / dt^2 (so (w/2)||e||^2 = r ||e/dt||^2 = r ||f||^2), bm = beta + mu
+// (ADMM penalty plus Levenberg-Marquardt damping), x_{-1} = 0 (rest at frame 0),
+// D the MAC divergence (1/h scaled, so it rediscretises consistently on coarse
+// levels) and A_t the frozen semi-Lagrangian operator (nso_advection_stencil.h).
+// KKT system, unknowns x (all faces of all frames) and q (one dual per cell and
+// frame):
+//   H x + D^T q = F,   D x = G,
+//   H = block-tridiagonal in time: diag w(I + A_t^T A_t) + bm I, off -w A_{t-1}.
+// Closed-wall faces are fixed at 0 (their rows are identities).
+// SCGS smoothing (Vanka type): for one cell, its 2*dim faces and its dual over all
+// T frames form a block-tridiagonal system with (2*dim+1)^2 blocks equal to the
+// corresponding principal submatrix of the KKT matrix (exact: A^T A couples a
+// cell's two faces of one axis, which is included); it is solved by block Thomas
+// (scgs_block_tridiagonal.h). Cells of one of the 2^dim parity colours share no
+// face, so one colour is updated in parallel from a residual computed before it.
+#pragma once
+#include <vector>
+
+#include "nso_advection_stencil.h"
+#include "scgs_block_tridiagonal.h"
+
+namespace pliant::smoke {
+
+class NsoLevel {
+ public:
+  explicit NsoLevel(const SpacetimeGrid& sg);
+
+  const SpacetimeGrid& grid() const { return sg_; }
+  // Rebuild A_t from zbar (T*faces values; frame t's A uses zbar frame t).
+  void linearise(const double* zbar, double dt);
+  void set_coefficients(double w, double bm) { w_ = w, bm_ = bm; }
+  double w() const { return w_; }
+  double bm() const { return bm_; }
+
+  // out = KKT operator applied to (x, q).
+  void apply(const double* x, const double* q, double* out_mom, double* out_div);
+  // res = (F, G) - KKT (x, q); returns the scaled norm sqrt(|r_mom|^2 + (w h)^2 |r_div|^2).
+  double residual();
+  // One SCGS sweep over the 2^dim colours (reversed order when !forward).
+  void smooth(bool forward);
+
+  // Unknowns, right-hand side and residual (T*faces / T*cells).
+  std::vector<double> x, q, F, G, res_mom, res_div;
+  std::vector<double> zbar;  // linearisation point (restricted on coarse levels)
+
+ private:
+  void smooth_colour(int colour);
+  void solve_cell(int i, int j, int k, int thread);
+
+  SpacetimeGrid sg_;
+  double w_ = 1, bm_ = 1;
+  std::vector<SlStencil> A_;       // T-1 operators (A_t: frame t -> t+1)
+  std::vector<uint8_t> wall_;      // per face
+  std::vector<double> e_;          // T*faces scratch: x_t - A_{t-1} x_{t-1}
+  std::vector<float> vel_scratch_;
+  struct ThreadScratch {
+    std::vector<double> B, L, U, rhs, schur, sinv_u;
+    std::vector<int> piv;
+  };
+  std::vector<ThreadScratch> scratch_;
+};
+
+}  // namespace pliant::smoke

@@ -1,0 +1,49 @@
+// NSO subproblem of the ADMM (Navier-Stokes optimisation; Pan & Manocha 2017):
+//   min_z  E(z) = r sum_i ||(z_{i+1} - A(z_i, z_i)) / dt||^2 + (beta/2) sum_i ||z_i - d_i||^2,
+//   s.t.   div z_i = 0,   z_0 = 0 (rest),   d = u + lambda (AO velocity plus dual),
+// A = control_forward's semi-Lagrangian self-advection (Euler backtrace,
+// ForwardOps::advect_velocity), so the forces f_i = (z_{i+1} - A z_i)/dt re-simulate z.
+// The force's gradient part is not discounted here (E counts ||z_{i+1} - A z_i||^2, not
+// its divergence-free part); the forces handed out are projected (admm_solver.cpp), so
+// the reported control energy is <= the E minimised here.
+// Levenberg-Marquardt around the spacetime FAS multigrid: each LM step linearises A
+// at the current z (Picard: backtraces frozen, nso_advection_stencil.h), adds the
+// damping (mu/2)||z - zbar||^2 and runs `vcycles` FAS V-cycles on the KKT system;
+// the step is accepted when the true nonlinear E decreases, else mu grows and the
+// step is retried (at most 3 tries), so E never increases.
+#pragma once
+#include <memory>
+#include <vector>
+
+#include "control_forward_model.h"
+#include "spacetime_multigrid.h"
+
+namespace pliant::smoke {
+
+struct NsoStats {
+  double e_before = 0, e_after = 0;
+  std::vector<double> vcycle_factors;  // residual ratio of each V-cycle of the accepted step
+  int lm_steps = 0, rejected = 0;
+};
+
+class NsoSolver {
+ public:
+  NsoSolver(const ControlModel& m, control_detail::ForwardOps& ops);
+  // z (T frames, frames 1..T) is the warm start and receives the result.
+  NsoStats solve(std::vector<control_detail::Vec>& z, const std::vector<control_detail::Vec>& d, double beta,
+                 int vcycles, int lm_steps = 1);
+  double energy(const std::vector<control_detail::Vec>& z, const std::vector<control_detail::Vec>& d,
+                double beta);
+  SpacetimeMultigrid& multigrid() { return *mg_; }
+
+ private:
+  const ControlModel& m_;
+  control_detail::ForwardOps& ops_;
+  int T_;
+  size_t F_;
+  std::unique_ptr<SpacetimeMultigrid> mg_;
+  control_detail::Vec a_;
+  double mu_ = 0;
+};
+
+}  // namespace pliant::smoke

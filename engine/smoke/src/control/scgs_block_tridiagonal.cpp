@@ -1,0 +1,92 @@
+#include "scgs_block_tridiagonal.h"
+
+#include <cmath>
+#include <utility>
+
+namespace pliant::smoke {
+
+bool dense_lu_factor(int m, double* a, int* piv) {
+  for (int k = 0; k < m; ++k) {
+    int p = k;
+    double best = std::abs(a[k * m + k]);
+    for (int i = k + 1; i < m; ++i)
+      if (std::abs(a[i * m + k]) > best) best = std::abs(a[i * m + k]), p = i;
+    piv[k] = p;
+    if (best == 0.0) return false;
+    if (p != k)
+      for (int j = 0; j < m; ++j) std::swap(a[k * m + j], a[p * m + j]);
+    const double inv = 1.0 / a[k * m + k];
+    for (int i = k + 1; i < m; ++i) {
+      const double l = a[i * m + k] * inv;
+      a[i * m + k] = l;
+      for (int j = k + 1; j < m; ++j) a[i * m + j] -= l * a[k * m + j];
+    }
+  }
+  return true;
+}
+
+void dense_lu_solve(int m, const double* lu, const int* piv, double* b, int nrhs) {
+  for (int k = 0; k < m; ++k)
+    if (piv[k] != k)
+      for (int c = 0; c < nrhs; ++c) std::swap(b[k * nrhs + c], b[piv[k] * nrhs + c]);
+  for (int i = 1; i < m; ++i)
+    for (int k = 0; k < i; ++k) {
+      const double l = lu[i * m + k];
+      if (l != 0.0)
+        for (int c = 0; c < nrhs; ++c) b[i * nrhs + c] -= l * b[k * nrhs + c];
+    }
+  for (int i = m - 1; i >= 0; --i) {
+    const double inv = 1.0 / lu[i * m + i];
+    for (int c = 0; c < nrhs; ++c) {
+      double s = b[i * nrhs + c];
+      for (int k = i + 1; k < m; ++k) s -= lu[i * m + k] * b[k * nrhs + c];
+      b[i * nrhs + c] = s * inv;
+    }
+  }
+}
+
+bool block_tridiagonal_solve(int T, int m, const double* B, const double* L, const double* U,
+                             double* rhs, const BlockTridiagonalScratch& s) {
+  const int mm = m * m;
+  // Forward elimination: S_0 = B_0; S_t = B_t - L_t S_{t-1}^-1 U_{t-1};
+  // y_t = r_t - L_t S_{t-1}^-1 y_{t-1} (y overwrites rhs, already multiplied by S^-1).
+  for (int t = 0; t < T; ++t) {
+    double* S = s.schur + size_t(t) * mm;
+    for (int e = 0; e < mm; ++e) S[e] = B[size_t(t) * mm + e];
+    double* y = rhs + size_t(t) * m;
+    if (t > 0) {
+      const double* Lt = L + size_t(t) * mm;
+      const double* X = s.sinv_u + size_t(t - 1) * mm;  // S_{t-1}^-1 U_{t-1}
+      const double* yp = rhs + size_t(t - 1) * m;       // S_{t-1}^-1 y_{t-1}
+      for (int i = 0; i < m; ++i)
+        for (int k = 0; k < m; ++k) {
+          const double l = Lt[i * m + k];
+          if (l == 0.0) continue;
+          for (int j = 0; j < m; ++j) S[i * m + j] -= l * X[k * m + j];
+          y[i] -= l * yp[k];
+        }
+    }
+    int* piv = s.piv + size_t(t) * m;
+    if (!dense_lu_factor(m, S, piv)) return false;
+    dense_lu_solve(m, S, piv, y, 1);
+    if (t + 1 < T) {
+      double* X = s.sinv_u + size_t(t) * mm;
+      for (int e = 0; e < mm; ++e) X[e] = U[size_t(t) * mm + e];
+      dense_lu_solve(m, S, piv, X, m);
+    }
+  }
+  // Back substitution: x_t = y_t - S_t^-1 U_t x_{t+1}.
+  for (int t = T - 2; t >= 0; --t) {
+    const double* X = s.sinv_u + size_t(t) * mm;
+    double* x = rhs + size_t(t) * m;
+    const double* xn = rhs + size_t(t + 1) * m;
+    for (int i = 0; i < m; ++i) {
+      double acc = 0;
+      for (int k = 0; k < m; ++k) acc += X[i * m + k] * xn[k];
+      x[i] -= acc;
+    }
+  }
+  return true;
+}
+
+}  // namespace pliant::smoke
