@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cstdlib>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -51,6 +52,9 @@ json machine_info() {
   return {{"nproc", sysconf(_SC_NPROCESSORS_ONLN)},
           {"cpu", cpu},
           {"omp_max_threads", omp_get_max_threads()},
+          // libgomp spins at barriers by default; on an oversubscribed machine that
+          // makes 2-thread runs many times slower than 1 thread (see the results).
+          {"omp_wait_policy", std::getenv("OMP_WAIT_POLICY") ? std::getenv("OMP_WAIT_POLICY") : "default"},
           {"load_average_at_start", load_average()}};
 }
 
