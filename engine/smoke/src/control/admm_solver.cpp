@@ -86,7 +86,9 @@ void admm_run(const ControlModel& m, ControlState& s, Progress& progress, const 
     AdmmIterationStats it;
     for (int t = 0; t < T; ++t)
       for (size_t e = 0; e < F; ++e) c[t][e] = z[t][e] - lam[t][e];
-    ao.solve(u, c, beta, m.ao_iterations);
+    const AoStats as = ao.solve(u, c, beta, m.ao_iterations);
+    it.ao_keyframe_error = as.keyframe_error;
+    it.ao_steps = as.steps;
     it.ao_s = seconds_since(t0);
     progress.check_cancelled();
     const auto t1 = clock::now();

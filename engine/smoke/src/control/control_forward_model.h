@@ -75,12 +75,16 @@ class ForwardOps {
   Vec phi_, rhs_;
 };
 
-// Runs small grids on one thread for its lifetime: below ~4k cells every OpenMP
-// fork/join (also inside the Poisson solver) costs more than the work, and on a
-// loaded machine much more (measured 100x on the unit-test grids).
+// Runs grids below `threshold` cells on one thread for its lifetime. Every OpenMP
+// fork/join (also inside the Poisson solver) costs more than the work on small
+// grids, and on an oversubscribed machine libgomp's spinning barriers make it far
+// worse: measured on the 2-core build box under load 10, a 64^2 x 40 gradient took
+// 0.5 s on 1 thread and 13.6 s on 2 (0.7 s with OMP_WAIT_POLICY=passive); 128^2 x
+// 40: 2.6 s vs 24.6 s. So only grids of 2^16 cells and more run in parallel.
+inline constexpr size_t kControlParallelCells = size_t(1) << 16;
 class SerialBelow {
  public:
-  explicit SerialBelow(size_t cells, size_t threshold = 4096);
+  explicit SerialBelow(size_t cells, size_t threshold = kControlParallelCells);
   ~SerialBelow();
   SerialBelow(const SerialBelow&) = delete;
   SerialBelow& operator=(const SerialBelow&) = delete;

@@ -134,6 +134,7 @@ nlohmann::json smoke_control_run_job(JobContext& ctx) {
   ctx.progress.stage("resimulate", T);
   using namespace control_detail;
   ForwardOps ops(m, kControlPressureTolerance);
+  const SerialBelow serial(ops.cells());
   TrajectoryD t;
   forward_d(m, ops, to_double(s.force), t);
   const std::vector<float> no_force(ops.faces(), 0.0f);
@@ -149,6 +150,7 @@ nlohmann::json smoke_control_run_job(JobContext& ctx) {
     r.fields.push_back(cell_vector_field(g, "force", i < T ? s.force[i] : no_force));
     ctx.take.append(r);
     ctx.events.frame(i);
+    if (i > 0) ctx.progress.report(i);
   }
   const ControlMetrics cm = control_evaluate(m, s.force);
   nlohmann::json kf = nlohmann::json::array();

@@ -126,8 +126,10 @@ void control_solve_lbfgs(const ControlModel& m, ControlState& s, Progress& progr
         x[Eigen::Index(size_t(i) * nf + e)] = v;
       }
     s.wall_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    progress.report(std::min(s.iteration, m.max_iterations), fx);
+    // Checkpoint first, then report: whoever sees the progress event can rely on
+    // the checkpoint being in the take.
     if (cb.on_iteration) cb.on_iteration(s);
+    progress.report(std::min(s.iteration, m.max_iterations), fx);
     const bool converged = (!line_search_failed && k < param.max_iterations) ||
                            std::abs(previous - fx) <= m.tolerance * std::max(std::abs(fx), 1e-300);
     if (stalled || converged) break;

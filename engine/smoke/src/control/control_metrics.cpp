@@ -9,6 +9,7 @@ namespace pliant::smoke {
 ControlMetrics control_evaluate(const ControlModel& m, const FaceSeries& f) {
   using namespace control_detail;
   ForwardOps ops(m, kControlPressureTolerance);
+  const SerialBelow serial(ops.cells());
   const std::vector<Vec> fd = to_double(f);
   TrajectoryD t;
   forward_d(m, ops, fd, t);
