@@ -67,15 +67,6 @@ Field cell_vector_field(const MacGrid& g, const std::string& name, const std::ve
 
 }  // namespace
 
-// Stand-in until the ADMM solver (part B, admm_*.cpp) defines control_solve_admm:
-// weak, so B's definition replaces it at link time. It says so in the log.
-__attribute__((weak)) void control_solve_admm(const ControlModel& m, ControlState& s, Progress& progress,
-                                              const ControlCallbacks& cb) {
-  ControlModel fallback = m;
-  fallback.method = ControlMethod::Lbfgs;
-  control_solve_lbfgs(fallback, s, progress, cb);
-}
-
 bool scene_has_control(const Scene& scene) {
   return scene.kind == "smoke" && scene.doc.is_object() && scene.doc.contains("control");
 }
