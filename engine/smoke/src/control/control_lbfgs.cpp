@@ -5,6 +5,9 @@
 // kChunk iterations: after each chunk the state is reported (checkpoint) and the
 // next chunk starts a fresh L-BFGS memory from the current forces. A run resumed
 // from a checkpoint therefore repeats exactly what an uninterrupted run does.
+// Settings measured on circle-to-square 32^2 x 20, 200 iterations: memory 10,
+// Armijo backtracking, chunks of 20 reach E = 11.5 (IoU 0.80); chunks of 10 stall
+// at 13.9, Wolfe backtracking at 14.6, Nocedal-Wright fails at the first step.
 #include <LBFGS.h>
 
 #include <Eigen/Core>
@@ -20,7 +23,7 @@ namespace pliant::smoke {
 namespace {
 
 using control_detail::Vec;
-constexpr int kChunk = 10;
+constexpr int kChunk = 20;
 
 struct LbfgsObjective {
   const ControlModel& m;
@@ -86,6 +89,7 @@ void control_solve_lbfgs(const ControlModel& m, ControlState& s, Progress& progr
         s.objective_history.empty() ? std::numeric_limits<double>::infinity() : s.objective_history.back();
     const auto t0 = std::chrono::steady_clock::now();
     LBFGSpp::LBFGSParam<double> param;
+    param.m = 10;
     param.epsilon = 1e-12;
     param.epsilon_rel = 1e-9;
     param.past = 1;
