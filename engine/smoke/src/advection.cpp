@@ -63,6 +63,7 @@ struct UpwindContext {
   const MacGrid& g;
   const FieldLayout& l;  // layout of the advected array
   bool cells;            // l is the cell layout: CV faces are the MAC faces
+  int stagger;           // else: the axis of the advected face component
   FieldLayout face[3];
   const float* comp[3];
 };
@@ -81,10 +82,20 @@ inline double upwind_flux(const UpwindContext& c, const float* q, int axis, int 
   double ua;
   if (c.cells) {
     ua = c.comp[axis][c.g.face_hi(axis, i, j, k)];
+  } else if (axis == c.stagger) {
+    // CV face at the cell centre between this face and the next of the same component.
+    ua = 0.5 * (double(c.comp[axis][c.l.index(i, j, k)]) + c.comp[axis][c.l.index(nb[0], nb[1], nb[2])]);
   } else {
-    std::array<double, 3> p{i + c.l.offset[0], j + c.l.offset[1], k + c.l.offset[2]};
-    p[axis] += 0.5;
-    ua = sample(c.comp[axis], c.face[axis], p[0], p[1], p[2]);
+    // CV face on a cell edge: the two `axis` faces either side along the stagger
+    // axis, at face index nb[axis] (wall elements never get here, so i-1 >= 0
+    // unless periodic).
+    const int a = c.stagger;
+    std::array<int, 3> lo{i, j, k};
+    lo[axis] = nb[axis];
+    std::array<int, 3> hi = lo;
+    lo[a] = lo[a] == 0 ? c.g.n[a] - 1 : lo[a] - 1;
+    const FieldLayout& f = c.face[axis];
+    ua = 0.5 * (double(c.comp[axis][f.index(lo[0], lo[1], lo[2])]) + c.comp[axis][f.index(hi[0], hi[1], hi[2])]);
   }
   const double up = ua > 0 ? q[c.l.index(i, j, k)] : q[c.l.index(nb[0], nb[1], nb[2])];
   return ua * up;
@@ -131,7 +142,7 @@ void upwind_step(const MacGrid& g, const FieldLayout& l, const FaceVelocity& vel
   int stagger = -1;
   for (int a = 0; a < g.dim; ++a)
     if (l.offset[a] == 0.0) stagger = a;
-  const UpwindContext ctx{g, l, stagger < 0, {g.face_layout(0), g.face_layout(1), g.face_layout(2)},
+  const UpwindContext ctx{g, l, stagger < 0, stagger, {g.face_layout(0), g.face_layout(1), g.face_layout(2)},
                           {vel.u, vel.v, vel.w}};
 #pragma omp parallel for collapse(2) schedule(static)
   for (int k = 0; k < l.size[2]; ++k)
