@@ -183,8 +183,9 @@ TEST(EditorUi, ViewportMouseMovesTheCameraAndResetViewRestoresIt) {
   EditorHarness h("camera");
   h.start(h.copy_scene("small_plume.json"), false);
   ASSERT_EQ(h.run("wait 2\n"), "");
-  const UiRect* v = h.app->marks.find("viewport");
-  ASSERT_NE(v, nullptr);
+  ASSERT_NE(h.app->marks.find("viewport"), nullptr);
+  const UiRect vr = *h.app->marks.find("viewport");  // a copy: marks change every frame
+  const UiRect* v = &vr;
   const OrbitCamera home = h.app->viewport.camera;
   std::string cx = std::to_string(static_cast<int>(v->cx())), cy = std::to_string(static_cast<int>(v->cy()));
   ASSERT_EQ(h.run("move " + cx + " " + cy + "\nwait 1\nscroll 2\nwait 1\n"), "");
