@@ -3,7 +3,8 @@
 // coarse previews when the solver offers them, then the re-simulated trajectory as
 // frames 0..T ("density", cell-centred "velocity" and "force") and the metrics.
 //
-// Checkpoint record: kind Checkpoint, index = iteration, fields
+// Checkpoints: every outer iteration while a checkpoint is <= 4 MB, otherwise at
+// most one per 30 s of wall time. Record: kind Checkpoint, index = iteration, fields
 //   "state"       the control_state_serialize bytes packed into floats (memcpy,
 //                 zero-padded to a multiple of 4; the take stores them bit-exact)
 //   "state_bytes" [n / 4096, n % 4096] (two floats, exact for n < 2^36).
@@ -22,6 +23,9 @@
 
 namespace pliant::smoke {
 namespace {
+
+constexpr size_t kSmallCheckpointBytes = size_t(4) << 20;
+constexpr double kCheckpointEvery_s = 30.0;
 
 Record checkpoint_record(const ControlState& s) {
   const std::vector<uint8_t> bytes = control_state_serialize(s);
@@ -102,7 +106,19 @@ nlohmann::json smoke_control_run_job(JobContext& ctx) {
 
   int previews = 0;
   ControlCallbacks cb;
-  cb.on_iteration = [&](const ControlState& st) { ctx.take.append(checkpoint_record(st)); };
+  // A checkpoint per outer iteration while they are small; large ones (an ADMM state
+  // at 128^2 x 40 is ~20 MB: 60 of them would make a 1.2 GB take) at most every
+  // kCheckpointEvery_s of wall time, so a kill loses at most that much work.
+  auto last_checkpoint = std::chrono::steady_clock::now();
+  cb.on_iteration = [&](const ControlState& st) {
+    Record r = checkpoint_record(st);
+    const auto now = std::chrono::steady_clock::now();
+    const bool small = r.fields[0].data.size() * 4 <= kSmallCheckpointBytes;
+    if (small || std::chrono::duration<double>(now - last_checkpoint).count() >= kCheckpointEvery_s) {
+      ctx.take.append(r);
+      last_checkpoint = now;
+    }
+  };
   cb.on_preview = [&](const GridDims& d, const std::vector<std::vector<float>>& density) {
     Record r;
     r.kind = RecordKind::Preview;
