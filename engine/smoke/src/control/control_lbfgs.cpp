@@ -26,6 +26,8 @@ using control_detail::Vec;
 constexpr int kChunk = 20;
 
 struct LbfgsObjective {
+  LbfgsObjective(const ControlModel& m, control_detail::ForwardOps& ops, Progress& progress, int T, size_t nf)
+      : m(m), ops(ops), progress(progress), T(T), nf(nf), f(T, Vec(nf)) {}
   const ControlModel& m;
   control_detail::ForwardOps& ops;
   Progress& progress;
@@ -77,7 +79,7 @@ void control_solve_lbfgs(const ControlModel& m, ControlState& s, Progress& progr
     if (s.force[i].size() != nf) throw std::invalid_argument("control_solve_lbfgs: state does not match the model");
     for (size_t e = 0; e < nf; ++e) x[Eigen::Index(size_t(i) * nf + e)] = s.force[i][e];
   }
-  LbfgsObjective obj{m, ops, progress, T, nf, std::vector<Vec>(T, Vec(nf)), {}};
+  LbfgsObjective obj(m, ops, progress, T, nf);
   obj.best_x = x;
   obj.history = &s.objective_history;
   progress.stage("lbfgs", m.max_iterations);
