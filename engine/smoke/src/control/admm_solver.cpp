@@ -62,9 +62,16 @@ void admm_run(const ControlModel& m, ControlState& s, Progress& progress, const 
               std::vector<AdmmIterationStats>* stats) {
   using clock = std::chrono::steady_clock;
   const int T = m.sim.frames;
+  // Small grids on one thread (fork/join dominates there on a loaded machine).
+  control_detail::SerialBelow serial(model_grid(m.sim).cells() * size_t(std::max(T, 1)), kSpacetimeOmpMinWork);
   control_detail::ForwardOps ops(m, control_detail::kControlPressureTolerance);
   const size_t F = ops.faces();
-  const double beta = m.admm_penalty;
+  // Penalty continuation (a deterministic schedule, so a resumed run knows the beta its
+  // stored scaled dual belongs to): beta_k = penalty * min(1, c0 g^k). A small beta first
+  // lets AO find a transport path that NSO then makes incompressible; growing beta
+  // enforces u = z. The scaled dual lambda = y / beta is rescaled when beta changes.
+  const double c0 = 0.05, growth = 1.3;  // reaches the scene's penalty after 12 iterations
+  auto beta_at = [&](int k) { return m.admm_penalty * std::min(1.0, c0 * std::pow(growth, k)); };
   auto sized = [&](const FaceSeries& x) { return int(x.size()) == T && (T == 0 || x[0].size() == F); };
   if (!sized(s.split) || !sized(s.velocity) || !sized(s.dual)) {
     // Start from the trajectory of the current forces (zero: rest).
@@ -84,6 +91,13 @@ void admm_run(const ControlModel& m, ControlState& s, Progress& progress, const 
     progress.check_cancelled();
     const auto t0 = clock::now();
     AdmmIterationStats it;
+    const double beta = beta_at(s.iteration);
+    if (s.iteration > 0) {
+      const double ratio = beta_at(s.iteration - 1) / beta;
+      if (ratio != 1.0)
+        for (auto& v : lam)
+          for (double& x : v) x *= ratio;
+    }
     for (int t = 0; t < T; ++t)
       for (size_t e = 0; e < F; ++e) c[t][e] = z[t][e] - lam[t][e];
     const AoStats as = ao.solve(u, c, beta, m.ao_iterations);
@@ -113,6 +127,7 @@ void admm_run(const ControlModel& m, ControlState& s, Progress& progress, const 
     s.objective_history.push_back(it.objective);
     s.primal_residual_history.push_back(it.primal);
     s.dual_residual_history.push_back(it.dual);
+    it.beta = beta;
     s.wall_s += seconds_since(t0);
     ++s.iteration;
     if (stats) stats->push_back(it);

@@ -135,7 +135,11 @@ AoStats AoSolver::solve(Series& u, const Series& c, double beta, int iterations)
       }
       step *= 0.3;
     }
-    if (!ok) break;
+    if (!ok) {
+      if (mem.empty()) break;  // steepest descent failed too: at a kink or converged
+      mem.clear(), rho.clear();  // stale curvature across an upwind switch: restart
+      continue;
+    }
     Series sv(T_), yv(T_);
     for (int i = 0; i < T_; ++i) {
       sv[i].resize(u[i].size()), yv[i].resize(u[i].size());
