@@ -1,6 +1,6 @@
 // pliant-editor [SCENE] [--take DIR] [--headless] [--script FILE]
 //               [--screenshot PNG] [--viewport-only] [--size WxH] [--frames N]
-//               [--pliant PATH]
+//               [--pliant PATH] [--run] [--render-frames DIR]
 // Windowed by default (GLFW); --headless uses EGL with a fixed 1/60 s step,
 // runs the UI script, writes the screenshot and exits (nonzero on failure).
 // With --script or --screenshot a window does the same and then closes.
@@ -26,7 +26,8 @@ int main(int argc, char** argv) {
   using namespace pliant::editor;
   CLI::App cli{"Pliant editor"};
   std::string scene, take, script, screenshot, size = "1600x900", pliant;
-  bool headless = false, viewport_only = false;
+  std::string render_frames;
+  bool headless = false, viewport_only = false, run = false;
   int frames = 2;
   cli.add_option("scene", scene, "scene file to open");
   cli.add_option("--take", take, "take folder to show");
@@ -37,6 +38,9 @@ int main(int argc, char** argv) {
   cli.add_option("--size", size, "window size WxH");
   cli.add_option("--frames", frames, "frames to render without a script (headless)");
   cli.add_option("--pliant", pliant, "the pliant binary that runs jobs");
+  cli.add_flag("--run", run, "start the scene's job (into --take when given) and wait for it");
+  cli.add_option("--render-frames", render_frames,
+                 "render every frame of the take to DIR/frame_NNNNN.png (headless)");
   CLI11_PARSE(cli, argc, argv);
 
   AppOptions opt;
@@ -47,7 +51,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   opt.scene = scene;
-  opt.take = take;
+  opt.take = run ? std::string() : take;  // with --run, --take names the new take
   opt.pliant = pliant;
   opt.viewport_only = viewport_only;
   if (headless) {
@@ -67,12 +71,15 @@ int main(int argc, char** argv) {
 
   int code = 0;
   // Scripts and screenshots also work in a window (same loop, real clock).
-  if (headless || !script.empty() || !screenshot.empty()) {
+  if (headless || !script.empty() || !screenshot.empty() || run || !render_frames.empty()) {
     HeadlessRunOptions h;
     h.script = script;
     h.screenshot = screenshot;
     h.viewport_only = viewport_only;
     h.frames = std::max(1, frames);
+    h.run = run;
+    h.run_take = run ? take : std::string();
+    h.render_frames = render_frames;
     err = run_headless(app, h);
     if (!err.empty()) {
       std::fprintf(stderr, "pliant-editor: %s\n", err.c_str());

@@ -87,7 +87,8 @@ class App {
   bool cmd_open_take(const std::filesystem::path& dir);
   void cmd_undo();
   void cmd_redo();
-  bool cmd_run();
+  // Starts `pliant run` on the document; take_dir "" = default_take_dir().
+  bool cmd_run(const std::filesystem::path& take_dir = {});
   void cmd_cancel(size_t job);
   void open_file_dialog(FileDialog::Mode mode);
   void handle_drops(const std::vector<std::string>& paths);

@@ -79,7 +79,7 @@ void App::cmd_redo() {
   if (doc.redo()) set_status("Redo " + label);
 }
 
-bool App::cmd_run() {
+bool App::cmd_run(const fs::path& take_dir) {
   if (const std::string& e = scene_error(); !e.empty()) {
     set_status("Cannot run: " + e, true);
     log.error(status_);
@@ -87,7 +87,7 @@ bool App::cmd_run() {
   }
   JobSpec spec;
   spec.pliant = opt_.pliant.empty() ? default_pliant_binary() : opt_.pliant;
-  spec.take = default_take_dir(doc.path(), opt_.config_dir);
+  spec.take = take_dir.empty() ? default_take_dir(doc.path(), opt_.config_dir) : take_dir;
   spec.threads = job_threads;
   // The job runs what the user sees, saved or not: write the scene beside the
   // take (same folder depth as the take, so the job never reads a half-saved file).

@@ -2,6 +2,10 @@
 
 #include <unistd.h>
 
+#include <chrono>
+#include <cstdio>
+#include <thread>
+
 #include "render/screenshot.h"
 #include "ui/ui_script.h"
 
@@ -9,7 +13,61 @@ namespace pliant::editor {
 
 namespace fs = std::filesystem;
 
+std::string run_job_headless(App& app, const fs::path& take_dir) {
+  if (!app.cmd_run(take_dir)) return app.status();
+  JobProcess* job = app.newest_job();
+  // The UI keeps drawing (frames arrive in the viewport as the job writes
+  // them), at about 60 Hz so the editor does not compete with the job for CPU.
+  while (!job->snapshot().ended()) {
+    app.frame();
+    std::this_thread::sleep_for(std::chrono::milliseconds(16));
+  }
+  app.frame();  // pick up the last frames and the final status
+  const JobStatus st = job->snapshot();
+  if (st.state != JobState::Done) {
+    return std::string("job ") + job_state_name(st.state) + ": " +
+           (st.error.empty() ? st.last_message : st.error);
+  }
+  return "";
+}
+
+std::string render_take_frames(App& app, const fs::path& out_dir, int* written) {
+  *written = 0;
+  std::error_code ec;
+  fs::create_directories(out_dir, ec);
+  if (ec) return out_dir.string() + ": cannot create folder: " + ec.message();
+  app.frame();  // refresh the take view
+  const int n = app.take.frame_count();
+  if (n == 0) return "render: the take has no frames";
+  std::string err;
+  for (int i = 0; i < n && err.empty(); ++i) {
+    app.take.playing = false;
+    app.take.set_frame(i);
+    app.after_render = [&](App& a) {
+      Image img = a.capture_viewport();
+      if (img.empty()) {
+        err = "render: nothing to capture";
+        return;
+      }
+      char name[32];
+      std::snprintf(name, sizeof name, "frame_%05d.png", i);
+      if (!write_png((out_dir / name).string(), img, &err)) return;
+      ++*written;
+    };
+    app.frame();
+  }
+  app.after_render = nullptr;
+  return err;
+}
+
 std::string run_headless(App& app, const HeadlessRunOptions& opt) {
+  if (opt.run) {
+    if (std::string e = run_job_headless(app, opt.run_take); !e.empty()) return e;
+  }
+  if (!opt.render_frames.empty()) {
+    int written = 0;
+    if (std::string e = render_take_frames(app, opt.render_frames, &written); !e.empty()) return e;
+  }
   std::unique_ptr<ScriptRunner> runner;
   fs::path tmp;
   if (!opt.script.empty()) {

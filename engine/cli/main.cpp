@@ -1,7 +1,10 @@
 // `pliant`: the command-line front end of the engine (ARCHITECTURE.md).
 // stdout carries only machine-readable output (JSON lines for run/export) or
 // the requested report; diagnostics go to stderr.
+#include <unistd.h>
+
 #include <cstdio>
+#include <cstdlib>
 #include <exception>
 #include <string>
 
@@ -10,7 +13,22 @@
 #include "pliant/core/version.h"
 #include "pliant/plugin.h"
 
+namespace {
+
+// OpenMP's default (active) waiting spins at every barrier. On shared or busy
+// machines that made 2 threads 5-20x slower than 1 (bench_smoke_sim, editor
+// jobs), so jobs wait passively unless the user set OMP_WAIT_POLICY. libgomp
+// reads the variable before main(), hence the re-exec.
+void prefer_passive_openmp_waiting(char** argv) {
+  if (std::getenv("OMP_WAIT_POLICY") != nullptr) return;
+  ::setenv("OMP_WAIT_POLICY", "PASSIVE", 1);
+  ::execv("/proc/self/exe", argv);  // returns only on failure: run as we are
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
+  prefer_passive_openmp_waiting(argv);
   CLI::App app{"Pliant: plan the motion of deformable things (scenes -> jobs -> takes)", "pliant"};
   app.set_version_flag("--version", std::string("pliant ") + pliant::kEngineVersion +
                                         " (plugin API " +

@@ -130,7 +130,7 @@ bool decode_payload(const uint8_t* p, size_t size, std::vector<Field>* fields) {
       f.name.assign(name, name_len);
       f.shape.assign(dims, dims + ndim);
       f.data.resize(count_values);
-      std::memcpy(f.data.data(), p + pos, 4 * count_values);
+      if (count_values) std::memcpy(f.data.data(), p + pos, 4 * count_values);
       fields->push_back(std::move(f));
     }
     pos += 4 * count_values;

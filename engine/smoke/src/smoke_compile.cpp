@@ -132,6 +132,10 @@ SmokeModel smoke_compile(const Scene& scene) {
   return m;
 }
 
-int smoke_job_frames(const Scene& scene) { return smoke_compile(scene).frames; }
+// Frame records the job writes: the initial state, then one per `output.every`.
+int smoke_job_frames(const Scene& scene) {
+  const SmokeModel m = smoke_compile(scene);
+  return 1 + m.frames / m.write_every;
+}
 
 }  // namespace pliant::smoke
