@@ -20,6 +20,13 @@ ForwardOps::ForwardOps(const ControlModel& m, double pressure_tolerance)
     off_[a + 1] = off_[a] + lay_[a].count();
   }
   faces_ = off_[3];
+  lo_.assign(faces_, -1);
+  hi_.assign(faces_, -1);
+  for (int a = 0; a < g_.dim; ++a)
+    for (size_t e = 0; e < lay_[a].count(); ++e) {
+      lo_[off_[a] + e] = int32_t(compute_lo_cell(a, e));
+      hi_[off_[a] + e] = int32_t(compute_hi_cell(a, e));
+    }
   face_mask_.assign(faces_, 0);
   has_obstacles_ = !m.solid.empty();
   for (int a = 0; a < g_.dim; ++a) {
@@ -39,7 +46,7 @@ bool ForwardOps::is_wall_face(int axis, size_t local) const {
   return lo_cell(axis, local) < 0 || hi_cell(axis, local) < 0;
 }
 
-long ForwardOps::lo_cell(int axis, size_t e) const {
+long ForwardOps::compute_lo_cell(int axis, size_t e) const {
   const FieldLayout& l = lay_[axis];
   std::array<int, 3> c{int(e % l.size[0]), int((e / l.size[0]) % l.size[1]), int(e / (size_t(l.size[0]) * l.size[1]))};
   if (c[axis] == 0) {
@@ -51,7 +58,7 @@ long ForwardOps::lo_cell(int axis, size_t e) const {
   return long(g_.cell(c[0], c[1], c[2]));
 }
 
-long ForwardOps::hi_cell(int axis, size_t e) const {
+long ForwardOps::compute_hi_cell(int axis, size_t e) const {
   const FieldLayout& l = lay_[axis];
   std::array<int, 3> c{int(e % l.size[0]), int((e / l.size[0]) % l.size[1]), int(e / (size_t(l.size[0]) * l.size[1]))};
   if (c[axis] == g_.n[axis]) return -1;  // only reachable when closed

@@ -59,9 +59,13 @@ class ForwardOps {
   double worst_pressure_residual = 0;
 
  private:
-  // Cell on the low / high side of face `local` of component `axis` (-1 at a closed wall).
-  long lo_cell(int axis, size_t local) const;
-  long hi_cell(int axis, size_t local) const;
+  // Cell on the low / high side of face `local` of component `axis` (-1 at a closed
+  // wall), from tables built once (the index arithmetic was half the run time).
+  long lo_cell(int axis, size_t local) const { return lo_[off_[axis] + local]; }
+  long hi_cell(int axis, size_t local) const { return hi_[off_[axis] + local]; }
+  long compute_lo_cell(int axis, size_t local) const;
+  long compute_hi_cell(int axis, size_t local) const;
+  std::vector<int32_t> lo_, hi_;
 
   MacGrid g_;
   double dt_;
