@@ -126,7 +126,7 @@ TEST_F(Crash, Kill9KeepsEveryCompleteFrameAndResumes) {
   }
   TakeReader done(take_dir);
   EXPECT_EQ(done.manifest().status, "done");
-  EXPECT_EQ(done.manifest().frames_expected, resume_frames);
+  EXPECT_EQ(done.manifest().frames_expected, resume_frames + 1);
   EXPECT_FALSE(done.torn_tail());  // reopen dropped any torn tail
   ASSERT_EQ(done.frame_count(), size_t(resume_frames + 1));
   for (size_t n = 0; n < done.frame_count(); ++n) {

@@ -18,7 +18,7 @@ TEST_F(RunJob, WritesADoneTakeAndJsonLines) {
   ASSERT_GE(events.size(), 3u);
   EXPECT_EQ(events.front()["event"], "start");
   EXPECT_EQ(events.front()["kind"], "smoke");
-  EXPECT_EQ(events.front()["frames"], frames);
+  EXPECT_EQ(events.front()["frames"], frames + 1);  // frame records: the initial state + one per frame
   EXPECT_EQ(events.back()["event"], "done");
   EXPECT_TRUE(events.back()["metrics"].is_object());
   std::vector<int> frame_events;
@@ -33,7 +33,7 @@ TEST_F(RunJob, WritesADoneTakeAndJsonLines) {
   TakeReader take(take_dir);
   EXPECT_EQ(take.manifest().status, "done");
   EXPECT_EQ(take.manifest().kind, "smoke");
-  EXPECT_EQ(take.manifest().frames_expected, frames);
+  EXPECT_EQ(take.manifest().frames_expected, frames + 1);
   EXPECT_FALSE(take.torn_tail());
   ASSERT_EQ(take.frame_count(), frame_events.size());
   ASSERT_GE(take.frame_count(), size_t(frames));
