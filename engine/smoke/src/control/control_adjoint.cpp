@@ -54,45 +54,40 @@ void ForwardOps::advect_velocity_adjoint(const Vec& u, const Vec& out_bar, Vec& 
 
 void ForwardOps::upwind_step_adjoint(const Vec& u, double dt_sub, const Vec& q, const Vec& qob, Vec& q_bar,
                                      Vec& u_bar) const {
-  const MacGrid& g = g_;
-  const double kk = dt_sub / g.h;
-  const double* uc[3] = {u.data() + off_[0], u.data() + off_[1], u.data() + off_[2]};
-  // q_bar by gathering over the faces where the cell is the upwind side.
-#pragma omp parallel for collapse(2) schedule(static) if (g.cells() > 4096)
-  for (int k = 0; k < g.n[2]; ++k)
-    for (int j = 0; j < g.n[1]; ++j)
-      for (int i = 0; i < g.n[0]; ++i) {
-        const size_t c = g.cell(i, j, k);
-        double qb = qob[c];
-        for (int a = 0; a < g.dim; ++a) {
-          const size_t fh = g.face_hi(a, i, j, k), fl = g.face_lo(a, i, j, k);
-          const long hi = hi_cell(a, fh), lo = lo_cell(a, fl);
-          if (hi >= 0) {
-            const double v = uc[a][fh];
-            if (v > 0) qb += kk * (qob[size_t(hi)] - qob[c]) * v;
-          }
-          if (lo >= 0) {
-            const double v = uc[a][fl];
-            if (!(v > 0)) qb += kk * (qob[c] - qob[size_t(lo)]) * v;
-          }
-        }
-        q_bar[c] = qb;
-      }
-  // u_bar face by face.
-  for (int a = 0; a < g.dim; ++a) {
-    const long n = long(lay_[a].count());
-    double* ub = u_bar.data() + off_[a];
-#pragma omp parallel for schedule(static) if (n > 4096)
-    for (long e = 0; e < n; ++e) {
-      const long lo = lo_cell(a, size_t(e)), hi = hi_cell(a, size_t(e));
-      if (lo < 0 || hi < 0) continue;
-      const double v = uc[a][e];
-      const double Fbar = kk * (qob[size_t(hi)] - qob[size_t(lo)]);
-      // At v == 0 (fluid at rest) the flux has a kink; take the mean of the one-sided
-      // derivatives so the first L-BFGS step from rest sees both neighbours.
-      const double up = v > 0 ? q[size_t(lo)] : (v < 0 ? q[size_t(hi)] : 0.5 * (q[size_t(lo)] + q[size_t(hi)]));
-      ub[e] += Fbar * up;
+  // Per face: Fbar = k (qob[hi] - qob[lo]) (q_out[lo] -= k F, q_out[hi] += k F);
+  // u_bar += Fbar * q_upwind; the upwind cell gets Fbar * u.
+  const double kk = dt_sub / g_.h;
+  const long nf = long(faces_);
+  double* Fb = flux_.data();
+  const int32_t* lo = lo_.data();
+  const int32_t* hi = hi_.data();
+#pragma omp parallel for schedule(static) if (nf > 16384)
+  for (long e = 0; e < nf; ++e) {
+    if (lo[e] < 0 || hi[e] < 0) {
+      Fb[e] = 0.0;
+      continue;
     }
+    const double v = u[size_t(e)];
+    const double qL = q[size_t(lo[e])], qH = q[size_t(hi[e])];
+    Fb[e] = kk * (qob[size_t(hi[e])] - qob[size_t(lo[e])]);
+    // At v == 0 (fluid at rest) the flux has a kink; take the mean of the one-sided
+    // derivatives so the first L-BFGS step from rest sees both neighbours.
+    const double up = v > 0 ? qL : (v < 0 ? qH : 0.5 * (qL + qH));
+    u_bar[size_t(e)] += Fb[e] * up;
+  }
+  const int nd = 2 * g_.dim;
+  const long nc = long(g_.cells());
+  const int32_t* cf = cell_faces_.data();
+#pragma omp parallel for schedule(static) if (nc > 4096)
+  for (long c = 0; c < nc; ++c) {
+    double qb = qob[size_t(c)];
+    for (int a = 0; a < nd; a += 2) {
+      const int32_t fl = cf[c * nd + a], fh = cf[c * nd + a + 1];
+      const double vh = u[size_t(fh)], vl = u[size_t(fl)];
+      if (vh > 0) qb += Fb[fh] * vh;   // c is the upwind side of its high face
+      if (!(vl > 0)) qb += Fb[fl] * vl;  // ... and of its low face
+    }
+    q_bar[size_t(c)] = qb;
   }
 }
 

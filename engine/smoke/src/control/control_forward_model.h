@@ -66,6 +66,8 @@ class ForwardOps {
   long compute_lo_cell(int axis, size_t local) const;
   long compute_hi_cell(int axis, size_t local) const;
   std::vector<int32_t> lo_, hi_;
+  std::vector<int32_t> cell_faces_;   // per cell: global lo and hi face per axis (2*dim)
+  mutable std::vector<double> flux_;  // per face scratch of the upwind step and its adjoint
 
   MacGrid g_;
   double dt_;
