@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <optional>
 
 #include "../smoke_workspace.h"
 #include "ao_solver.h"
@@ -100,7 +101,11 @@ void admm_run(const ControlModel& m, ControlState& s, Progress& progress, const 
     }
     for (int t = 0; t < T; ++t)
       for (size_t e = 0; e < F; ++e) c[t][e] = z[t][e] - lam[t][e];
+    // AO and the force sweep run ForwardOps' fine-grained loops (one fork/join per
+    // upwind sub-step): single-threaded they were 4-9x faster at 128^2 x 40 here.
+    std::optional<control_detail::SerialBelow> serial_ao(std::in_place, 0, 1);
     const AoStats as = ao.solve(u, c, beta, m.ao_iterations);
+    serial_ao.reset();
     it.ao_keyframe_error = as.keyframe_error;
     it.ao_steps = as.steps;
     it.ao_s = seconds_since(t0);
@@ -117,8 +122,10 @@ void admm_run(const ControlModel& m, ControlState& s, Progress& progress, const 
     it.primal = diff_norm(u, z) / std::max({norm(u), norm(z), 1e-30});
     it.dual = diff_norm(z, z_prev) / std::max(norm(lam), 1e-30);
     const auto t2 = clock::now();
+    std::optional<control_detail::SerialBelow> serial_f(std::in_place, 0, 1);
     const Series f = forces_from_velocity(ops, z);
     it.objective = control_detail::objective_d(m, ops, f, nullptr);
+    serial_f.reset();
     it.forces_s = seconds_since(t2);
     s.force = to_f(f);
     s.velocity = to_f(u);

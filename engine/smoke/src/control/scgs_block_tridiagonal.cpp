@@ -5,7 +5,11 @@
 
 namespace pliant::smoke {
 
-bool dense_lu_factor(int m, double* a, int* piv) {
+namespace {
+
+template <int M>
+bool lu_factor_t(int m_rt, double* a, int* piv) {
+  const int m = M > 0 ? M : m_rt;
   for (int k = 0; k < m; ++k) {
     int p = k;
     double best = std::abs(a[k * m + k]);
@@ -25,7 +29,10 @@ bool dense_lu_factor(int m, double* a, int* piv) {
   return true;
 }
 
-void dense_lu_solve(int m, const double* lu, const int* piv, double* b, int nrhs) {
+template <int M, int R>
+void lu_solve_t(int m_rt, const double* lu, const int* piv, double* b, int nrhs_rt) {
+  const int m = M > 0 ? M : m_rt;
+  const int nrhs = R > 0 ? R : nrhs_rt;
   for (int k = 0; k < m; ++k)
     if (piv[k] != k)
       for (int c = 0; c < nrhs; ++c) std::swap(b[k * nrhs + c], b[piv[k] * nrhs + c]);
@@ -45,8 +52,10 @@ void dense_lu_solve(int m, const double* lu, const int* piv, double* b, int nrhs
   }
 }
 
-bool block_tridiagonal_solve(int T, int m, const double* B, const double* L, const double* U,
-                             double* rhs, const BlockTridiagonalScratch& s) {
+template <int M>
+bool block_solve_t(int T, int m_rt, const double* B, const double* L, const double* U, double* rhs,
+                   const BlockTridiagonalScratch& s) {
+  const int m = M > 0 ? M : m_rt;
   const int mm = m * m;
   // Forward elimination: S_0 = B_0; S_t = B_t - L_t S_{t-1}^-1 U_{t-1};
   // y_t = r_t - L_t S_{t-1}^-1 y_{t-1} (y overwrites rhs, already multiplied by S^-1).
@@ -67,12 +76,12 @@ bool block_tridiagonal_solve(int T, int m, const double* B, const double* L, con
         }
     }
     int* piv = s.piv + size_t(t) * m;
-    if (!dense_lu_factor(m, S, piv)) return false;
-    dense_lu_solve(m, S, piv, y, 1);
+    if (!lu_factor_t<M>(m, S, piv)) return false;
+    lu_solve_t<M, 1>(m, S, piv, y, 1);
     if (t + 1 < T) {
       double* X = s.sinv_u + size_t(t) * mm;
       for (int e = 0; e < mm; ++e) X[e] = U[size_t(t) * mm + e];
-      dense_lu_solve(m, S, piv, X, m);
+      lu_solve_t<M, M>(m, S, piv, X, m);
     }
   }
   // Back substitution: x_t = y_t - S_t^-1 U_t x_{t+1}.
@@ -87,6 +96,20 @@ bool block_tridiagonal_solve(int T, int m, const double* B, const double* L, con
     }
   }
   return true;
+}
+
+}  // namespace
+
+// Fixed sizes for the SCGS blocks (2D: 5, 3D: 7) so the compiler unrolls the loops.
+bool dense_lu_factor(int m, double* a, int* piv) { return lu_factor_t<0>(m, a, piv); }
+void dense_lu_solve(int m, const double* lu, const int* piv, double* b, int nrhs) {
+  lu_solve_t<0, 0>(m, lu, piv, b, nrhs);
+}
+bool block_tridiagonal_solve(int T, int m, const double* B, const double* L, const double* U, double* rhs,
+                             const BlockTridiagonalScratch& s) {
+  if (m == 5) return block_solve_t<5>(T, m, B, L, U, rhs, s);
+  if (m == 7) return block_solve_t<7>(T, m, B, L, U, rhs, s);
+  return block_solve_t<0>(T, m, B, L, U, rhs, s);
 }
 
 }  // namespace pliant::smoke
