@@ -35,6 +35,25 @@ TEST(ControlForward, UpwindConservesMassInClosedBox) {
   EXPECT_GT(max_sub, 1);  // the forces are strong enough to need sub-steps
 }
 
+TEST(ControlForward, ObstaclesStayEmptyAndMassIsKept) {
+  ControlModel m = test::tiny_model(20, 20, 8);
+  m.solid.assign(400, 0);
+  for (int j = 5; j < 15; ++j) m.solid[12 + 20 * j] = 1;  // a wall segment right of the blob
+  for (size_t c = 0; c < 400; ++c)
+    if (m.solid[c]) m.initial_density[c] = 0.0f;
+  control_detail::ForwardOps ops(m, 1e-10);
+  std::vector<Vec> f(8, Vec(ops.faces(), 0.0));
+  for (size_t e = 0; e < ops.layout(0).count(); ++e) f[0][e] = 20.0;  // push everything towards +x
+  control_detail::TrajectoryD t;
+  control_detail::forward_d(m, ops, f, t);
+  const double m0 = std::accumulate(t.rho[0].begin(), t.rho[0].end(), 0.0);
+  for (int i = 1; i <= 8; ++i) {
+    EXPECT_NEAR(std::accumulate(t.rho[i].begin(), t.rho[i].end(), 0.0), m0, 1e-12 * m0);
+    for (size_t c = 0; c < 400; ++c)
+      if (m.solid[c]) EXPECT_EQ(t.rho[i][c], 0.0) << "frame " << i << " cell " << c;
+  }
+}
+
 TEST(ControlForward, ZeroForceKeepsDensityStill) {
   const ControlModel m = test::tiny_model(10, 10, 3);
   const Trajectory t = control_forward(m, FaceSeries(3, std::vector<float>(test::face_count(m), 0.0f)));
