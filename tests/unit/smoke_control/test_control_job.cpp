@@ -86,5 +86,25 @@ TEST(ControlJob, WritesFramesCheckpointsAndMetricsAndResumes) {
   fs::remove_all(dir);
 }
 
+TEST(ControlJob, ThreeDimensionalTake) {
+  const fs::path dir = fs::temp_directory_path() / ("pliant_control_job3d_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  const Scene scene = parse_scene(
+      R"({"pliant": 1, "kind": "smoke", "grid": {"resolution": [8, 7, 6], "cell_size_m": 0.125},
+          "time": {"dt_s": 0.05, "frames": 3}, "control": {"method": "lbfgs", "r": 1e-3, "max_iterations": 5,
+          "initial_density": [{"type": "sphere", "center": [0.4, 0.4, 0.5], "radius": 0.25}],
+          "keyframes": [{"frame": 3, "target": {"type": "box", "center": [0.6, 0.6, 0.5], "half_size": [0.2, 0.2, 0.2]}}]}})",
+      "tiny3d.json");
+  const JobRun r = run(scene, dir, false);
+  EXPECT_EQ(r.frame_events, 4);
+  TakeReader reader(dir);
+  const Record f = reader.read_frame_at(3);
+  EXPECT_EQ(f.find("density")->shape, (std::vector<uint32_t>{6, 7, 8}));
+  EXPECT_EQ(f.find("velocity")->shape, (std::vector<uint32_t>{6, 7, 8, 3}));
+  EXPECT_EQ(f.find("force")->shape, (std::vector<uint32_t>{6, 7, 8, 3}));
+  EXPECT_LT(double(r.metrics["keyframes"][0]["relative_l2"]), 1.0);
+  fs::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace pliant::smoke
