@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
+#include <iterator>
 #include <random>
 
 #include "admm_solver.h"
@@ -145,6 +147,47 @@ TEST(Admm, ResumesFromItsStateAndCallsBack) {
   control_solve_admm(m, c, progress);
   ASSERT_EQ(c.iteration, 4);
   EXPECT_NEAR(c.objective_history.back(), a.objective_history.back(), 1e-3 * a.objective_history.back());
+}
+
+// Progressive preview: a 64^2 problem is first solved at 32^2; the preview shows that
+// coarse trajectory (T+1 frames, mass conserved by the upwind operator) before the
+// fine iterations start from its prolonged velocities. (With only max(3, N/4) coarse
+// iterations the head start is small: measured 543 vs 555 at rest on this problem.)
+TEST(Admm, ProgressivePreviewShowsTheCoarseSolutionFirst) {
+  std::ifstream in(std::string(PLIANT_ASSETS_DIR) + "/scenes/smoke_circle_to_square.json");
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  auto replace = [&](const std::string& a, const std::string& b) {
+    const size_t p = text.find(a);
+    ASSERT_NE(p, std::string::npos) << a;
+    text.replace(p, a.size(), b);
+  };
+  replace("[32, 32]", "[64, 64]");
+  replace("0.03125", "0.015625");
+  ControlModel m = control_compile(parse_scene(text, "circle_to_square_64.json"));
+  m.max_iterations = 2;
+  m.progressive_preview = true;
+  ControlState s = control_init(m);
+  Progress progress;
+  int previews = 0, iterations = 0;
+  ControlCallbacks cb;
+  cb.on_preview = [&](const GridDims& d, const std::vector<std::vector<float>>& density) {
+    ++previews;
+    EXPECT_EQ(iterations, 0) << "preview must come before the fine iterations";
+    EXPECT_EQ(d.n[0], 32);
+    EXPECT_EQ(d.n[1], 32);
+    ASSERT_EQ(int(density.size()), m.sim.frames + 1);
+    double m0 = 0, mT = 0;
+    for (float v : density.front()) m0 += v;
+    for (float v : density.back()) mT += v;
+    EXPECT_NEAR(mT, m0, 1e-4 * m0);
+  };
+  cb.on_iteration = [&](const ControlState&) { ++iterations; };
+  control_solve_admm(m, s, progress, cb);
+  EXPECT_EQ(previews, 1);
+  EXPECT_EQ(iterations, 2);
+  // The fine run starts from the prolonged coarse solution, not from rest.
+  const double e0 = control_objective(m, FaceSeries(m.sim.frames, std::vector<float>(s.force[0].size(), 0.0f)), nullptr);
+  EXPECT_LT(s.objective_history.front(), e0);
 }
 
 }  // namespace

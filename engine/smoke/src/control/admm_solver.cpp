@@ -71,8 +71,7 @@ void admm_run(const ControlModel& m, ControlState& s, Progress& progress, const 
   // stored scaled dual belongs to): beta_k = penalty * min(1, c0 g^k). A small beta first
   // lets AO find a transport path that NSO then makes incompressible; growing beta
   // enforces u = z. The scaled dual lambda = y / beta is rescaled when beta changes.
-  const double c0 = 0.05, growth = 1.3;  // reaches the scene's penalty after 12 iterations
-  auto beta_at = [&](int k) { return m.admm_penalty * std::min(1.0, c0 * std::pow(growth, k)); };
+  auto beta_at = [&](int k) { return admm_penalty_at(m, k); };
   auto sized = [&](const FaceSeries& x) { return int(x.size()) == T && (T == 0 || x[0].size() == F); };
   if (!sized(s.split) || !sized(s.velocity) || !sized(s.dual)) {
     // Start from the trajectory of the current forces (zero: rest).
@@ -144,6 +143,11 @@ void admm_run(const ControlModel& m, ControlState& s, Progress& progress, const 
   }
 }
 
+double admm_penalty_at(const ControlModel& m, int iteration) {
+  const double c0 = 0.05, growth = 1.3;  // reaches the scene's penalty after 12 iterations
+  return m.admm_penalty * std::min(1.0, c0 * std::pow(growth, iteration));
+}
+
 bool admm_coarsen_model(const ControlModel& m, ControlModel& coarse) {
   const MacGrid g = model_grid(m.sim);
   const SpacetimeGrid fine(g, 1);
@@ -203,6 +207,11 @@ void control_solve_admm(const ControlModel& m, ControlState& s, Progress& progre
             (*x)[t].assign(xf.begin(), xf.end());
           }
       }
+      // The scaled dual belongs to the coarse run's last penalty; the fine run starts at
+      // iteration 0's.
+      const float scale = float(admm_penalty_at(cm, cs.iteration - 1) / admm_penalty_at(m, 0));
+      for (auto& v : cs.dual)
+        for (float& x : v) x *= scale;
       s.velocity = cs.velocity;
       s.split = cs.split;
       s.dual = cs.dual;

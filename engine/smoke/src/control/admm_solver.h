@@ -29,6 +29,10 @@ struct AdmmIterationStats {
 void admm_run(const ControlModel& m, ControlState& s, Progress& progress, const ControlCallbacks& cb,
               std::vector<AdmmIterationStats>* stats);
 
+// Penalty continuation: beta_k = admm_penalty * min(1, 0.05 * 1.3^k) (deterministic in
+// k, so a resumed run knows which beta its stored scaled dual belongs to).
+double admm_penalty_at(const ControlModel& m, int iteration);
+
 // The model at half resolution (keyframes and initial density restricted), for the
 // progressive preview; false when the grid cannot be halved.
 bool admm_coarsen_model(const ControlModel& m, ControlModel& coarse);

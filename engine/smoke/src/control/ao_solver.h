@@ -11,7 +11,9 @@
 // cheap next to the full-model adjoint the L-BFGS baseline needs. Steps use L-BFGS
 // (two-loop recursion, memory 6) with an Armijo backtracking line search on the true
 // J, and the directions are re-frozen after every accepted step, so `iterations`
-// fixed-point steps are run, each one quasi-Newton step.
+// fixed-point steps are run, each one quasi-Newton step. Without curvature pairs the
+// line search also expands the step (x4 while J keeps falling): the steepest-descent
+// scale 1/|g| is far too short for this objective.
 #pragma once
 #include <vector>
 
