@@ -14,10 +14,10 @@ namespace {
 // A swirl (divergence-free, from a stream function) as linearisation point, CFL
 // about 0.5 per frame, and a noisy target d; returns the mean residual factor of
 // `cycles` V-cycles (after one warm-up cycle).
-double vcycle_factor(int n, int T, double r, double beta, int cycles, bool periodic = false) {
+double vcycle_factor(int n, int T, double r, double beta, int cycles, bool periodic = false, int dim = 2) {
   MacGrid g;
-  g.dim = 2;
-  g.n = {n, n, 1};
+  g.dim = dim;
+  g.n = {n, n, dim == 3 ? n : 1};
   g.h = 0.64 / n;
   g.periodic = periodic;
   // Peak Courant number 0.5 per frame at every n (the swirl in cells per frame is the same).
@@ -34,15 +34,16 @@ double vcycle_factor(int n, int T, double r, double beta, int cycles, bool perio
   for (int t = 0; t < T; ++t) {
     const double s = speed * (0.5 + 0.5 * t / T);
     double* z = L.zbar.data() + t * F;
-    for (int a = 0; a < 2; ++a) {
+    for (int a = 0; a < 2; ++a) {  // swirl in xy (uniform along z in 3D, w = 0)
       const FieldLayout l = g.face_layout(a);
-      for (int j = 0; j < l.size[1]; ++j)
-        for (int i = 0; i < l.size[0]; ++i) {
-          const double x = i + l.offset[0], y = j + l.offset[1];
-          // u = d psi/dy, v = -d psi/dx (discretely divergence-free via corner psi).
-          const double v = a == 0 ? psi(x, y + 0.5) - psi(x, y - 0.5) : -(psi(x + 0.5, y) - psi(x - 0.5, y));
-          z[sg.off[a] + l.index(i, j, 0)] = s * v;
-        }
+      for (int k = 0; k < l.size[2]; ++k)
+        for (int j = 0; j < l.size[1]; ++j)
+          for (int i = 0; i < l.size[0]; ++i) {
+            const double x = i + l.offset[0], y = j + l.offset[1];
+            // u = d psi/dy, v = -d psi/dx (discretely divergence-free via corner psi).
+            const double v = a == 0 ? psi(x, y + 0.5) - psi(x, y - 0.5) : -(psi(x + 0.5, y) - psi(x - 0.5, y));
+            z[sg.off[a] + l.index(i, j, k)] = s * v;
+          }
     }
     for (size_t f = 0; f < F; ++f) L.F[t * F + f] = beta * (z[f] + 0.3 * speed * N(rng));
   }
@@ -72,6 +73,11 @@ TEST(SpacetimeMultigrid, FactorDoesNotDegradeWithResolution16to64) {
 TEST(SpacetimeMultigrid, StrongTimeCouplingStillConverges) {
   // r large against beta (w = 2r/dt^2 = 5000 beta): the regime LM + FAS is for.
   EXPECT_LT(vcycle_factor(32, 10, 1.0, 1.0, 3), 0.5);
+}
+
+TEST(SpacetimeMultigrid, ConvergesIn3DAndOnPeriodicGrids) {
+  EXPECT_LT(vcycle_factor(16, 4, 1e-3, 1.0, 2, false, 3), 1.0 / 3.0);
+  EXPECT_LT(vcycle_factor(32, 6, 1e-3, 1.0, 2, true), 1.0 / 3.0);
 }
 
 // Label `slow` (see CMakeLists.txt): 32^2 -> 128^2 at T = 20.
