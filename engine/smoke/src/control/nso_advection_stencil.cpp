@@ -43,8 +43,7 @@ int64_t face_hi_partner(const SpacetimeGrid& sg, size_t phi) {
   return int64_t(sg.off[a] + sg.g.face_hi(a, c[0], c[1], c[2]));
 }
 
-void build_sl_stencil(const SpacetimeGrid& sg, const double* zbar, double dt, float* vel_scratch,
-                      SlStencil& out) {
+void build_sl_stencil(const SpacetimeGrid& sg, const double* zbar, double dt, SlStencil& out) {
   const MacGrid& g = sg.g;
   const size_t F = sg.faces();
   const int K = g.dim == 3 ? 8 : 4;
@@ -53,7 +52,6 @@ void build_sl_stencil(const SpacetimeGrid& sg, const double* zbar, double dt, fl
   out.wt.assign(F * K, 0.0f);
   out.ata_diag.assign(F, 0.0);
   out.ata_hi.assign(F, 0.0);
-  (void)vel_scratch;
   const double dt_h = dt / g.h;
   for (int a = 0; a < g.dim; ++a) {
     const FieldLayout l = g.face_layout(a);

@@ -31,9 +31,8 @@ inline int face_axis(const SpacetimeGrid& sg, size_t phi) {
 // True for the wall faces of a closed grid (fixed at zero).
 bool is_wall_face(const SpacetimeGrid& sg, size_t phi);
 
-// Builds the stencil of A(zbar, .) for one frame; `vel_scratch` holds faces() floats.
-void build_sl_stencil(const SpacetimeGrid& sg, const double* zbar, double dt, float* vel_scratch,
-                      SlStencil& out);
+// Builds the stencil of A(zbar, .) for one frame.
+void build_sl_stencil(const SpacetimeGrid& sg, const double* zbar, double dt, SlStencil& out);
 // y = A x.
 void sl_apply(const SpacetimeGrid& sg, const SlStencil& s, const double* x, double* y);
 // y += alpha A^T x (serial scatter; callers parallelise over frames).

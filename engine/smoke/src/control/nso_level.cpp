@@ -20,14 +20,22 @@ NsoLevel::NsoLevel(const SpacetimeGrid& sg) : sg_(sg) {
   wall_.resize(sg.faces());
   for (size_t f = 0; f < sg.faces(); ++f) wall_[f] = is_wall_face(sg, f);
   A_.resize(std::max(0, sg.T - 1));
-  vel_scratch_.resize(size_t(std::max(1, omp_get_max_threads())) * sg.faces());
-  const int m = 2 * sg.g.dim + 1;
-  scratch_.resize(std::max(1, omp_get_max_threads()));
+  ensure_scratch();
+}
+
+void NsoLevel::ensure_scratch() {
+  // Per-thread block scratch; re-checked before each sweep because callers may raise
+  // the thread count after construction (SerialBelow scopes).
+  const size_t threads = size_t(std::max(1, omp_get_max_threads()));
+  if (scratch_.size() >= threads) return;
+  const int m = 2 * sg_.g.dim + 1;
+  const size_t blocks = size_t(sg_.T) * m * m;
+  scratch_.resize(threads);
   for (auto& s : scratch_) {
-    const size_t blocks = size_t(sg.T) * m * m;
+    if (!s.B.empty()) continue;
     s.B.resize(blocks), s.L.resize(blocks), s.U.resize(blocks), s.schur.resize(blocks), s.sinv_u.resize(blocks);
-    s.rhs.resize(size_t(sg.T) * m);
-    s.piv.resize(size_t(sg.T) * m);
+    s.rhs.resize(size_t(sg_.T) * m);
+    s.piv.resize(size_t(sg_.T) * m);
   }
 }
 
@@ -36,8 +44,7 @@ void NsoLevel::linearise(const double* zb, double dt) {
   if (zb != zbar.data()) std::copy(zb, zb + size_t(sg_.T) * Fn, zbar.begin());
 #pragma omp parallel for schedule(dynamic) if (sg_.parallel())
   for (int t = 0; t < sg_.T - 1; ++t)
-    build_sl_stencil(sg_, zbar.data() + t * Fn, dt, vel_scratch_.data() + size_t(omp_get_thread_num()) * Fn,
-                     A_[t]);
+    build_sl_stencil(sg_, zbar.data() + t * Fn, dt, A_[t]);
 }
 
 void NsoLevel::apply(const double* xx, const double* qq, double* out_mom, double* out_div) {
@@ -183,6 +190,7 @@ void NsoLevel::smooth_colour(int colour) {
 }
 
 void NsoLevel::smooth(bool forward) {
+  ensure_scratch();
   const int colours = 1 << sg_.g.dim;
   for (int c = 0; c < colours; ++c) smooth_colour(forward ? c : colours - 1 - c);
 }

@@ -48,6 +48,7 @@ class NsoLevel {
 
  private:
   void smooth_colour(int colour);
+  void ensure_scratch();
   void solve_cell(int i, int j, int k, int thread);
 
   SpacetimeGrid sg_;
@@ -55,7 +56,6 @@ class NsoLevel {
   std::vector<SlStencil> A_;       // T-1 operators (A_t: frame t -> t+1)
   std::vector<uint8_t> wall_;      // per face
   std::vector<double> e_;          // T*faces scratch: x_t - A_{t-1} x_{t-1}
-  std::vector<float> vel_scratch_;
   struct ThreadScratch {
     std::vector<double> B, L, U, rhs, schur, sinv_u;
     std::vector<int> piv;
