@@ -18,6 +18,11 @@ using Series = std::vector<Vec>;
 
 namespace {
 
+// AO divergence penalty relative to beta (AoSolver::div_penalty). Off: measured at 12-30
+// iterations, 100 beta halved the objective on circle_to_letter 64^2x40 (800 -> 400) but
+// made circle_to_square 32^2x20 worse (14.8 -> 21.7); 10 or 1000 beta helped less.
+constexpr double kAoDivPenalty = 0.0;
+
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
@@ -103,6 +108,7 @@ void admm_run(const ControlModel& m, ControlState& s, Progress& progress, const 
     // AO and the force sweep run ForwardOps' fine-grained loops (one fork/join per
     // upwind sub-step): single-threaded they were 4-9x faster at 128^2 x 40 here.
     std::optional<control_detail::SerialBelow> serial_ao(std::in_place, 0, 1);
+    ao.div_penalty = kAoDivPenalty * beta;  // NOLINT: 0 today, kept for experiments
     const AoStats as = ao.solve(u, c, beta, m.ao_iterations);
     serial_ao.reset();
     it.ao_keyframe_error = as.keyframe_error;

@@ -35,6 +35,10 @@ class AoSolver {
   // J and its gradient (grad may be null); also fills the density trajectory.
   double evaluate(const std::vector<control_detail::Vec>& u, const std::vector<control_detail::Vec>& c,
                   double beta, std::vector<control_detail::Vec>* grad, double* keyframe_error = nullptr);
+  // Weight gamma of (gamma/2) sum_i ||h div u_i||^2 added to J (0 = the plain AO). The
+  // term vanishes at ADMM consensus (u = z, div z = 0), so the solution set is unchanged;
+  // it stops AO from fitting keyframes with compressive flows NSO cannot follow.
+  double div_penalty = 0;
   // rho_0..rho_T of the last evaluate().
   const std::vector<control_detail::Vec>& density() const { return rho_; }
 
