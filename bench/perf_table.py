@@ -38,13 +38,30 @@ def smoke_sim_rows(d):
     return rows
 
 
+def smoke_control_rows(cases):
+    rows = []
+    for c in cases:
+        g = "x".join(str(n) for n in c["grid"] if n > 1)
+        rows.append((
+            f"Keyframe control {c['case'].removesuffix('.json')} ({g} x {c['frames']}): "
+            f"time to the same objective",
+            f"ADMM: {c['pliant_s']:.2f} s (IoU min {c['iou_min']:.2f})",
+            f"L-BFGS: {c['lbfgs_s']:.2f} s",
+            f"{c['speedup']:.2f}x"))
+    return rows
+
+
 def main():
     root = pathlib.Path(sys.argv[1] if len(sys.argv) > 1 else "bench/results")
     print("| case | Pliant | baseline | ratio |")
     print("|---|---|---|---|")
     for path in sorted(root.glob("*.json")):
         d = json.loads(path.read_text())
-        if d.get("bench") == "smoke_sim":
+        if isinstance(d, list) and d and "lbfgs_s" in d[0]:
+            for r in smoke_control_rows(d):
+                print("| " + " | ".join(r) + " |")
+            print(f"\n{path.stem}: `build/bin/bench_smoke_control` (issue 3, open).\n")
+        elif isinstance(d, dict) and d.get("bench") == "smoke_sim":
             for r in smoke_sim_rows(d):
                 print("| " + " | ".join(r) + " |")
             m = d.get("machine", {})
