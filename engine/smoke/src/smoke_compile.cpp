@@ -3,6 +3,7 @@
 #include <string>
 
 #include "pliant/core/json_reader.h"
+#include "pliant/smoke/control.h"
 #include "pliant/smoke/smoke.h"
 
 namespace pliant::smoke {
@@ -127,6 +128,12 @@ SmokeModel smoke_compile(const Scene& scene) {
     m.write_velocity = out->boolean("velocity", m.write_velocity);
     m.write_every = int(out->integer("every", m.write_every, 1, 1000000));
     out->finish();
+  }
+  // Keyframe control (control.h): its section is checked by control_compile (which
+  // compiles the smoke part from a copy without it), so `pliant validate` sees it.
+  if (root.has("control")) {
+    root.accept("control");
+    (void)control_compile(scene);
   }
   root.finish();
   return m;

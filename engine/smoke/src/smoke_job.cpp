@@ -14,6 +14,7 @@
 #include <string>
 #include <utility>
 
+#include "pliant/smoke/control.h"
 #include "pliant/smoke/smoke.h"
 #include "smoke_workspace.h"
 
@@ -94,6 +95,7 @@ Record smoke_frame_record(const SmokeModel& m, const SmokeState& s) {
 }
 
 nlohmann::json smoke_run_job(JobContext& ctx) {
+  if (scene_has_control(ctx.scene)) return smoke_control_run_job(ctx);  // keyframe control (control.h)
   const SmokeModel m = smoke_compile(ctx.scene);
   if (ctx.threads > 0) omp_set_num_threads(ctx.threads);
   const MacGrid g = model_grid(m);
