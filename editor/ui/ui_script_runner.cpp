@@ -342,7 +342,7 @@ bool ScriptRunner::run_command(App& app, const ScriptCommand& c) {
     app.request_quit();
     return true;
   }
-  fail(c, "not implemented");
+  fail(c, "unknown command (the parser should have refused it)");
   return false;
 }
 
