@@ -1,6 +1,17 @@
 #include "mac_grid.h"
 
 namespace pliant::smoke {
+namespace {
+
+// Net outflow of cell (i,j,k) in face-velocity units (divergence times h).
+inline double cell_outflow(const MacGrid& g, const FaceVelocity& vel, int i, int j, int k) {
+  double d = double(vel.u[g.face_hi(0, i, j, k)]) - vel.u[g.face_lo(0, i, j, k)];
+  d += double(vel.v[g.face_hi(1, i, j, k)]) - vel.v[g.face_lo(1, i, j, k)];
+  if (g.dim == 3) d += double(vel.w[g.face_hi(2, i, j, k)]) - vel.w[g.face_lo(2, i, j, k)];
+  return d;
+}
+
+}  // namespace
 
 void divergence(const MacGrid& g, const FaceVelocity& vel, double* div) {
   const int nx = g.n[0], ny = g.n[1], nz = g.n[2];
@@ -9,10 +20,7 @@ void divergence(const MacGrid& g, const FaceVelocity& vel, double* div) {
   for (int k = 0; k < nz; ++k)
     for (int j = 0; j < ny; ++j)
       for (int i = 0; i < nx; ++i) {
-        double d = double(vel.u[g.face_hi(0, i, j, k)]) - vel.u[g.face_lo(0, i, j, k)];
-        d += double(vel.v[g.face_hi(1, i, j, k)]) - vel.v[g.face_lo(1, i, j, k)];
-        if (g.dim == 3) d += double(vel.w[g.face_hi(2, i, j, k)]) - vel.w[g.face_lo(2, i, j, k)];
-        div[g.cell(i, j, k)] = d * inv_h;
+        div[g.cell(i, j, k)] = cell_outflow(g, vel, i, j, k) * inv_h;
       }
 }
 
@@ -24,10 +32,7 @@ double max_abs_divergence(const MacGrid& g, const FaceVelocity& vel) {
   for (int k = 0; k < nz; ++k)
     for (int j = 0; j < ny; ++j)
       for (int i = 0; i < nx; ++i) {
-        double d = double(vel.u[g.face_hi(0, i, j, k)]) - vel.u[g.face_lo(0, i, j, k)];
-        d += double(vel.v[g.face_hi(1, i, j, k)]) - vel.v[g.face_lo(1, i, j, k)];
-        if (g.dim == 3) d += double(vel.w[g.face_hi(2, i, j, k)]) - vel.w[g.face_lo(2, i, j, k)];
-        m = std::max(m, std::abs(d * inv_h));
+        m = std::max(m, std::abs(cell_outflow(g, vel, i, j, k) * inv_h));
       }
   return m;
 }
