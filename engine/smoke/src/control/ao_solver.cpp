@@ -59,21 +59,6 @@ double AoSolver::evaluate(const Series& u, const Series& c, double beta, Series*
   double reg = 0;
   for (int i = 0; i < T_; ++i)
     for (size_t e = 0; e < u[i].size(); ++e) reg += (u[i][e] - c[i][e]) * (u[i][e] - c[i][e]);
-  double divj = 0;
-  if (div_penalty > 0) {
-    const MacGrid& g = ops_.grid();
-    for (int i = 0; i < T_; ++i) {
-      const double* ui = u[i].data();
-      for (int k = 0; k < g.n[2]; ++k)
-        for (int j = 0; j < g.n[1]; ++j)
-          for (int ii = 0; ii < g.n[0]; ++ii) {
-            double d = 0;
-            for (int a = 0; a < g.dim; ++a)
-              d += ui[ops_.face_offset(a) + g.face_hi(a, ii, j, k)] - ui[ops_.face_offset(a) + g.face_lo(a, ii, j, k)];
-            divj += d * d;
-          }
-    }
-  }
   if (keyframe_error) *keyframe_error = kf;
   if (grad) {
     std::fill(lam_.begin(), lam_.end(), 0.0);
@@ -91,17 +76,22 @@ double AoSolver::evaluate(const Series& u, const Series& c, double beta, Series*
       }
     }
   }
-  if (grad && div_penalty > 0) {  // after the adjoint pass, which overwrites grad
+  // Divergence penalty 0.5 w sum (net outflow)^2 and its gradient, in one pass
+  // after the adjoint pass (which overwrites grad).
+  double divj = 0;
+  if (div_penalty > 0) {
     const MacGrid& g = ops_.grid();
     for (int i = 0; i < T_; ++i) {
       const double* ui = u[i].data();
-      double* gi = (*grad)[i].data();
+      double* gi = grad ? (*grad)[i].data() : nullptr;
       for (int k = 0; k < g.n[2]; ++k)
         for (int j = 0; j < g.n[1]; ++j)
           for (int ii = 0; ii < g.n[0]; ++ii) {
             double d = 0;
             for (int a = 0; a < g.dim; ++a)
               d += ui[ops_.face_offset(a) + g.face_hi(a, ii, j, k)] - ui[ops_.face_offset(a) + g.face_lo(a, ii, j, k)];
+            divj += d * d;
+            if (!gi) continue;
             for (int a = 0; a < g.dim; ++a) {
               gi[ops_.face_offset(a) + g.face_hi(a, ii, j, k)] += div_penalty * d;
               gi[ops_.face_offset(a) + g.face_lo(a, ii, j, k)] -= div_penalty * d;
