@@ -17,11 +17,16 @@
 namespace pliant {
 namespace {
 
-Manifest read_manifest(const std::filesystem::path& dir) {
+std::string read_manifest_text(const std::filesystem::path& dir) {
   const auto path = dir / "take.json";
   std::string text;
   if (int err = detail::read_file_errno(path, &text); err != 0)
     throw InputError(path.string(), "", std::string("cannot read take manifest: ") + std::strerror(err));
+  return text;
+}
+
+Manifest parse_manifest(const std::filesystem::path& dir, const std::string& text) {
+  const auto path = dir / "take.json";
   try {
     return Manifest::from_json(nlohmann::json::parse(text));
   } catch (const InputError& e) {
@@ -41,7 +46,8 @@ struct Fd {
 }  // namespace
 
 TakeReader::TakeReader(const std::filesystem::path& dir) : dir_(dir) {
-  manifest_ = read_manifest(dir_);
+  manifest_text_ = read_manifest_text(dir_);
+  manifest_ = parse_manifest(dir_, manifest_text_);
   refresh();
 }
 
@@ -49,7 +55,11 @@ size_t TakeReader::refresh() {
   // The manifest is replaced by rename, so any read sees a whole file; a
   // failure here (e.g. the take being deleted) keeps the last good manifest.
   try {
-    manifest_ = read_manifest(dir_);
+    std::string text = read_manifest_text(dir_);
+    if (text != manifest_text_) {
+      manifest_ = parse_manifest(dir_, text);
+      manifest_text_ = std::move(text);
+    }
   } catch (const std::exception&) {
   }
   Fd f;

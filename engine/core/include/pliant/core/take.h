@@ -128,6 +128,9 @@ class TakeReader {
   std::vector<size_t> frames_;  // positions in index_ of the frames
   uint64_t good_bytes_ = 0;
   bool torn_tail_ = false;
+  // take.json's text as last parsed: readers refresh every UI frame, and the
+  // manifest (with its copy of the scene) is re-parsed only when it changed.
+  std::string manifest_text_;
 };
 
 // Decodes a whole frames.bin image from memory (used by the reader and the fuzzer).
