@@ -9,7 +9,6 @@
 #include "job_kinds.h"
 #include "pliant/core/error.h"
 #include "pliant/core/scene.h"
-#include "pliant/smoke/smoke.h"
 
 namespace pliant::cli {
 namespace {
@@ -18,15 +17,6 @@ struct ValidateOptions {
   std::string scene;
   bool json = false;
 };
-
-// Compiles the scene; returns a summary object (kind, dim, resolution, frames).
-nlohmann::json compile_summary(const Scene& scene) {
-  require_implemented(scene);
-  const smoke::SmokeModel m = smoke::smoke_compile(scene);
-  nlohmann::json res = nlohmann::json::array();
-  for (int a = 0; a < m.dim; ++a) res.push_back(m.n[a]);
-  return {{"kind", scene.kind}, {"dim", m.dim}, {"resolution", res}, {"frames", m.frames}};
-}
 
 int validate(const ValidateOptions& o) {
   try {
@@ -37,13 +27,17 @@ int validate(const ValidateOptions& o) {
       s["ok"] = true;
       std::printf("%s\n", s.dump().c_str());
     } else {
-      std::string res;
-      for (const auto& n : s["resolution"]) {
-        if (!res.empty()) res += 'x';
-        res += std::to_string(int(n));
+      std::string grid;
+      if (s.contains("resolution")) {
+        std::string res;
+        for (const auto& n : s["resolution"]) {
+          if (!res.empty()) res += 'x';
+          res += std::to_string(int(n));
+        }
+        grid = std::to_string(int(s["dim"])) + "D " + res + ", ";
       }
-      std::printf("%s: ok (%s, %dD %s, %d frames)\n", o.scene.c_str(), scene.kind.c_str(),
-                  int(s["dim"]), res.c_str(), int(s["frames"]));
+      std::printf("%s: ok (%s, %s%d frames)\n", o.scene.c_str(), scene.kind.c_str(),
+                  grid.c_str(), int(s["frames"]));
     }
     return kExitDone;
   } catch (const InputError& e) {

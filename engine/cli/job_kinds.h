@@ -12,5 +12,8 @@ namespace pliant::cli {
 const std::vector<JobKind>& job_kinds();
 // Throws InputError(scene.file, "/kind", "... not implemented yet ...") unless implemented.
 void require_implemented(const Scene& scene);
+// Compiles the scene with its kind's compiler (throws InputError) and returns
+// {"kind", "frames", and where the kind has a grid "dim", "resolution"}.
+nlohmann::json compile_summary(const Scene& scene);
 
 }  // namespace pliant::cli

@@ -53,10 +53,15 @@ using JobFn = nlohmann::json (*)(JobContext&);
 // Returns the job's frame count for the manifest; throws InputError.
 using JobFramesFn = int (*)(const Scene&);
 
+// Compiles the scene and returns what `pliant validate` prints: at least
+// "frames"; "dim" and "resolution" (array) where the kind has a grid.
+using JobSummaryFn = nlohmann::json (*)(const Scene&);
+
 struct JobKind {
   std::string kind;
   JobFn run;
   JobFramesFn frames;
+  JobSummaryFn summary = nullptr;  // nullptr: {"frames": frames(scene)}
 };
 
 struct RunOptions {
