@@ -10,6 +10,7 @@
 
 #include "pliant/core/error.h"
 #include "pliant/core/scene.h"
+#include "pliant/geom/painted_grid.h"
 #include "pliant/smoke/control.h"
 
 namespace pliant::smoke {
@@ -129,6 +130,25 @@ TEST(ControlCompile, OtherBadInput) {
             std::string::npos);
   EXPECT_NE(error_of(scene_with(R"([{"frame": 3, "target": {"type": "circle", "radius": 0.1, "colour": 1}}])"))
                 .find("/control/keyframes/0/target/colour"),
+            std::string::npos);
+}
+
+TEST(ControlCompile, PaintedKeyframeFromTheEditor) {
+  geom::PaintedGrid p;
+  p.n = {16, 16, 1};
+  p.value.assign(p.cells(), 0);
+  for (int j = 2; j < 6; ++j)
+    for (int i = 10; i < 14; ++i) p.value[i + 16 * j] = 255;
+  const std::string kf =
+      R"([{"frame": 4, "target": {"type": "painted", "size": [16, 16], "data": ")" + geom::encode_painted(p) + "\"}}]";
+  const ControlModel m = control_compile(scene_with(kf));
+  ASSERT_EQ(m.keyframes.size(), 1u);
+  for (size_t c = 0; c < p.cells(); ++c) ASSERT_FLOAT_EQ(m.keyframes[0].density[c], p.value[c] / 255.0f) << c;
+  EXPECT_NE(error_of(scene_with(R"([{"frame": 4, "target": {"type": "painted", "size": [16, 16], "data": "AAA="}}])"))
+                .find("/control/keyframes/0/target/data | painted data: runs cover"),
+            std::string::npos);
+  EXPECT_NE(error_of(scene_with(R"([{"frame": 4, "target": {"type": "painted", "size": [16], "data": ""}}])"))
+                .find("/control/keyframes/0/target/size"),
             std::string::npos);
 }
 

@@ -8,18 +8,21 @@
 //     "keyframes": [{"frame": 1..T, "weight": >0, "target": TARGET}],
 //     "sequence": {"images": "dir/" or "pattern%03d.png", "first_frame", "every",
 //                  "weight", + the placement fields of an image TARGET}}
-//   TARGET: {"type": circle|sphere|box|square|mask|image|text|mesh, placement
+//   TARGET: {"type": circle|sphere|box|square|mask|image|text|mesh|painted, placement
 //     ("center" fraction of the domain or "center_m", "scale", "rotation_deg"),
 //     "supersample", and per type: radius|radius_m; half_size|half_size_m;
 //     file, channel (luma|alpha), threshold, height|height_m, depth|depth_m;
-//     text, font, height|height_m, threshold; file, size|size_m (mesh)}
+//     text, font, height|height_m, threshold; file, size|size_m (mesh);
+//     painted: size [w, h(, d)], data (geom/painted_grid.h; covers the domain)}
 // Fractions are of the smallest domain extent (sizes) or of each axis (center).
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 
 #include "pliant/core/json_reader.h"
 #include "pliant/geom/keyframe_raster.h"
+#include "pliant/geom/painted_grid.h"
 #include "pliant/smoke/control.h"
 
 namespace pliant::smoke {
@@ -87,8 +90,9 @@ std::vector<float> image_target(JsonReader& r, const Ctx& c, const std::string& 
 
 std::vector<float> target(JsonReader& r, const Ctx& c, std::string* source) {
   const std::string type =
-      r.choice("type", "", {"circle", "sphere", "box", "square", "mask", "image", "text", "mesh"});
-  if (type.empty()) r.fail("type", "missing required field; expected circle, sphere, box, square, mask, image, text or mesh");
+      r.choice("type", "", {"circle", "sphere", "box", "square", "mask", "image", "text", "mesh", "painted"});
+  if (type.empty())
+    r.fail("type", "missing required field; expected circle, sphere, box, square, mask, image, text, mesh or painted");
   const int ss = int(r.integer("supersample", c.grid.dim == 3 ? 2 : 4, 1, 16));
   std::vector<float> d;
   try {
@@ -128,6 +132,21 @@ std::vector<float> target(JsonReader& r, const Ctx& c, std::string* source) {
       const double depth = c.grid.dim == 3 ? length(r, c, "depth", 0.3, false) : 0.0;
       d = geom::raster_image(c.grid, img, p, height, depth, ss);
       *source = "text \"" + text + "\"";
+    } else if (type == "painted") {
+      const int dim = c.grid.dim;
+      const auto size = r.numbers("size", {}, dim, dim, 1, 4096);
+      std::array<int, 3> n{1, 1, 1};
+      for (int a = 0; a < dim; ++a) {
+        if (size[a] != std::floor(size[a])) r.fail("size", "expected whole cell counts");
+        n[a] = int(size[a]);
+      }
+      const std::string data = r.required_string("data");
+      try {
+        d = geom::raster_painted(c.grid, geom::decode_painted(data, dim, n));
+      } catch (const geom::GeomError& e) {
+        throw InputError(c.scene.file, r.child_pointer("data"), e.what());
+      }
+      *source = "painted keyframe";
     } else {  // mesh
       if (c.grid.dim != 3) r.fail("type", "mesh targets need a 3D grid (resolution [nx, ny, nz])");
       const std::string file = r.required_string("file");
