@@ -1,0 +1,50 @@
+// Hexahedral FEM on the lattice: trilinear elements, 2x2x2 Gauss quadrature, stable
+// neo-Hookean energy (Smith, de Goes, Kim 2018):
+//   psi(F) = mu/2 (tr(F^T F) - 3) + lam/2 (J - alpha)^2,  alpha = 1 + mu/lam,
+// with lam = lambda_Lame + mu so the linearization at rest is linear elasticity with
+// the user's Young's modulus and Poisson ratio. Chosen over corotational for an exact
+// Hessian without polar-decomposition derivatives, and over classic neo-Hookean
+// because it stays finite for inverted elements (J <= 0) that large steps can produce.
+#pragma once
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+#include <vector>
+
+#include "pliant/soft/body.h"
+
+namespace pliant::soft {
+
+struct Material {
+  double density_kg_per_m3 = 1000;
+  double young_pa = 1e5;
+  double poisson = 0.3;
+};
+
+struct Lame {
+  double mu = 0, lam = 0;  // lam of the stable neo-Hookean form (Lame lambda + mu)
+};
+Lame lame_from(const Material& m);
+
+// Energy density, first Piola-Kirchhoff stress and dP/dF (9x9, column-major vec(F)).
+double snh_energy(const Lame& l, const Eigen::Matrix3d& F);
+Eigen::Matrix3d snh_stress(const Lame& l, const Eigen::Matrix3d& F);
+Eigen::Matrix<double, 9, 9> snh_stress_derivative(const Lame& l, const Eigen::Matrix3d& F);
+
+// Per-cell weights: cubature keeps a subset of cells with non-negative weights.
+// Empty elements = every cell with weight 1.
+struct CellWeights {
+  std::vector<int> cells;
+  std::vector<double> weights;
+  bool all() const { return cells.empty(); }
+};
+
+// Elastic energy of the lattice at node positions x (3 * nodes). When grad is not
+// null it receives dE/dx (resized, overwritten); when hess is not null it receives
+// d2E/dx2 (sparse, 3N x 3N).
+double elastic_energy(const Lattice& lat, const Lame& l, const Eigen::VectorXd& x, const CellWeights& cw,
+                      Eigen::VectorXd* grad, Eigen::SparseMatrix<double>* hess);
+
+// Internal force of one cell (24 values: -dE/dx of its 8 nodes).
+void cell_force(const Lattice& lat, const Lame& l, const Eigen::VectorXd& x, int cell, double* f24);
+
+}  // namespace pliant::soft

@@ -1,0 +1,85 @@
+// Reduced forward simulation (Pan & Manocha TOG 2018, section 4): node positions
+//   x_j(p) = R (Xbar_j + U_j q) + c
+// with local deformation q in the modal basis, translation c and rotation R (the
+// floating frame; Xbar is the rest shape about its centre of mass). One step of
+// implicit Euler is the minimization (optimization-based implicit Euler)
+//   E(p) = sum_j m_j / (2 dt^2) |x_j(p) - xt_j|^2 + E_el(q) - u^T q
+//          + beta / (2 dt) (q - q_t)^T Omega (q - q_t) + contact + friction,
+//   xt_j = 2 x_j(t) - x_j(t-1) + dt^2 (g + f_drag_j / m_j),
+// solved by Gauss-Newton (rotation by increments, R <- exp([dw]) R) with a
+// backtracking line search. E_el is the stable neo-Hookean energy of the embedded
+// lattice at X + U q (rotation invariant, so it does not depend on R, c), summed
+// over the cubature cells with their weights. Its Hessian is replaced by the rest
+// stiffness Omega = diag(omega^2) (exact at rest, a quasi-Newton approximation
+// elsewhere; `exact_hessian` assembles U^T K(q) U instead). Drag is explicit (from
+// the velocity at the start of the step). `full_step` solves the same problem with
+// every node free (sparse Newton with CHOLMOD) for validation and benchmarks.
+#pragma once
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+
+#include "pliant/soft/body.h"
+#include "pliant/soft/environment.h"
+#include "pliant/soft/fem.h"
+#include "pliant/soft/modes.h"
+
+namespace pliant::soft {
+
+struct Character {
+  SurfaceMesh surface;
+  Lattice lattice;
+  Material material;
+  Lame lame;
+  ModalBasis basis;
+  CellWeights cubature;          // empty: every cell
+  Eigen::VectorXd rest;          // 3N rest positions X
+  Eigen::VectorXd rest_local;    // 3N, Xbar = X - centre of mass
+  Eigen::Vector3d rest_com = Eigen::Vector3d::Zero();
+  Eigen::VectorXd mode_scale;    // r: largest node displacement of each unit mode
+  double mass_kg = 0;
+};
+
+// Builds rest data, modes (r) of a lattice.
+Character make_character(SurfaceMesh surface, Lattice lattice, const Material& mat, int modes);
+
+struct SimParams {
+  double dt_s = 1.0 / 30;
+  int max_newton = 30;
+  double newton_tol = 1e-9;     // on the step, relative to the cell size
+  double modal_damping_s = 0.01;
+  bool exact_hessian = false;
+};
+
+struct SoftState {
+  int frame = 0;
+  double time_s = 0;
+  Eigen::VectorXd q, q_prev;
+  Eigen::Matrix3d R = Eigen::Matrix3d::Identity(), R_prev = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d c = Eigen::Vector3d::Zero(), c_prev = Eigen::Vector3d::Zero();
+};
+
+struct StepStats {
+  int newton_iterations = 0;
+  double final_step = 0;
+  bool converged = false;
+};
+
+// At rest, centre of mass at rest_com + offset, moving with velocity v0.
+SoftState initial_state(const Character& ch, const Eigen::Vector3d& offset, const Eigen::Vector3d& v0, double dt);
+
+// Node positions (3N) of a state.
+void node_positions(const Character& ch, const SoftState& s, Eigen::VectorXd& x);
+Eigen::Vector3d centre_of_mass(const Character& ch, const SoftState& s);
+
+// One implicit Euler step under modal control forces u (r values, generalized
+// forces on q; net force and torque on the body are zero: internal actuation).
+// Throws std::runtime_error naming the frame when the state turns non-finite.
+void reduced_step(const Character& ch, const Environment& env, const SimParams& sp, const Eigen::VectorXd& u,
+                  SoftState& s, StepStats* stats = nullptr);
+
+// Full-space step: positions x (3N), previous x_prev; nodal control force f (3N,
+// may be empty). Same energy with every node free.
+void full_step(const Character& ch, const Environment& env, const SimParams& sp, const Eigen::VectorXd& f,
+               Eigen::VectorXd& x, Eigen::VectorXd& x_prev, StepStats* stats = nullptr);
+
+}  // namespace pliant::soft

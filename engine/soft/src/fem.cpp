@@ -1,0 +1,156 @@
+// Stable neo-Hookean hexahedral FEM (see fem.h).
+#include "pliant/soft/fem.h"
+
+#include <Eigen/Dense>
+#include <array>
+#include <cmath>
+
+namespace pliant::soft {
+namespace {
+
+using Eigen::Matrix3d;
+using Mat9 = Eigen::Matrix<double, 9, 9>;
+
+// dN_a/dxi at the 8 Gauss points of the unit cube (for cell size h divide by h).
+struct GaussTable {
+  std::array<std::array<Eigen::Vector3d, 8>, 8> dN;  // [qp][node]
+  GaussTable() {
+    const double g[2] = {0.5 - 0.5 / std::sqrt(3.0), 0.5 + 0.5 / std::sqrt(3.0)};
+    for (int q = 0; q < 8; ++q) {
+      const double xi[3] = {g[q & 1], g[(q >> 1) & 1], g[(q >> 2) & 1]};
+      for (int a = 0; a < 8; ++a) {
+        const int b[3] = {a & 1, (a >> 1) & 1, (a >> 2) & 1};
+        double f[3], df[3];
+        for (int d = 0; d < 3; ++d) {
+          f[d] = b[d] ? xi[d] : 1 - xi[d];
+          df[d] = b[d] ? 1 : -1;
+        }
+        dN[q][a] = Eigen::Vector3d(df[0] * f[1] * f[2], f[0] * df[1] * f[2], f[0] * f[1] * df[2]);
+      }
+    }
+  }
+};
+const GaussTable& gauss() {
+  static const GaussTable t;
+  return t;
+}
+
+Matrix3d cross_matrix(const Eigen::Vector3d& v) {
+  Matrix3d m;
+  m << 0, -v[2], v[1], v[2], 0, -v[0], -v[1], v[0], 0;
+  return m;
+}
+
+Matrix3d cofactor(const Matrix3d& F) {
+  Matrix3d C;
+  C.col(0) = F.col(1).cross(F.col(2));
+  C.col(1) = F.col(2).cross(F.col(0));
+  C.col(2) = F.col(0).cross(F.col(1));
+  return C;
+}
+
+Matrix3d deformation_gradient(const Lattice& lat, const Eigen::VectorXd& x, int cell, int q) {
+  const auto& ids = lat.cells[cell];
+  const double inv_h = 1.0 / lat.cell_size_m;
+  Matrix3d F = Matrix3d::Zero();
+  for (int a = 0; a < 8; ++a) F += x.segment<3>(3 * ids[a]) * (gauss().dN[q][a].transpose() * inv_h);
+  return F;
+}
+
+}  // namespace
+
+Lame lame_from(const Material& m) {
+  Lame l;
+  l.mu = m.young_pa / (2 * (1 + m.poisson));
+  const double lambda = m.young_pa * m.poisson / ((1 + m.poisson) * (1 - 2 * m.poisson));
+  l.lam = lambda + l.mu;
+  return l;
+}
+
+double snh_energy(const Lame& l, const Matrix3d& F) {
+  const double alpha = 1 + l.mu / l.lam;
+  const double J = F.determinant();
+  return 0.5 * l.mu * (F.squaredNorm() - 3) + 0.5 * l.lam * (J - alpha) * (J - alpha);
+}
+
+Matrix3d snh_stress(const Lame& l, const Matrix3d& F) {
+  const double alpha = 1 + l.mu / l.lam;
+  return l.mu * F + l.lam * (F.determinant() - alpha) * cofactor(F);
+}
+
+Mat9 snh_stress_derivative(const Lame& l, const Matrix3d& F) {
+  const double alpha = 1 + l.mu / l.lam;
+  const double J = F.determinant();
+  const Matrix3d C = cofactor(F);
+  Eigen::Matrix<double, 9, 1> g;
+  for (int c = 0; c < 3; ++c) g.segment<3>(3 * c) = C.col(c);
+  Mat9 H = l.mu * Mat9::Identity() + l.lam * g * g.transpose();
+  // d(cof F) / dF: dc0 = df1 x f2 + f1 x df2 etc. (columns f_i of F).
+  const double s = l.lam * (J - alpha);
+  const Matrix3d X0 = cross_matrix(F.col(0)), X1 = cross_matrix(F.col(1)), X2 = cross_matrix(F.col(2));
+  H.block<3, 3>(0, 3) += -s * X2;
+  H.block<3, 3>(0, 6) += s * X1;
+  H.block<3, 3>(3, 0) += s * X2;
+  H.block<3, 3>(3, 6) += -s * X0;
+  H.block<3, 3>(6, 0) += -s * X1;
+  H.block<3, 3>(6, 3) += s * X0;
+  return H;
+}
+
+void cell_force(const Lattice& lat, const Lame& l, const Eigen::VectorXd& x, int cell, double* f24) {
+  const double h = lat.cell_size_m, w = h * h * h / 8;
+  for (int i = 0; i < 24; ++i) f24[i] = 0;
+  for (int q = 0; q < 8; ++q) {
+    const Matrix3d P = snh_stress(l, deformation_gradient(lat, x, cell, q));
+    for (int a = 0; a < 8; ++a) {
+      const Eigen::Vector3d fa = -w * P * (gauss().dN[q][a] / h);
+      for (int d = 0; d < 3; ++d) f24[3 * a + d] += fa[d];
+    }
+  }
+}
+
+double elastic_energy(const Lattice& lat, const Lame& l, const Eigen::VectorXd& x, const CellWeights& cw,
+                      Eigen::VectorXd* grad, Eigen::SparseMatrix<double>* hess) {
+  const double h = lat.cell_size_m, vol_q = h * h * h / 8, inv_h = 1.0 / h;
+  const int ncell = cw.all() ? int(lat.cells.size()) : int(cw.cells.size());
+  if (grad) grad->setZero(x.size());
+  std::vector<Eigen::Triplet<double>> trip;
+  if (hess) trip.reserve(size_t(ncell) * 576);
+  double energy = 0;
+  for (int k = 0; k < ncell; ++k) {
+    const int e = cw.all() ? k : cw.cells[k];
+    const double we = cw.all() ? 1.0 : cw.weights[k];
+    const auto& ids = lat.cells[e];
+    Eigen::Matrix<double, 24, 24> Ke;
+    if (hess) Ke.setZero();
+    for (int q = 0; q < 8; ++q) {
+      const Matrix3d F = deformation_gradient(lat, x, e, q);
+      energy += we * vol_q * snh_energy(l, F);
+      if (grad) {
+        const Matrix3d P = snh_stress(l, F);
+        for (int a = 0; a < 8; ++a) grad->segment<3>(3 * ids[a]) += we * vol_q * P * (gauss().dN[q][a] * inv_h);
+      }
+      if (hess) {
+        const Mat9 A = snh_stress_derivative(l, F);
+        // dvec(F)/dx_{a,s} = e_s (x) G_a: entry (3c+s) = G_a[c].
+        Eigen::Matrix<double, 9, 24> B = Eigen::Matrix<double, 9, 24>::Zero();
+        for (int a = 0; a < 8; ++a)
+          for (int c = 0; c < 3; ++c)
+            for (int s = 0; s < 3; ++s) B(3 * c + s, 3 * a + s) = gauss().dN[q][a][c] * inv_h;
+        Ke.noalias() += (we * vol_q) * B.transpose() * A * B;
+      }
+    }
+    if (hess)
+      for (int a = 0; a < 8; ++a)
+        for (int b = 0; b < 8; ++b)
+          for (int s = 0; s < 3; ++s)
+            for (int t = 0; t < 3; ++t) trip.emplace_back(3 * ids[a] + s, 3 * ids[b] + t, Ke(3 * a + s, 3 * b + t));
+  }
+  if (hess) {
+    hess->resize(x.size(), x.size());
+    hess->setFromTriplets(trip.begin(), trip.end());
+  }
+  return energy;
+}
+
+}  // namespace pliant::soft

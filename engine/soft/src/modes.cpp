@@ -1,0 +1,115 @@
+// Linear modes (see modes.h).
+#include "pliant/soft/modes.h"
+
+#include <Eigen/CholmodSupport>
+#include <Eigen/Dense>
+#include <algorithm>
+#include <random>
+#include <stdexcept>
+
+namespace pliant::soft {
+namespace {
+
+// M-Gram-Schmidt of the columns of A against themselves (twice for stability).
+void m_orthonormalize(Eigen::MatrixXd& A, const Eigen::VectorXd& m) {
+  for (int pass = 0; pass < 2; ++pass)
+    for (int j = 0; j < A.cols(); ++j) {
+      for (int i = 0; i < j; ++i) A.col(j) -= A.col(i) * A.col(i).dot(m.asDiagonal() * A.col(j));
+      const double nrm = std::sqrt(A.col(j).dot(m.asDiagonal() * A.col(j)));
+      if (nrm > 0) A.col(j) /= nrm;
+    }
+}
+
+void deflate(Eigen::MatrixXd& X, const Eigen::MatrixXd& rigid, const Eigen::VectorXd& m) {
+  X -= rigid * (rigid.transpose() * (m.asDiagonal() * X));
+}
+
+}  // namespace
+
+Eigen::MatrixXd rigid_modes(const Lattice& lat) {
+  const int n = lat.nodes();
+  Eigen::VectorXd m(3 * n);
+  Eigen::Vector3d com = Eigen::Vector3d::Zero();
+  double mass = 0;
+  for (int i = 0; i < n; ++i) {
+    m.segment<3>(3 * i).setConstant(lat.node_mass_kg[i]);
+    com += lat.node_mass_kg[i] * lat.rest[i];
+    mass += lat.node_mass_kg[i];
+  }
+  com /= mass;
+  Eigen::MatrixXd R = Eigen::MatrixXd::Zero(3 * n, 6);
+  for (int i = 0; i < n; ++i) {
+    const Eigen::Vector3d d = lat.rest[i] - com;
+    for (int a = 0; a < 3; ++a) {
+      R(3 * i + a, a) = 1;
+      Eigen::Vector3d e = Eigen::Vector3d::Zero();
+      e[a] = 1;
+      R.block<3, 1>(3 * i, 3 + a) = e.cross(d);
+    }
+  }
+  m_orthonormalize(R, m);
+  return R;
+}
+
+ModalBasis linear_modes(const Lattice& lat, const Lame& lame, int r) {
+  const int n3 = 3 * lat.nodes();
+  r = std::clamp(r, 0, n3 - 6);
+  ModalBasis out;
+  if (r == 0) {
+    out.U.resize(n3, 0);
+    return out;
+  }
+  Eigen::VectorXd x(n3), m(n3);
+  for (int i = 0; i < lat.nodes(); ++i) {
+    x.segment<3>(3 * i) = lat.rest[i];
+    m.segment<3>(3 * i).setConstant(lat.node_mass_kg[i]);
+  }
+  Eigen::SparseMatrix<double> K;
+  elastic_energy(lat, lame, x, CellWeights{}, nullptr, &K);
+  const Eigen::MatrixXd rigid = rigid_modes(lat);
+  if (n3 <= 900) {
+    const Eigen::VectorXd s = m.cwiseSqrt().cwiseInverse();
+    Eigen::MatrixXd A = s.asDiagonal() * Eigen::MatrixXd(K) * s.asDiagonal();
+    // Shift the rigid subspace far up so the 6 zero modes are not among the lowest.
+    const Eigen::MatrixXd Rm = m.cwiseSqrt().asDiagonal() * rigid;  // orthonormal
+    const double big = 10 * A.diagonal().maxCoeff() * n3;
+    A += big * Rm * Rm.transpose();
+    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(A);
+    out.U = s.asDiagonal() * es.eigenvectors().leftCols(r);
+    out.omega2 = es.eigenvalues().head(r);
+    return out;
+  }
+  // Shift-invert subspace iteration (Bathe): X <- (K + sigma M)^-1 M X, Rayleigh-Ritz.
+  const double sigma = 1e-3 * (K.diagonal().array() / m.array()).mean();
+  Eigen::SparseMatrix<double> A = K;
+  for (int i = 0; i < n3; ++i) A.coeffRef(i, i) += sigma * m[i];
+  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> llt(A);
+  if (llt.info() != Eigen::Success) throw std::runtime_error("modes: CHOLMOD factorization of K + sigma M failed");
+  const int p = std::min(n3 - 6, std::max(2 * r, r + 8));
+  std::mt19937 rng(7);
+  std::normal_distribution<double> nd;
+  Eigen::MatrixXd X(n3, p);
+  for (int j = 0; j < p; ++j)
+    for (int i = 0; i < n3; ++i) X(i, j) = nd(rng);
+  deflate(X, rigid, m);
+  Eigen::VectorXd prev = Eigen::VectorXd::Zero(r);
+  for (int it = 0; it < 200; ++it) {
+    Eigen::MatrixXd Y = llt.solve(m.asDiagonal() * X);
+    deflate(Y, rigid, m);
+    m_orthonormalize(Y, m);
+    const Eigen::MatrixXd KY = K * Y;
+    Eigen::MatrixXd Kr = Y.transpose() * KY;
+    Kr = 0.5 * (Kr + Kr.transpose()).eval();
+    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(Kr);  // Y is M-orthonormal: Mr = I
+    X = Y * es.eigenvectors();
+    const Eigen::VectorXd ev = es.eigenvalues().head(r);
+    const double change = ((ev - prev).array().abs() / ev.array().abs().max(1e-30)).maxCoeff();
+    prev = ev;
+    if (it > 2 && change < 1e-10) break;
+  }
+  out.U = X.leftCols(r);
+  out.omega2 = prev;
+  return out;
+}
+
+}  // namespace pliant::soft

@@ -1,0 +1,359 @@
+// Reduced and full implicit Euler steps (see simulator.h).
+#include "pliant/soft/simulator.h"
+
+#include <Eigen/CholmodSupport>
+#include <Eigen/Dense>
+#include <Eigen/Geometry>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace pliant::soft {
+namespace {
+
+using Eigen::Matrix3d;
+using Eigen::MatrixXd;
+using Eigen::Vector3d;
+using Eigen::VectorXd;
+
+Matrix3d cross_matrix(const Vector3d& v) {
+  Matrix3d m;
+  m << 0, -v[2], v[1], v[2], 0, -v[0], -v[1], v[0], 0;
+  return m;
+}
+
+Matrix3d rotation_exp(const Vector3d& w) {
+  const double a = w.norm();
+  if (a < 1e-300) return Matrix3d::Identity();
+  return Eigen::AngleAxisd(a, w / a).toRotationMatrix();
+}
+
+// Per-step data shared by the energy evaluations of one step.
+struct StepTargets {
+  VectorXd xt;          // inertial + gravity + drag target per node
+  VectorXd x_start;     // positions at the start of the step (friction slip origin)
+  VectorXd mu_lambda;   // lagged friction normal force times mu per node
+  std::vector<Vector3d> normal;
+};
+
+StepTargets make_targets(const Character& ch, const Environment& env, double dt, const VectorXd& x,
+                         const VectorXd& x_prev) {
+  const Lattice& lat = ch.lattice;
+  const int n = lat.nodes();
+  StepTargets t;
+  t.x_start = x;
+  t.xt = 2 * x - x_prev;
+  for (int j = 0; j < n; ++j) t.xt.segment<3>(3 * j) += dt * dt * env.gravity_m_per_s2;
+  if (env.water) {
+    for (const auto& f : lat.boundary_faces) {
+      const Vector3d a = 0.5 * (x.segment<3>(3 * f[2]) - x.segment<3>(3 * f[0]))
+                                   .cross(x.segment<3>(3 * f[3]) - x.segment<3>(3 * f[1]));
+      Vector3d U = Vector3d::Zero();
+      for (int c = 0; c < 4; ++c) U += 0.25 / dt * (x.segment<3>(3 * f[c]) - x_prev.segment<3>(3 * f[c]));
+      const Vector3d F = drag_force(env, a, U);
+      for (int c = 0; c < 4; ++c) t.xt.segment<3>(3 * f[c]) += dt * dt * 0.25 * F / lat.node_mass_kg[f[c]];
+    }
+  }
+  t.mu_lambda = VectorXd::Zero(n);
+  t.normal.assign(n, Vector3d::UnitY());
+  for (int j = 0; j < n; ++j)
+    t.mu_lambda[j] = env.friction * contact_normal_force(env, lat.node_mass_kg[j], x.segment<3>(3 * j), &t.normal[j]);
+  return t;
+}
+
+// Contact + friction of node j at position xj: energy, and gradient/Hessian in x_j.
+double node_environment(const Environment& env, const StepTargets& t, double m, int j, const Vector3d& xj,
+                        double eps, Vector3d* g, Matrix3d* H) {
+  double e = contact_potential(env, m, xj, g, H);
+  if (t.mu_lambda[j] > 0)
+    e += friction_potential(t.mu_lambda[j], t.normal[j], xj - t.x_start.segment<3>(3 * j), eps, g, H);
+  return e;
+}
+
+bool touches(const Environment& env, const StepTargets& t, int j, const Vector3d& xj) {
+  if (t.mu_lambda[j] > 0) return true;
+  for (const auto& o : env.obstacles)
+    if (obstacle_depth(o, xj, nullptr) > 0) return true;
+  return false;
+}
+
+}  // namespace
+
+Character make_character(SurfaceMesh surface, Lattice lattice, const Material& mat, int modes) {
+  Character ch;
+  ch.surface = std::move(surface);
+  ch.lattice = std::move(lattice);
+  ch.material = mat;
+  ch.lame = lame_from(mat);
+  const int n = ch.lattice.nodes();
+  ch.rest.resize(3 * n);
+  ch.mass_kg = 0;
+  for (int j = 0; j < n; ++j) {
+    ch.rest.segment<3>(3 * j) = ch.lattice.rest[j];
+    ch.rest_com += ch.lattice.node_mass_kg[j] * ch.lattice.rest[j];
+    ch.mass_kg += ch.lattice.node_mass_kg[j];
+  }
+  ch.rest_com /= ch.mass_kg;
+  ch.rest_local = ch.rest;
+  for (int j = 0; j < n; ++j) ch.rest_local.segment<3>(3 * j) -= ch.rest_com;
+  ch.basis = linear_modes(ch.lattice, ch.lame, modes);
+  ch.mode_scale.resize(ch.basis.r());
+  for (int k = 0; k < ch.basis.r(); ++k) {
+    double mx = 0;
+    for (int j = 0; j < n; ++j) mx = std::max(mx, ch.basis.U.block<3, 1>(3 * j, k).norm());
+    ch.mode_scale[k] = mx;
+  }
+  return ch;
+}
+
+SoftState initial_state(const Character& ch, const Vector3d& offset, const Vector3d& v0, double dt) {
+  SoftState s;
+  s.q = VectorXd::Zero(ch.basis.r());
+  s.q_prev = s.q;
+  s.c = ch.rest_com + offset;
+  s.c_prev = s.c - dt * v0;
+  return s;
+}
+
+void node_positions(const Character& ch, const SoftState& s, VectorXd& x) {
+  VectorXd local = ch.rest_local;
+  if (ch.basis.r() > 0) local.noalias() += ch.basis.U * s.q;
+  x.resize(local.size());
+  for (int j = 0; j < ch.lattice.nodes(); ++j) x.segment<3>(3 * j) = s.R * local.segment<3>(3 * j) + s.c;
+}
+
+Vector3d centre_of_mass(const Character& ch, const SoftState& s) {
+  // Modes are M-orthogonal to translation and Xbar is centred, so the COM is c.
+  (void)ch;
+  return s.c;
+}
+
+void reduced_step(const Character& ch, const Environment& env, const SimParams& sp, const VectorXd& u,
+                  SoftState& s, StepStats* stats) {
+  const Lattice& lat = ch.lattice;
+  const int n = lat.nodes(), r = ch.basis.r(), dof = r + 6;
+  const double dt = sp.dt_s, idt2 = 1.0 / (dt * dt), eps = env.friction_eps_m_per_s * dt;
+  const MatrixXd& U = ch.basis.U;
+  const VectorXd& om2 = ch.basis.omega2;
+  VectorXd x, xp;
+  node_positions(ch, s, x);
+  {
+    SoftState prev = s;
+    prev.q = s.q_prev, prev.R = s.R_prev, prev.c = s.c_prev;
+    node_positions(ch, prev, xp);
+  }
+  const StepTargets T = make_targets(ch, env, dt, x, xp);
+  const VectorXd q_t = s.q;
+  const double beta = sp.modal_damping_s / dt;
+
+  VectorXd q = s.q;
+  Matrix3d R = s.R;
+  Vector3d c = s.c;
+  VectorXd local(3 * n), xl(3 * n), grad_el;
+
+  // Total energy at (q, R, c); with g/H also the gradient and GN Hessian in
+  // (dq, dc, dw).
+  auto energy = [&](const VectorXd& q_, const Matrix3d& R_, const Vector3d& c_, VectorXd* g, MatrixXd* H) {
+    local = ch.rest_local;
+    if (r > 0) local.noalias() += U * q_;
+    xl = ch.rest;
+    if (r > 0) xl.noalias() += U * q_;
+    double e = elastic_energy(lat, ch.lame, xl, ch.cubature, g ? &grad_el : nullptr, nullptr);
+    e += 0.5 * beta * (q_ - q_t).dot(om2.asDiagonal() * (q_ - q_t)) - u.dot(q_);
+    VectorXd b;  // R^T dE/dx per node, for the modal part
+    Vector3d gc = Vector3d::Zero(), gw = Vector3d::Zero();
+    if (g) {
+      b = grad_el;  // elastic gradient is already in local coordinates
+      if (H) {
+        H->setZero(dof, dof);
+        H->topLeftCorner(r, r).diagonal() = (idt2 + beta) * VectorXd::Ones(r) + om2;
+      }
+    }
+    Matrix3d inertia = Matrix3d::Zero();
+    for (int j = 0; j < n; ++j) {
+      const double m = lat.node_mass_kg[j];
+      const Vector3d y = R_ * local.segment<3>(3 * j);
+      const Vector3d xj = y + c_;
+      const Vector3d d = xj - T.xt.segment<3>(3 * j);
+      e += 0.5 * m * idt2 * d.squaredNorm();
+      Vector3d gj = m * idt2 * d;
+      Matrix3d Hj = Matrix3d::Zero();
+      const bool env_active = touches(env, T, j, xj);
+      if (env_active) e += node_environment(env, T, m, j, xj, eps, g ? &gj : nullptr, H ? &Hj : nullptr);
+      if (!g) continue;
+      b.segment<3>(3 * j) += R_.transpose() * gj;
+      gc += gj;
+      gw += y.cross(gj);
+      if (H) {
+        const Matrix3d Y = cross_matrix(y);
+        inertia += m * idt2 * Y.transpose() * Y;
+        // Kinetic coupling q-w: sum m/dt^2 (R U_j)^T (-[y]x).
+        if (r > 0) H->block(0, r + 3, r, 3) -= m * idt2 * U.middleRows(3 * j, 3).transpose() * R_.transpose() * Y;
+        if (env_active) {
+          Eigen::Matrix<double, 3, Eigen::Dynamic> J(3, dof);
+          if (r > 0) J.leftCols(r) = R_ * U.middleRows(3 * j, 3);
+          J.block<3, 3>(0, r) = Matrix3d::Identity();
+          J.block<3, 3>(0, r + 3) = -Y;
+          H->noalias() += J.transpose() * Hj * J;
+        }
+      }
+    }
+    if (g) {
+      g->resize(dof);
+      if (r > 0) g->head(r) = U.transpose() * b + beta * om2.asDiagonal() * (q_ - q_t) - u;
+      g->segment<3>(r) = gc;
+      g->segment<3>(r + 3) = gw;
+    }
+    if (H) {
+      H->block<3, 3>(r, r) += ch.mass_kg * idt2 * Matrix3d::Identity();
+      H->block<3, 3>(r + 3, r + 3) += inertia;
+      H->block(r + 3, 0, 3, r) = H->block(0, r + 3, r, 3).transpose();
+      if (sp.exact_hessian && r > 0) {
+        Eigen::SparseMatrix<double> K;
+        elastic_energy(lat, ch.lame, xl, ch.cubature, nullptr, &K);
+        H->topLeftCorner(r, r) += U.transpose() * (K * U) - MatrixXd(om2.asDiagonal());
+      }
+    }
+    return e;
+  };
+
+  StepStats st;
+  VectorXd g;
+  MatrixXd H;
+  double e = energy(q, R, c, &g, &H);
+  const double size_scale = lat.cell_size_m;
+  double radius = 0;
+  for (int j = 0; j < n; ++j) radius = std::max(radius, ch.rest_local.segment<3>(3 * j).norm());
+  for (int it = 0; it < sp.max_newton; ++it) {
+    Eigen::LDLT<MatrixXd> ldlt(H);
+    VectorXd d = -ldlt.solve(g);
+    if (!d.allFinite() || g.dot(d) >= 0) d = -g / (H.diagonal().maxCoeff() + 1e-300);  // fall back to gradient
+    double alpha = 1, e_new = e;
+    VectorXd qn;
+    Matrix3d Rn;
+    Vector3d cn;
+    bool accepted = false;
+    for (int ls = 0; ls < 30; ++ls) {
+      qn = q + alpha * d.head(r);
+      cn = c + alpha * d.segment<3>(r);
+      Rn = rotation_exp(alpha * d.segment<3>(r + 3)) * R;
+      e_new = energy(qn, Rn, cn, nullptr, nullptr);
+      if (e_new <= e + 1e-4 * alpha * g.dot(d)) {
+        accepted = true;
+        break;
+      }
+      alpha *= 0.5;
+    }
+    ++st.newton_iterations;
+    // Step size in metres: modal amplitudes scaled by their largest node displacement.
+    double step = alpha * (d.segment<3>(r).norm() + d.segment<3>(r + 3).norm() * radius);
+    for (int k = 0; k < r; ++k) step = std::max(step, alpha * std::abs(d[k]) * ch.mode_scale[k]);
+    st.final_step = step;
+    if (!accepted) {
+      st.converged = std::abs(g.dot(d)) < 1e-12 * std::max(1.0, std::abs(e));
+      break;
+    }
+    q = qn, R = Rn, c = cn;
+    // Re-orthonormalize R against drift.
+    Eigen::JacobiSVD<Matrix3d> svd(R, Eigen::ComputeFullU | Eigen::ComputeFullV);
+    R = svd.matrixU() * svd.matrixV().transpose();
+    e = energy(q, R, c, &g, &H);
+    if (step < sp.newton_tol * size_scale) {
+      st.converged = true;
+      break;
+    }
+  }
+  if (!q.allFinite() || !c.allFinite() || !R.allFinite())
+    throw std::runtime_error("soft: non-finite state at frame " + std::to_string(s.frame + 1) +
+                             " (field q/c/R); reduce dt_s or the contact stiffness");
+  s.q_prev = s.q, s.R_prev = s.R, s.c_prev = s.c;
+  s.q = q, s.R = R, s.c = c;
+  s.frame += 1;
+  s.time_s += dt;
+  if (stats) *stats = st;
+}
+
+void full_step(const Character& ch, const Environment& env, const SimParams& sp, const VectorXd& f, VectorXd& x,
+               VectorXd& x_prev, StepStats* stats) {
+  const Lattice& lat = ch.lattice;
+  const int n = lat.nodes();
+  const double dt = sp.dt_s, idt2 = 1.0 / (dt * dt), eps = env.friction_eps_m_per_s * dt;
+  const StepTargets T = make_targets(ch, env, dt, x, x_prev);
+  VectorXd y = x;
+  auto energy = [&](const VectorXd& z, VectorXd* g, Eigen::SparseMatrix<double>* H) {
+    double e = elastic_energy(lat, ch.lame, z, CellWeights{}, g, H);
+    if (f.size()) {
+      e -= f.dot(z);
+      if (g) *g -= f;
+    }
+    std::vector<Eigen::Triplet<double>> trip;
+    for (int j = 0; j < n; ++j) {
+      const double m = lat.node_mass_kg[j];
+      const Vector3d xj = z.segment<3>(3 * j), d = xj - T.xt.segment<3>(3 * j);
+      e += 0.5 * m * idt2 * d.squaredNorm();
+      Vector3d gj = m * idt2 * d;
+      Matrix3d Hj = m * idt2 * Matrix3d::Identity();
+      if (touches(env, T, j, xj)) e += node_environment(env, T, m, j, xj, eps, &gj, &Hj);
+      if (g) g->segment<3>(3 * j) += gj;
+      if (H)
+        for (int a = 0; a < 3; ++a)
+          for (int b2 = 0; b2 < 3; ++b2) trip.emplace_back(3 * j + a, 3 * j + b2, Hj(a, b2));
+    }
+    if (H) {
+      Eigen::SparseMatrix<double> D(3 * n, 3 * n);
+      D.setFromTriplets(trip.begin(), trip.end());
+      *H += D;
+    }
+    return e;
+  };
+  StepStats st;
+  VectorXd g;
+  Eigen::SparseMatrix<double> H;
+  double e = energy(y, &g, &H);
+  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> llt;
+  for (int it = 0; it < sp.max_newton; ++it) {
+    VectorXd d;
+    double shift = 0;
+    for (int tries = 0; tries < 8; ++tries) {
+      Eigen::SparseMatrix<double> A = H;
+      if (shift > 0)
+        for (int j = 0; j < n; ++j)
+          for (int a = 0; a < 3; ++a) A.coeffRef(3 * j + a, 3 * j + a) += shift * lat.node_mass_kg[j] * idt2;
+      llt.compute(A);
+      if (llt.info() == Eigen::Success) {
+        d = -llt.solve(g);
+        if (d.allFinite() && g.dot(d) < 0) break;
+      }
+      shift = shift == 0 ? 1e-3 : shift * 10;
+      d.resize(0);
+    }
+    if (d.size() == 0) d = -g;
+    double alpha = 1, e_new = e;
+    bool accepted = false;
+    VectorXd yn;
+    for (int ls = 0; ls < 30; ++ls) {
+      yn = y + alpha * d;
+      e_new = energy(yn, nullptr, nullptr);
+      if (e_new <= e + 1e-4 * alpha * g.dot(d)) {
+        accepted = true;
+        break;
+      }
+      alpha *= 0.5;
+    }
+    ++st.newton_iterations;
+    st.final_step = alpha * d.cwiseAbs().maxCoeff();
+    if (!accepted) break;
+    y = yn;
+    e = energy(y, &g, &H);
+    if (st.final_step < sp.newton_tol * lat.cell_size_m) {
+      st.converged = true;
+      break;
+    }
+  }
+  if (!y.allFinite()) throw std::runtime_error("soft: non-finite full state (field x)");
+  x_prev = x;
+  x = y;
+  if (stats) *stats = st;
+}
+
+}  // namespace pliant::soft

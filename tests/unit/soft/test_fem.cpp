@@ -1,0 +1,120 @@
+// Stable neo-Hookean FEM: stress and Hessian against finite differences, rest state
+// stress-free, linearization equals linear elasticity.
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <random>
+
+#include "pliant/soft/body.h"
+#include "pliant/soft/fem.h"
+
+using namespace pliant::soft;
+
+namespace {
+Lame test_lame() { return lame_from(Material{1000, 1e5, 0.35}); }
+
+Eigen::Matrix3d random_F(std::mt19937& rng, double spread) {
+  std::uniform_real_distribution<double> u(-spread, spread);
+  Eigen::Matrix3d F = Eigen::Matrix3d::Identity();
+  for (int i = 0; i < 9; ++i) F.data()[i] += u(rng);
+  return F;
+}
+
+Lattice two_cells() {
+  SurfaceMesh m;
+  // A 2x1x1 box: corners.
+  for (int i = 0; i < 8; ++i) m.vertices.push_back({(i & 1) * 2.0, double((i >> 1) & 1), double((i >> 2) & 1)});
+  const int q[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+  for (const auto& f : q) {
+    m.triangles.push_back({f[0], f[1], f[2]});
+    m.triangles.push_back({f[0], f[2], f[3]});
+  }
+  return build_lattice(m, 2, 1000);
+}
+}  // namespace
+
+TEST(Fem, RestIsStressFree) {
+  const Lame l = test_lame();
+  EXPECT_NEAR(snh_stress(l, Eigen::Matrix3d::Identity()).norm(), 0.0, 1e-9);
+}
+
+TEST(Fem, StressMatchesFiniteDifferences) {
+  std::mt19937 rng(1);
+  const Lame l = test_lame();
+  for (int trial = 0; trial < 5; ++trial) {
+    // Include inverted configurations (J < 0): the stable form stays smooth there.
+    Eigen::Matrix3d F = random_F(rng, 0.4);
+    if (trial == 4) F.col(0) *= -1;
+    const Eigen::Matrix3d P = snh_stress(l, F);
+    const double h = 1e-6;
+    for (int i = 0; i < 9; ++i) {
+      Eigen::Matrix3d Fp = F, Fm = F;
+      Fp.data()[i] += h;
+      Fm.data()[i] -= h;
+      const double fd = (snh_energy(l, Fp) - snh_energy(l, Fm)) / (2 * h);
+      EXPECT_NEAR(P.data()[i], fd, 1e-5 * std::max(1.0, std::abs(fd)));
+    }
+  }
+}
+
+TEST(Fem, StressDerivativeMatchesFiniteDifferences) {
+  std::mt19937 rng(2);
+  const Lame l = test_lame();
+  const Eigen::Matrix3d F = random_F(rng, 0.3);
+  const auto A = snh_stress_derivative(l, F);
+  const double h = 1e-6;
+  for (int j = 0; j < 9; ++j) {
+    Eigen::Matrix3d Fp = F, Fm = F;
+    Fp.data()[j] += h;
+    Fm.data()[j] -= h;
+    const Eigen::Matrix3d dP = (snh_stress(l, Fp) - snh_stress(l, Fm)) / (2 * h);
+    for (int i = 0; i < 9; ++i) EXPECT_NEAR(A(i, j), dP.data()[i], 1e-4 * std::max(1.0, std::abs(dP.data()[i])));
+  }
+}
+
+TEST(Fem, LinearizationIsLinearElasticity) {
+  const Material mat{1000, 2e5, 0.3};
+  const Lame l = lame_from(mat);
+  const double mu = mat.young_pa / (2 * 1.3), lambda = mat.young_pa * 0.3 / (1.3 * 0.4);
+  Eigen::Matrix3d E = Eigen::Matrix3d::Zero();
+  E(0, 0) = 1e-7;  // uniaxial strain
+  const Eigen::Matrix3d P = snh_stress(l, Eigen::Matrix3d::Identity() + E);
+  EXPECT_NEAR(P(0, 0), (2 * mu + lambda) * 1e-7, 1e-6 * (2 * mu + lambda) * 1e-7 + 1e-9);
+  EXPECT_NEAR(P(1, 1), lambda * 1e-7, 1e-3 * lambda * 1e-7 + 1e-9);
+}
+
+TEST(Fem, LatticeGradientAndHessianMatchFiniteDifferences) {
+  const Lattice lat = two_cells();
+  ASSERT_EQ(lat.cells.size(), 2u);
+  const Lame l = test_lame();
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-0.05, 0.05);
+  Eigen::VectorXd x(3 * lat.nodes());
+  for (int j = 0; j < lat.nodes(); ++j) x.segment<3>(3 * j) = lat.rest[j];
+  for (int i = 0; i < x.size(); ++i) x[i] += u(rng);
+  Eigen::VectorXd g;
+  Eigen::SparseMatrix<double> H;
+  elastic_energy(lat, l, x, CellWeights{}, &g, &H);
+  const Eigen::MatrixXd Hd(H);
+  const double h = 1e-6;
+  for (int i = 0; i < x.size(); ++i) {
+    Eigen::VectorXd xp = x, xm = x, gp, gm;
+    xp[i] += h;
+    xm[i] -= h;
+    const double ep = elastic_energy(lat, l, xp, CellWeights{}, &gp, nullptr);
+    const double em = elastic_energy(lat, l, xm, CellWeights{}, &gm, nullptr);
+    EXPECT_NEAR(g[i], (ep - em) / (2 * h), 1e-5 * std::max(1.0, g.cwiseAbs().maxCoeff()));
+    const Eigen::VectorXd col = (gp - gm) / (2 * h);
+    EXPECT_LT((Hd.col(i) - col).cwiseAbs().maxCoeff(), 1e-4 * std::max(1.0, Hd.cwiseAbs().maxCoeff()));
+  }
+  // cell_force is minus the per-cell gradient.
+  double f[24];
+  cell_force(lat, l, x, 0, f);
+  Eigen::VectorXd g0;
+  CellWeights only0;
+  only0.cells = {0};
+  only0.weights = {1.0};
+  elastic_energy(lat, l, x, only0, &g0, nullptr);
+  for (int a = 0; a < 8; ++a)
+    for (int d = 0; d < 3; ++d) EXPECT_NEAR(f[3 * a + d], -g0[3 * lat.cells[0][a] + d], 1e-9 * g0.norm());
+}
