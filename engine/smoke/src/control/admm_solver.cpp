@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <optional>
 
 #include "../smoke_workspace.h"
@@ -91,8 +92,14 @@ void admm_run(const ControlModel& m, ControlState& s, Progress& progress, const 
   Series u = to_d(s.velocity), z = to_d(s.split), lam = to_d(s.dual), c(T, Vec(F)), d(T, Vec(F));
   AoSolver ao(m, ops);
   NsoSolver nso(m, ops);
+  nso.set_damping(s.nso_damping);
   progress.stage("admm", m.max_iterations);
   while (s.iteration < m.max_iterations) {
+    // Stopping rule on the stored residuals, so a run resumed from the checkpoint
+    // of the last iteration makes the same decision.
+    if (s.iteration >= 2 && !s.primal_residual_history.empty() &&
+        s.primal_residual_history.back() < m.tolerance && s.dual_residual_history.back() < m.tolerance)
+      break;
     progress.check_cancelled();
     const auto t0 = clock::now();
     AdmmIterationStats it;
@@ -132,10 +139,18 @@ void admm_run(const ControlModel& m, ControlState& s, Progress& progress, const 
     it.objective = control_detail::objective_d(m, ops, f, nullptr);
     serial_f.reset();
     it.forces_s = seconds_since(t2);
-    s.force = to_f(f);
+    // The output forces are the best re-simulated ones so far (ADMM is not monotone in E).
+    const double best = s.objective_history.empty()
+                            ? std::numeric_limits<double>::infinity()
+                            : *std::min_element(s.objective_history.begin(), s.objective_history.end());
+    if (it.objective <= best || !sized(s.force)) s.force = to_f(f);
     s.velocity = to_f(u);
     s.split = to_f(z);
     s.dual = to_f(lam);
+    s.nso_damping = nso.damping();
+    // Continue from exactly the float values of the checkpoint, so a resumed run and an
+    // uninterrupted one take the same path.
+    u = to_d(s.velocity), z = to_d(s.split), lam = to_d(s.dual);
     s.objective_history.push_back(it.objective);
     s.primal_residual_history.push_back(it.primal);
     s.dual_residual_history.push_back(it.dual);
@@ -145,7 +160,6 @@ void admm_run(const ControlModel& m, ControlState& s, Progress& progress, const 
     if (stats) stats->push_back(it);
     progress.report(s.iteration, it.objective);
     if (cb.on_iteration) cb.on_iteration(s);
-    if (s.iteration >= 2 && it.primal < m.tolerance && it.dual < m.tolerance) break;
   }
 }
 
@@ -230,7 +244,17 @@ void control_solve_admm(const ControlModel& m, ControlState& s, Progress& progre
       }
     }
   }
-  admm_run(m, s, progress, cb, nullptr);
+  if (s.phase == 0) {
+    admm_run(m, s, progress, cb, nullptr);
+    if (m.polish_iterations <= 0) return;
+    // Polish phase: numbered after the ADMM's iteration cap; the switch is checkpointed.
+    s.phase = 1;
+    s.iteration = m.max_iterations;
+    if (cb.on_iteration) cb.on_iteration(s);
+  }
+  ControlModel pm = m;
+  pm.max_iterations = m.max_iterations + m.polish_iterations;
+  control_solve_lbfgs(pm, s, progress, cb);
 }
 
 }  // namespace pliant::smoke

@@ -4,7 +4,13 @@
 //   NSO:  z <- argmin r ||f(z)||^2 + beta/2 ||z - (u + lambda)||^2, div z = 0  (nso_solver.h)
 //   dual: lambda += u - z
 // Residuals (relative): primal ||u - z|| / max(||u||, ||z||), dual ||z - z_prev|| / ||lambda||
-// (Boyd et al. 2011, Sec. 3.3); stop when both are below tolerance.
+// (Boyd et al. 2011, Sec. 3.3); stop when both stored residuals are below tolerance.
+// The state's forces are those of the best re-simulated objective so far (ADMM is not
+// monotone in E). control_solve_admm then runs ControlModel::polish_iterations of the
+// L-BFGS baseline from those forces (ControlState::phase 1).
+// Exact resume: everything carried between outer iterations is in ControlState (u, z,
+// lambda as float and the loop continues from those floats; the NSO damping); the AO's
+// quasi-Newton memory and the NSO multipliers restart at every solve.
 // Forces: a forward sweep re-simulates the plain model, f_i = P(z_{i+1} - A(z'_i))/dt with
 // z' the re-simulated velocity, so P(A z'_i + dt f_i) = P z_{i+1}: control_forward
 // reproduces the projected NSO velocities, and f is divergence-free (least norm).

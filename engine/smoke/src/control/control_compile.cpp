@@ -3,7 +3,7 @@
 // keyframe targets are rasterised by engine/geom.
 //
 //   "control": {"method": "admm"|"lbfgs", "r": >0, "max_iterations", "tolerance",
-//     "admm": {"penalty", "ao_iterations", "nso_vcycles"}, "progressive_preview",
+//     "admm": {"penalty", "ao_iterations", "nso_vcycles", "polish_iterations"}, "progressive_preview",
 //     "initial_density": [TARGET], "obstacles": [TARGET],
 //     "keyframes": [{"frame": 1..T, "weight": >0, "target": TARGET}],
 //     "sequence": {"images": "dir/" or "pattern%03d.png", "first_frame", "every",
@@ -250,6 +250,7 @@ ControlModel control_compile(const Scene& scene) {
     if (!(m.admm_penalty > 0)) a->fail("penalty", "expected a number > 0");
     m.ao_iterations = int(a->integer("ao_iterations", m.ao_iterations, 1, 100000));
     m.nso_vcycles = int(a->integer("nso_vcycles", m.nso_vcycles, 1, 100000));
+    m.polish_iterations = int(a->integer("polish_iterations", m.polish_iterations, 0, 1000000));
     a->finish();
   }
   m.progressive_preview = c.boolean("progressive_preview", m.progressive_preview);

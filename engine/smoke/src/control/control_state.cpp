@@ -15,7 +15,7 @@ namespace pliant::smoke {
 namespace {
 
 constexpr uint32_t kMagic = 0x53434c50;  // "PLCS"
-constexpr uint32_t kVersion = 1;
+constexpr uint32_t kVersion = 2;  // 2: phase and NSO damping
 
 template <class T>
 void put(std::vector<uint8_t>& b, const T& v) {
@@ -88,6 +88,8 @@ std::vector<uint8_t> control_state_serialize(const ControlState& s) {
   put<double>(b, s.wall_s);
   for (const FaceSeries* f : {&s.force, &s.velocity, &s.split, &s.dual}) put_series(b, *f);
   for (const auto* h : {&s.objective_history, &s.primal_residual_history, &s.dual_residual_history}) put_array(b, *h);
+  put<int32_t>(b, s.phase);
+  put<double>(b, s.nso_damping);
   return b;
 }
 
@@ -103,6 +105,10 @@ ControlState control_state_deserialize(const std::vector<uint8_t>& bytes) {
   for (FaceSeries* f : {&s.force, &s.velocity, &s.split, &s.dual}) *f = r.series();
   for (auto* h : {&s.objective_history, &s.primal_residual_history, &s.dual_residual_history})
     *h = r.get_array<double>();
+  s.phase = r.get<int32_t>();
+  if (s.phase < 0 || s.phase > 1) r.bad("bad phase " + std::to_string(s.phase));
+  s.nso_damping = r.get<double>();
+  if (!(s.nso_damping >= 0)) r.bad("bad NSO damping");
   if (r.pos != bytes.size()) r.bad("trailing bytes");
   return s;
 }

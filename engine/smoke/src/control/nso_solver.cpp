@@ -46,6 +46,10 @@ NsoStats NsoSolver::solve(std::vector<Vec>& z, const std::vector<Vec>& d, double
           L.F[e] = beta * d[t][f] + mu_ * z[t][f];
         }
       std::fill(L.G.begin(), L.G.end(), 0.0);
+      // The multipliers start from zero on every solve: a warm start from the last
+      // solve would be solver state outside the ADMM checkpoint (resume must repeat
+      // the uninterrupted run), and d changes a lot between outer iterations anyway.
+      std::fill(L.q.begin(), L.q.end(), 0.0);
       mg_->setup(dt, w, beta + mu_);
       double prev = L.residual();
       std::vector<double> factors;

@@ -35,6 +35,9 @@ class NsoSolver {
   double energy(const std::vector<control_detail::Vec>& z, const std::vector<control_detail::Vec>& d,
                 double beta);
   SpacetimeMultigrid& multigrid() { return *mg_; }
+  // Levenberg-Marquardt damping carried to the next solve (ControlState::nso_damping).
+  double damping() const { return mu_; }
+  void set_damping(double mu) { mu_ = mu; }
 
  private:
   const ControlModel& m_;

@@ -57,6 +57,10 @@ struct ControlModel {
   double admm_penalty = 1.0;           // beta of the augmented Lagrangian
   int ao_iterations = 10;              // fixed-point iterations per AO solve
   int nso_vcycles = 4;                 // FAS V-cycles per NSO solve
+  // L-BFGS iterations on E(f) after the ADMM loop, from its best forces (0 = none):
+  // ADMM finds the transport path from rest (where plain L-BFGS stalls at once), the
+  // polish makes the re-simulated keyframes exact up to what the discretisation allows.
+  int polish_iterations = 0;
   bool progressive_preview = true;     // write coarse-level previews first
 };
 
@@ -96,6 +100,11 @@ struct ControlState {
   std::vector<double> objective_history;
   std::vector<double> primal_residual_history, dual_residual_history;
   double wall_s = 0;
+  // ADMM only: 0 = outer loop, 1 = L-BFGS polish (ControlModel::polish_iterations);
+  // the NSO's Levenberg-Marquardt damping carried between outer iterations, so a
+  // resumed run continues exactly where an uninterrupted one would be.
+  int phase = 0;
+  double nso_damping = 0;
 };
 ControlState control_init(const ControlModel& m);  // zero forces, rest fluid
 std::vector<uint8_t> control_state_serialize(const ControlState& s);
