@@ -1,0 +1,59 @@
+// Contact: penalty normal force on the penetration depth of body points (sphere
+// centres with radius, capsule end spheres, box corners) against static obstacles
+// (planes, spheres, boxes of the world body); every point is tested against every
+// obstacle, so the cost is linear in the number of contacts.
+// Normal: E = k/2 d^2 (d = penetration), force k d along the obstacle normal.
+// Friction (inside PBAD's energy, with the normal force f_n of the previous step):
+//   coulomb: dry Coulomb as a dissipation potential mu f_n (sqrt(|s_t|^2+eps^2)-eps),
+//            s_t the tangential slip of the point over the step;
+//   ck:      the dissertation's tangential model read as a viscous law scaled by the
+//            normal force, force -C_k f_n v_t (energy C_k f_n |s_t|^2 / (2 dt));
+//   none.
+// Explicit integrators use the same laws on velocities (coulomb regularised with
+// slip speed eps/dt).
+#pragma once
+#include <vector>
+
+#include "pliant/articulated/dynamics.h"
+
+namespace pliant::articulated {
+
+enum class FrictionModel { None, Coulomb, Ck };
+
+struct ContactOptions {
+  bool enabled = true;
+  double stiffness = 1e5;        // N/m
+  double damping = 0;            // N s/m (explicit integrators only)
+  FrictionModel friction = FrictionModel::Coulomb;
+  double mu = 0.5;
+  double ck = 10;                // s/m
+  double slip_eps = 1e-7;        // m per step
+};
+
+// A contact candidate: one body point, one obstacle.
+struct ContactPoint {
+  int body;
+  Vec3 local;      // in body frame
+  double radius;
+};
+
+struct Contact {
+  int slot;        // point * nobstacles + obstacle
+  int body;
+  Vec3 point;      // deepest point on the body surface, world
+  Vec3 normal;     // out of the obstacle
+  double depth;    // penetration > 0
+  Vec3 force{0, 0, 0};
+};
+
+std::vector<ContactPoint> contact_points(const Model& m);
+std::vector<int> contact_obstacles(const Model& m);
+// Signed distance (positive outside) of a world point from obstacle geom g, and
+// its outward normal.
+double obstacle_distance(const Geom& g, const Vec3& x, Vec3* normal);
+
+// Active contacts at kinematics k.
+void find_contacts(const Model& m, const Kinematics& k, const std::vector<ContactPoint>& pts,
+                   const std::vector<int>& obs, std::vector<Contact>* out);
+
+}  // namespace pliant::articulated

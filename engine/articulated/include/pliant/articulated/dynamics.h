@@ -1,0 +1,87 @@
+// Kinematics and dynamics of a Model in world coordinates. Spatial vectors are
+// (angular; linear) about the world origin (Featherstone's Plucker coordinates with
+// a fixed frame): a body twist is (omega, v_O), v_O the velocity of the body point
+// at the world origin; a wrench is (moment about the origin, force). With every
+// quantity in one frame the recursions need no transforms: twists add along the
+// tree and wrenches add towards the root.
+#pragma once
+#include <vector>
+
+#include "pliant/articulated/model.h"
+
+namespace pliant::articulated {
+
+struct Kinematics {
+  std::vector<Vec3> xpos;    // body origin, world
+  std::vector<Quat> xquat;   // body orientation
+  std::vector<Mat3> xmat;
+  std::vector<Vec3> xcom;    // centre of mass, world
+  std::vector<Vec6> cdof;    // motion subspace of each dof (twist per unit velocity)
+  std::vector<Mat6> cinert;  // spatial inertia of each body about the world origin
+};
+
+// Forward kinematics (MuJoCo's order: body offset, then joints in order).
+void kinematics(const Model& m, const VecX& qpos, Kinematics* k);
+
+// qpos <- qpos (+) scale * dv: hinge/slide add, quaternions rotate by exp(dv) in the
+// local frame (free-joint position adds in the world frame). Quaternions renormalised.
+void qpos_integrate(const Model& m, VecX& qpos, const VecX& dv, double scale);
+// dv with q0 (+) dv == q1 (ball/free rotations through the quaternion log).
+VecX qpos_difference(const Model& m, const VecX& q1, const VecX& q0);
+
+// Spatial cross products.
+Vec6 cross_motion(const Vec6& v, const Vec6& u);
+Vec6 cross_force(const Vec6& v, const Vec6& f);
+// Spatial inertia about the world origin of mass m, centre c, rotational inertia ic
+// (about the centre, world axes).
+Mat6 spatial_inertia(double mass, const Vec3& c, const Mat3& ic);
+// Wrench (moment about origin, force) of force f applied at world point x.
+inline Vec6 point_wrench(const Vec3& x, const Vec3& f) {
+  Vec6 w;
+  w << x.cross(f), f;
+  return w;
+}
+// 6x6 form of a 3x3 point stiffness K at world point x (delta x = v + omega x X).
+Mat6 point_hessian(const Vec3& x, const Mat3& K);
+
+// Scratch for the O(N) solves (one per thread / trajectory).
+struct TreeWorkspace {
+  std::vector<Mat6> ia;   // articulated inertias
+  std::vector<Vec6> pa;   // articulated bias
+  std::vector<Vec6> acc;
+  std::vector<Eigen::Matrix<double, 6, Eigen::Dynamic, 0, 6, 6>> u;
+  std::vector<Eigen::LDLT<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>>> dinv;
+  std::vector<Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 6, 1>> ures;
+};
+
+// Solves (sum_b Phi_b^T H_b Phi_b + diag(armature)) x = rhs in O(N) with the
+// articulated-body recursion (Featherstone's ABA with zero velocity): H_b is any
+// symmetric positive semi-definite 6x6 per body, Phi_b its world-frame Jacobian.
+// With H_b = cinert it computes M^-1 rhs; PBAD's Levenberg-Marquardt passes its
+// Gauss-Newton blocks.
+void tree_solve(const Model& m, const Kinematics& k, const std::vector<Mat6>& h,
+                const VecX& armature, const VecX& rhs, VecX* x, TreeWorkspace* ws);
+
+// Diagonal of sum_b Phi_b^T H_b Phi_b (composite blocks), O(N).
+VecX tree_diagonal(const Model& m, const Kinematics& k, const std::vector<Mat6>& h);
+
+// Generalized force of sum_b Phi_b^T w_b for per-body wrenches w (O(N), backward pass).
+void wrenches_to_generalized(const Model& m, const Kinematics& k, std::vector<Vec6>& w, VecX* tau);
+
+// Bias force C(q, qdot) qdot + gravity + joint damping: M qacc = tau - bias
+// (recursive Newton-Euler with qacc = 0).
+VecX bias_force(const Model& m, const Kinematics& k, const VecX& qvel);
+// Dense joint-space inertia (tests and small models only).
+Eigen::MatrixXd mass_matrix(const Model& m, const Kinematics& k);
+
+// Forward dynamics: qacc = M^-1 (tau - bias), O(N).
+void forward_dynamics(const Model& m, const Kinematics& k, const VecX& qvel, const VecX& tau,
+                      VecX* qacc, TreeWorkspace* ws);
+
+double kinetic_energy(const Model& m, const Kinematics& k, const VecX& qvel);
+double potential_energy(const Model& m, const Kinematics& k);  // gravity, zero at z=0
+
+// World-frame linear Jacobian (3 x nv) of the body point at world position x.
+Eigen::MatrixXd point_jacobian(const Model& m, const Kinematics& k, int body, const Vec3& x);
+
+}  // namespace pliant::articulated

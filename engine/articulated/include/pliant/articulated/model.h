@@ -1,0 +1,99 @@
+// Articulated rigid bodies in generalized coordinates (MuJoCo conventions, so the
+// same MJCF loads in both engines): a tree of bodies, each placed in its parent by
+// pos/quat, then moved by its joints in order. Hinge and slide joints have one
+// coordinate; ball joints a unit quaternion (nq 4, nv 3, velocity in the body's
+// local frame); free joints position + quaternion (nq 7, nv 6: world linear
+// velocity, local angular velocity). Body 0 is the world.
+#pragma once
+#include <Eigen/Dense>
+#include <Eigen/Geometry>
+#include <string>
+#include <vector>
+
+namespace pliant::articulated {
+
+using Vec3 = Eigen::Vector3d;
+using Mat3 = Eigen::Matrix3d;
+using Quat = Eigen::Quaterniond;
+using VecX = Eigen::VectorXd;
+using Vec6 = Eigen::Matrix<double, 6, 1>;
+using Mat6 = Eigen::Matrix<double, 6, 6>;
+
+enum class JointType { Hinge, Slide, Ball, Free };
+int joint_nq(JointType t);
+int joint_nv(JointType t);
+
+struct Joint {
+  std::string name;
+  JointType type = JointType::Hinge;
+  int body = 1;
+  Vec3 axis{0, 0, 1};  // body frame, unit
+  Vec3 pos{0, 0, 0};   // anchor, body frame
+  int qadr = 0, vadr = 0;
+  double damping = 0;   // N m s / rad (viscous, explicit integrators and PBAD alike)
+  double armature = 0;  // added rotor inertia (diagonal of M)
+};
+
+enum class GeomType { Plane, Sphere, Capsule, Box };
+
+struct Geom {
+  std::string name;
+  GeomType type = GeomType::Sphere;
+  int body = 0;  // 0: static obstacle in the world
+  Vec3 pos{0, 0, 0};
+  Quat quat = Quat::Identity();
+  // sphere: radius; capsule: radius, half-length (along local z); box: half sizes;
+  // plane: ignored (infinite, normal = local z).
+  Vec3 size{0.05, 0, 0};
+  double density = 1000;  // kg/m^3, used when mass < 0
+  double mass = -1;       // explicit mass (MJCF "mass")
+  bool contact = true;
+};
+
+struct Body {
+  std::string name;
+  int parent = 0;
+  Vec3 pos{0, 0, 0};          // in parent frame
+  Quat quat = Quat::Identity();
+  double mass = 0;
+  Vec3 com{0, 0, 0};          // body frame
+  Mat3 inertia = Mat3::Zero();  // about com, body frame
+  std::vector<int> joints;    // in application order
+  int dof_begin = 0, dof_count = 0;
+};
+
+struct Actuator {
+  std::string name;
+  int joint = 0;
+  double gear = 1;
+  double ctrl_min = -1, ctrl_max = 1;
+};
+
+// The compiled, read-only model.
+struct Model {
+  std::string name;
+  std::vector<Body> bodies;  // [0] is the world; parents come before children
+  std::vector<Joint> joints;
+  std::vector<Geom> geoms;
+  std::vector<Actuator> actuators;
+  int nq = 0, nv = 0;
+  Vec3 gravity{0, 0, -9.81};
+  double timestep = 0.01;   // MJCF <option timestep>, default for scenes
+  VecX qpos0;               // reference configuration
+  std::vector<int> dof_body;  // body of each velocity dof
+};
+
+// Fills joint addresses, body dof ranges, dof_body and qpos0, and the mass
+// properties of bodies without an explicit inertial from their geoms (MuJoCo's
+// formulas: sphere, capsule = cylinder + two hemispheres, box). Throws
+// std::invalid_argument on an inconsistent tree (callers turn it into InputError).
+void model_finalize(Model& m, const std::vector<bool>& has_inertial);
+
+// Mass and inertia (about its centre, geom frame) of one geom.
+void geom_mass_properties(const Geom& g, double* mass, Mat3* inertia);
+
+// A chain of `links` capsules along +x, each body with two hinges (about y then
+// z: a 2-DOF ball joint) at its start; used by scenes, tests and the benchmark.
+std::string chain_mjcf(int links, double link_length = 0.1, double radius = 0.01);
+
+}  // namespace pliant::articulated

@@ -1,0 +1,93 @@
+// Time integration of a Model: PBAD (position-based collocation, Pan & Manocha,
+// WAFR 2018; dissertation ch. 5) and explicit baselines.
+//
+// PBAD: each step finds q_{i+1} as the minimiser of
+//   E(q) = sum_bodies w/dt^2 * integral rho |X(q, p) - Y(p)|^2 dp + V(q) + contact(q)
+//          + friction(q) - tau . (q - q_i)
+// whose stationarity is Newton-Euler's equation with the body-point acceleration
+// replaced by a backward finite difference of positions, collocated at t_{i+1}:
+//   pbad2: X'' ~ (X_{i+1} - 2 X_i + X_{i-1}) / dt^2                (w = 1/2)
+//   pbad3: X'' ~ (2 X_{i+1} - 5 X_i + 4 X_{i-1} - X_{i-2}) / dt^2  (w = 1, 2nd-order accurate)
+// Y is the same stencil applied to the past frames. Because X is affine in p per
+// body, the integral is exact with mass, centre and second moment (12 numbers of
+// pose per body). Solver: Levenberg-Marquardt; its Gauss-Newton matrix is
+// (2w/dt^2) M(q) plus the contact terms, solved in O(N) by the articulated-body
+// recursion (tree_solve), so one iteration costs O(N + contacts).
+// Euler: semi-implicit (symplectic) Euler on M qacc = tau - bias; RK4: classic.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "pliant/articulated/contact.h"
+#include "pliant/articulated/dynamics.h"
+
+namespace pliant::articulated {
+
+enum class Integrator { Pbad2, Pbad3, Euler, Rk4 };
+Integrator integrator_from_name(const std::string& name);  // throws std::invalid_argument
+std::string integrator_name(Integrator i);
+
+struct SimOptions {
+  Integrator integrator = Integrator::Pbad3;
+  double dt = 0.01;
+  ContactOptions contact;
+  int lm_max_iterations = 50;
+  double lm_tolerance = 1e-7;  // stop when max |dq| of an LM step is below this (rad or m)
+};
+
+struct State {
+  double time = 0;
+  int step = 0;
+  VecX qpos, qvel, ctrl;
+  std::vector<VecX> past;        // PBAD: q_{i-1}, q_{i-2}
+  std::vector<double> normal_force_prev;  // PBAD friction: normal force of each contact slot last step
+};
+
+struct StepInfo {
+  int iterations = 0;
+  bool converged = true;
+  double energy_residual = 0;  // max |gradient| at the end (PBAD)
+};
+
+// Per-trajectory scratch (no allocation once warm).
+struct SimWorkspace {
+  Kinematics kin, kin_prev;
+  std::vector<Kinematics> kin_past;
+  TreeWorkspace tree;
+  std::vector<Mat6> h;
+  std::vector<Vec6> w;
+  VecX grad, step, q_trial, diag, arm;
+  std::vector<Contact> contacts;
+  std::vector<ContactPoint> points;  // cached from the model on first use
+  std::vector<int> obstacles;
+  const Model* cached_for = nullptr;
+};
+// Caches the model's contact points and obstacles in ws (cheap when already done).
+void sim_prepare(const Model& m, SimWorkspace& ws);
+
+State state_init(const Model& m);
+// One step of the chosen integrator; returns false if the state became non-finite.
+bool sim_step(const Model& m, const SimOptions& o, State& s, SimWorkspace& ws, StepInfo* info = nullptr);
+
+// PBAD internals exposed for the batched scheduler: begin (prediction and targets),
+// one LM iteration (returns true when converged), finish (shift history, velocity).
+struct PbadStep {
+  std::vector<Vec3> y;  // target centre per body
+  std::vector<Mat3> a;  // target rotation per body
+  std::vector<Vec3> prev_points;  // world positions of contact points at q_i
+  VecX q;               // current iterate
+  double energy = 0, lambda = 1e-6, weight = 0.5;
+  int iterations = 0;
+  bool done = false;
+};
+void pbad_begin(const Model& m, const SimOptions& o, const State& s, PbadStep& p, SimWorkspace& ws);
+bool pbad_iterate(const Model& m, const SimOptions& o, const State& s, PbadStep& p, SimWorkspace& ws);
+void pbad_finish(const Model& m, const SimOptions& o, State& s, const PbadStep& p, SimWorkspace& ws);
+
+// Total energy (kinetic + gravity + contact penalty) of a state.
+struct Energy {
+  double kinetic = 0, potential = 0, total = 0;
+};
+Energy state_energy(const Model& m, const SimOptions& o, const State& s, SimWorkspace& ws);
+
+}  // namespace pliant::articulated

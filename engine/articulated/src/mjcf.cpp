@@ -1,0 +1,284 @@
+// MJCF subset -> Model. Element paths in errors: /mujoco/worldbody/body[0]/geom[1],
+// attributes as .../@size. Angles are radians (compiler angle="radian" is required
+// only where angles appear: we read none, so angle is accepted and ignored).
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+
+#include "pliant/articulated/io.h"
+#include "pliant/core/error.h"
+#include "xml.h"
+
+namespace pliant::articulated {
+namespace {
+
+struct Ctx {
+  const std::string& file;
+  Model m;
+  std::vector<bool> has_inertial{false};
+};
+
+std::string child_path(const std::string& parent, const XmlElement& parent_el, size_t index) {
+  const XmlElement& c = parent_el.children[index];
+  int n = 0;
+  for (size_t k = 0; k < index; ++k)
+    if (parent_el.children[k].name == c.name) ++n;
+  return parent + "/" + c.name + "[" + std::to_string(n) + "]";
+}
+
+void check_attrs(const Ctx& c, const XmlElement& e, const std::string& path,
+                 const std::set<std::string>& allowed) {
+  for (const auto& [k, v] : e.attrs)
+    if (!allowed.count(k)) {
+      std::vector<std::string> names(allowed.begin(), allowed.end());
+      const std::string near = nearest_name(k, names);
+      throw InputError(c.file, path + "/@" + k,
+                       "unsupported attribute of <" + e.name + ">" +
+                           (near.empty() ? "" : "; did you mean \"" + near + "\"?"));
+    }
+}
+
+std::vector<double> numbers(const Ctx& c, const XmlElement& e, const std::string& path,
+                            const std::string& key, size_t min_n, size_t max_n) {
+  const std::string* v = e.attr(key);
+  std::istringstream in(*v);
+  std::vector<double> out;
+  std::string tok;
+  while (in >> tok) {
+    char* end = nullptr;
+    const double d = std::strtod(tok.c_str(), &end);
+    if (end == tok.c_str() || *end != '\0' || !std::isfinite(d))
+      throw InputError(c.file, path + "/@" + key, "expected numbers, got \"" + *v + "\"");
+    out.push_back(d);
+  }
+  if (out.size() < min_n || out.size() > max_n)
+    throw InputError(c.file, path + "/@" + key,
+                     "expected " + std::to_string(min_n) +
+                         (max_n != min_n ? " to " + std::to_string(max_n) : "") + " numbers, got " +
+                         std::to_string(out.size()));
+  return out;
+}
+
+Vec3 vec3(const Ctx& c, const XmlElement& e, const std::string& path, const std::string& key, Vec3 def) {
+  if (!e.attr(key)) return def;
+  const auto v = numbers(c, e, path, key, 3, 3);
+  return Vec3(v[0], v[1], v[2]);
+}
+
+Quat quat(const Ctx& c, const XmlElement& e, const std::string& path) {
+  if (!e.attr("quat")) return Quat::Identity();
+  const auto v = numbers(c, e, path, "quat", 4, 4);
+  const Quat q(v[0], v[1], v[2], v[3]);
+  if (q.norm() < 1e-12) throw InputError(c.file, path + "/@quat", "quaternion is zero");
+  return q.normalized();
+}
+
+double number(const Ctx& c, const XmlElement& e, const std::string& path, const std::string& key,
+              double def, double min) {
+  if (!e.attr(key)) return def;
+  const double v = numbers(c, e, path, key, 1, 1)[0];
+  if (v < min) throw InputError(c.file, path + "/@" + key, "must be >= " + std::to_string(min));
+  return v;
+}
+
+void read_geom(Ctx& c, const XmlElement& e, const std::string& path, int body) {
+  check_attrs(c, e, path,
+              {"name", "type", "size", "pos", "quat", "fromto", "density", "mass", "rgba", "contype",
+               "conaffinity", "friction", "condim", "material", "group", "margin"});
+  Geom g;
+  g.body = body;
+  if (const auto* n = e.attr("name")) g.name = *n;
+  const std::string type = e.attr("type") ? *e.attr("type") : "sphere";
+  static const std::map<std::string, GeomType> types = {{"plane", GeomType::Plane},
+                                                        {"sphere", GeomType::Sphere},
+                                                        {"capsule", GeomType::Capsule},
+                                                        {"box", GeomType::Box}};
+  if (!types.count(type))
+    throw InputError(c.file, path + "/@type", "unsupported geom type \"" + type +
+                                                  "\" (supported: plane, sphere, capsule, box)");
+  g.type = types.at(type);
+  g.pos = vec3(c, e, path, "pos", Vec3::Zero());
+  g.quat = quat(c, e, path);
+  g.density = number(c, e, path, "density", 1000, 0);
+  g.mass = number(c, e, path, "mass", -1, 0);
+  const size_t need = g.type == GeomType::Box ? 3 : (g.type == GeomType::Capsule && !e.attr("fromto") ? 2 : 1);
+  if (g.type != GeomType::Plane) {
+    if (!e.attr("size")) throw InputError(c.file, path + "/@size", "geom needs a size");
+    const auto s = numbers(c, e, path, "size", need, 3);
+    for (size_t k = 0; k < s.size(); ++k) {
+      if (s[k] <= 0) throw InputError(c.file, path + "/@size", "sizes must be positive");
+      g.size[k] = s[k];
+    }
+  }
+  if (e.attr("fromto")) {
+    if (g.type != GeomType::Capsule)
+      throw InputError(c.file, path + "/@fromto", "fromto is supported for capsules only");
+    const auto f = numbers(c, e, path, "fromto", 6, 6);
+    const Vec3 a(f[0], f[1], f[2]), b(f[3], f[4], f[5]);
+    if ((b - a).norm() < 1e-12) throw InputError(c.file, path + "/@fromto", "zero length");
+    g.pos = 0.5 * (a + b);
+    g.size[1] = 0.5 * (b - a).norm();
+    g.quat = Quat::FromTwoVectors(Vec3::UnitZ(), (b - a).normalized());
+  }
+  const double contype = number(c, e, path, "contype", 1, 0), conaff = number(c, e, path, "conaffinity", 1, 0);
+  g.contact = contype != 0 || conaff != 0;
+  c.m.geoms.push_back(g);
+}
+
+void read_body(Ctx& c, const XmlElement& e, const std::string& path, int parent) {
+  check_attrs(c, e, path, {"name", "pos", "quat", "childclass"});
+  if (e.attr("childclass")) throw InputError(c.file, path + "/@childclass", "defaults are not supported");
+  Body b;
+  b.name = e.attr("name") ? *e.attr("name") : "body" + std::to_string(c.m.bodies.size());
+  b.parent = parent;
+  b.pos = vec3(c, e, path, "pos", Vec3::Zero());
+  b.quat = quat(c, e, path);
+  const int id = static_cast<int>(c.m.bodies.size());
+  c.m.bodies.push_back(b);
+  c.has_inertial.push_back(false);
+  for (size_t k = 0; k < e.children.size(); ++k) {
+    const XmlElement& ch = e.children[k];
+    const std::string p = child_path(path, e, k);
+    if (ch.name == "joint" || ch.name == "freejoint") {
+      Joint j;
+      j.body = id;
+      if (ch.name == "freejoint") {
+        check_attrs(c, ch, p, {"name"});
+        j.type = JointType::Free;
+      } else {
+        check_attrs(c, ch, p, {"name", "type", "axis", "pos", "damping", "armature", "range", "limited"});
+        const std::string type = ch.attr("type") ? *ch.attr("type") : "hinge";
+        static const std::map<std::string, JointType> types = {{"hinge", JointType::Hinge},
+                                                               {"slide", JointType::Slide},
+                                                               {"ball", JointType::Ball},
+                                                               {"free", JointType::Free}};
+        if (!types.count(type))
+          throw InputError(c.file, p + "/@type", "unknown joint type \"" + type + "\"");
+        j.type = types.at(type);
+        j.axis = vec3(c, ch, p, "axis", Vec3::UnitZ());
+        if (j.axis.norm() < 1e-12) throw InputError(c.file, p + "/@axis", "axis is zero");
+        j.axis.normalize();
+        j.pos = vec3(c, ch, p, "pos", Vec3::Zero());
+        j.damping = number(c, ch, p, "damping", 0, 0);
+        j.armature = number(c, ch, p, "armature", 0, 0);
+      }
+      if (const auto* n = ch.attr("name")) j.name = *n;
+      c.m.joints.push_back(j);
+    } else if (ch.name == "geom") {
+      read_geom(c, ch, p, id);
+    } else if (ch.name == "inertial") {
+      check_attrs(c, ch, p, {"pos", "quat", "mass", "diaginertia", "fullinertia"});
+      if (!ch.attr("mass")) throw InputError(c.file, p + "/@mass", "inertial needs a mass");
+      Body& bd = c.m.bodies[id];
+      bd.mass = number(c, ch, p, "mass", 0, 0);
+      bd.com = vec3(c, ch, p, "pos", Vec3::Zero());
+      if (ch.attr("diaginertia")) {
+        const Mat3 r = quat(c, ch, p).toRotationMatrix();
+        bd.inertia = r * vec3(c, ch, p, "diaginertia", Vec3::Zero()).asDiagonal() * r.transpose();
+      } else if (ch.attr("fullinertia")) {
+        const auto f = numbers(c, ch, p, "fullinertia", 6, 6);
+        bd.inertia << f[0], f[3], f[4], f[3], f[1], f[5], f[4], f[5], f[2];
+      } else {
+        throw InputError(c.file, p + "/@diaginertia", "inertial needs diaginertia or fullinertia");
+      }
+      c.has_inertial[id] = true;
+    } else if (ch.name == "body") {
+      read_body(c, ch, p, id);
+    } else if (ch.name == "site" || ch.name == "camera" || ch.name == "light") {
+      // visual only
+    } else {
+      throw InputError(c.file, p, "unsupported element <" + ch.name + "> in <body>");
+    }
+  }
+}
+
+}  // namespace
+
+Model model_from_mjcf(const std::string& text, const std::string& file) {
+  const XmlElement root = parse_xml(text, file);
+  if (root.name != "mujoco") throw InputError(file, "/" + root.name, "root element must be <mujoco>");
+  Ctx c{file};
+  Body world;
+  world.name = "world";
+  c.m.bodies.push_back(world);
+  if (const auto* n = root.attr("model")) c.m.name = *n;
+  const std::string rp = "/mujoco";
+  for (size_t k = 0; k < root.children.size(); ++k) {
+    const XmlElement& e = root.children[k];
+    const std::string p = child_path(rp, root, k);
+    if (e.name == "compiler") {
+      check_attrs(c, e, p, {"angle", "inertiafromgeom", "coordinate", "autolimits"});
+      if (e.attr("coordinate") && *e.attr("coordinate") != "local")
+        throw InputError(file, p + "/@coordinate", "only local coordinates are supported");
+    } else if (e.name == "option") {
+      check_attrs(c, e, p, {"timestep", "gravity", "integrator", "iterations", "solver"});
+      c.m.timestep = number(c, e, p, "timestep", 0.002, 1e-9);
+      c.m.gravity = vec3(c, e, p, "gravity", Vec3(0, 0, -9.81));
+    } else if (e.name == "worldbody") {
+      for (size_t w = 0; w < e.children.size(); ++w) {
+        const XmlElement& ch = e.children[w];
+        const std::string cp = child_path(p, e, w);
+        if (ch.name == "body") read_body(c, ch, cp, 0);
+        else if (ch.name == "geom") read_geom(c, ch, cp, 0);
+        else if (ch.name == "light" || ch.name == "camera" || ch.name == "site") continue;
+        else throw InputError(file, cp, "unsupported element <" + ch.name + "> in <worldbody>");
+      }
+    } else if (e.name == "actuator") {
+      for (size_t a = 0; a < e.children.size(); ++a) {
+        const XmlElement& ch = e.children[a];
+        const std::string cp = child_path(p, e, a);
+        if (ch.name != "motor") throw InputError(file, cp, "only <motor> actuators are supported");
+        check_attrs(c, ch, cp, {"name", "joint", "gear", "ctrlrange", "ctrllimited"});
+        if (!ch.attr("joint")) throw InputError(file, cp + "/@joint", "motor needs a joint");
+        Actuator act;
+        if (const auto* n = ch.attr("name")) act.name = *n;
+        act.joint = -1;
+        for (size_t j = 0; j < c.m.joints.size(); ++j)
+          if (c.m.joints[j].name == *ch.attr("joint")) act.joint = static_cast<int>(j);
+        if (act.joint < 0) throw InputError(file, cp + "/@joint", "no joint named \"" + *ch.attr("joint") + "\"");
+        if (ch.attr("gear")) act.gear = numbers(c, ch, cp, "gear", 1, 6)[0];
+        if (ch.attr("ctrlrange")) {
+          const auto r = numbers(c, ch, cp, "ctrlrange", 2, 2);
+          if (r[0] > r[1]) throw InputError(file, cp + "/@ctrlrange", "lower bound above upper bound");
+          act.ctrl_min = r[0];
+          act.ctrl_max = r[1];
+        }
+        c.m.actuators.push_back(act);
+      }
+    } else if (e.name == "visual" || e.name == "asset" || e.name == "statistic" || e.name == "size") {
+      continue;
+    } else {
+      throw InputError(file, p, "unsupported element <" + e.name + "> in <mujoco>");
+    }
+  }
+  try {
+    model_finalize(c.m, c.has_inertial);
+  } catch (const std::invalid_argument& err) {
+    throw InputError(file, "/mujoco/worldbody", err.what());
+  }
+  return c.m;
+}
+
+Model model_load_file(const std::filesystem::path& path, const std::string& label) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(label, "", "cannot read model file " + path.string());
+  std::stringstream ss;
+  ss << in.rdbuf();
+  const std::string text = ss.str();
+  if (path.extension() == ".xml") return model_from_mjcf(text, label);
+  nlohmann::json doc;
+  try {
+    doc = nlohmann::json::parse(text, nullptr, true, true);
+  } catch (const nlohmann::json::parse_error& e) {
+    throw InputError(label, "", std::string("JSON syntax error: ") + e.what());
+  }
+  JsonReader r(doc, label);
+  Model m = model_from_json(r);
+  r.finish();
+  return m;
+}
+
+}  // namespace pliant::articulated

@@ -1,0 +1,145 @@
+// Pliant JSON models (see README.md for the format): explicit bodies, or a chain
+// generator that goes through the same MJCF text MuJoCo loads.
+#include <stdexcept>
+
+#include "pliant/articulated/io.h"
+#include "pliant/core/error.h"
+
+namespace pliant::articulated {
+namespace {
+
+Vec3 vec3(JsonReader& r, const char* key, Vec3 def) {
+  const auto v = r.numbers(key, {def.x(), def.y(), def.z()}, 3, 3);
+  return Vec3(v[0], v[1], v[2]);
+}
+
+Quat quat(JsonReader& r) {
+  const auto v = r.numbers("quat", {1, 0, 0, 0}, 4, 4);
+  const Quat q(v[0], v[1], v[2], v[3]);
+  if (q.norm() < 1e-12) r.fail("quat", "quaternion is zero");
+  return q.normalized();
+}
+
+Geom read_geom(JsonReader& r, int body) {
+  Geom g;
+  g.body = body;
+  g.name = r.string("name", "");
+  const std::string type = r.choice("type", "sphere", {"plane", "sphere", "capsule", "box"});
+  g.type = type == "plane" ? GeomType::Plane
+           : type == "sphere" ? GeomType::Sphere
+           : type == "capsule" ? GeomType::Capsule
+                               : GeomType::Box;
+  g.pos = vec3(r, "pos", Vec3::Zero());
+  g.quat = quat(r);
+  g.density = r.number("density", 1000, 0);
+  g.mass = r.has("mass") ? r.number("mass", 1, 0) : -1;
+  g.contact = r.boolean("contact", true);
+  const size_t need = g.type == GeomType::Box ? 3 : (g.type == GeomType::Capsule && !r.has("fromto") ? 2 : 1);
+  if (g.type != GeomType::Plane) {
+    if (!r.has("size")) r.fail("size", "geom needs a size");
+    const auto s = r.numbers("size", {}, need, 3, 1e-9);
+    for (size_t k = 0; k < s.size(); ++k) g.size[k] = s[k];
+  }
+  if (r.has("fromto")) {
+    if (g.type != GeomType::Capsule) r.fail("fromto", "fromto is supported for capsules only");
+    const auto f = r.numbers("fromto", {}, 6, 6);
+    const Vec3 a(f[0], f[1], f[2]), b(f[3], f[4], f[5]);
+    if ((b - a).norm() < 1e-12) r.fail("fromto", "zero length");
+    g.pos = 0.5 * (a + b);
+    g.size[1] = 0.5 * (b - a).norm();
+    g.quat = Quat::FromTwoVectors(Vec3::UnitZ(), (b - a).normalized());
+  }
+  r.finish();
+  return g;
+}
+
+}  // namespace
+
+Model model_from_json(JsonReader& r) {
+  Model m;
+  if (auto ch = r.object("chain")) {
+    const int links = static_cast<int>(ch->integer("links", 10, 1, 100000));
+    const double len = ch->number("link_length", 0.1, 1e-6), rad = ch->number("radius", 0.01, 1e-6);
+    ch->finish();
+    m = model_from_mjcf(chain_mjcf(links, len, rad), r.file());
+    if (r.has("bodies")) r.fail("bodies", "give either \"chain\" or \"bodies\", not both");
+  } else {
+    Body world;
+    world.name = "world";
+    m.bodies.push_back(world);
+    std::vector<bool> has_inertial{false};
+    std::vector<JsonReader> bodies = r.objects("bodies");
+    if (bodies.empty()) r.fail("bodies", "a model needs \"bodies\" (or a \"chain\")");
+    for (JsonReader& b : bodies) {
+      Body body;
+      body.name = b.required_string("name");
+      for (const Body& o : m.bodies)
+        if (o.name == body.name) b.fail("name", "body name \"" + body.name + "\" used twice");
+      const std::string parent = b.string("parent", "world");
+      body.parent = -1;
+      for (size_t i = 0; i < m.bodies.size(); ++i)
+        if (m.bodies[i].name == parent) body.parent = static_cast<int>(i);
+      if (body.parent < 0) b.fail("parent", "no earlier body named \"" + parent + "\"");
+      body.pos = vec3(b, "pos", Vec3::Zero());
+      body.quat = quat(b);
+      const int id = static_cast<int>(m.bodies.size());
+      m.bodies.push_back(body);
+      has_inertial.push_back(false);
+      for (JsonReader& j : b.objects("joints")) {
+        Joint jt;
+        jt.body = id;
+        jt.name = j.string("name", "");
+        const std::string type = j.choice("type", "hinge", {"hinge", "slide", "ball", "free"});
+        jt.type = type == "hinge" ? JointType::Hinge
+                  : type == "slide" ? JointType::Slide
+                  : type == "ball" ? JointType::Ball
+                                   : JointType::Free;
+        jt.axis = vec3(j, "axis", Vec3::UnitZ());
+        if (jt.axis.norm() < 1e-12) j.fail("axis", "axis is zero");
+        jt.axis.normalize();
+        jt.pos = vec3(j, "pos", Vec3::Zero());
+        jt.damping = j.number("damping", 0, 0);
+        jt.armature = j.number("armature", 0, 0);
+        j.finish();
+        m.joints.push_back(jt);
+      }
+      for (JsonReader& g : b.objects("geoms")) m.geoms.push_back(read_geom(g, id));
+      if (auto in = b.object("inertial")) {
+        m.bodies[id].mass = in->required_number("mass", 1e-12);
+        m.bodies[id].com = vec3(*in, "pos", Vec3::Zero());
+        m.bodies[id].inertia = vec3(*in, "diaginertia", Vec3::Zero()).asDiagonal();
+        in->finish();
+        has_inertial[id] = true;
+      }
+      b.finish();
+    }
+    for (JsonReader& a : r.objects("actuators")) {
+      Actuator act;
+      const std::string jn = a.required_string("joint");
+      act.joint = -1;
+      for (size_t j = 0; j < m.joints.size(); ++j)
+        if (m.joints[j].name == jn) act.joint = static_cast<int>(j);
+      if (act.joint < 0) a.fail("joint", "no joint named \"" + jn + "\"");
+      act.name = a.string("name", jn);
+      act.gear = a.number("gear", 1);
+      const auto cr = a.numbers("ctrlrange", {-1, 1}, 2, 2);
+      if (cr[0] > cr[1]) a.fail("ctrlrange", "lower bound above upper bound");
+      act.ctrl_min = cr[0];
+      act.ctrl_max = cr[1];
+      a.finish();
+      m.actuators.push_back(act);
+    }
+    try {
+      model_finalize(m, has_inertial);
+    } catch (const std::invalid_argument& e) {
+      throw InputError(r.file(), r.child_pointer("bodies"), e.what());
+    }
+  }
+  m.name = r.string("name", m.name);
+  m.gravity = vec3(r, "gravity", m.gravity);
+  m.timestep = r.number("timestep", m.timestep, 1e-9);
+  for (JsonReader& g : r.objects("obstacles")) m.geoms.push_back(read_geom(g, 0));
+  return m;
+}
+
+}  // namespace pliant::articulated

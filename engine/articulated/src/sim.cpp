@@ -1,0 +1,374 @@
+// Integrators: PBAD steps by Levenberg-Marquardt (see sim.h for the energy) and the
+// explicit baselines.
+#include "pliant/articulated/sim.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace pliant::articulated {
+namespace {
+
+Mat3 second_moment(const Mat3& inertia) {  // integral rho p p^T about the centre
+  return 0.5 * inertia.trace() * Mat3::Identity() - inertia;
+}
+
+void actuator_forces(const Model& m, const State& s, VecX* tau) {
+  tau->setZero(m.nv);
+  for (size_t a = 0; a < m.actuators.size() && a < static_cast<size_t>(s.ctrl.size()); ++a) {
+    const Actuator& act = m.actuators[a];
+    const double c = std::clamp(s.ctrl[a], act.ctrl_min, act.ctrl_max);
+    (*tau)[m.joints[act.joint].vadr] += act.gear * c;
+  }
+}
+
+// Energy of PBAD at q; with derivs also per-body wrenches (gradient) and Gauss-Newton
+// blocks in ws.w / ws.h and the generalized gradient in ws.grad.
+double pbad_energy(const Model& m, const SimOptions& o, const State& s, const PbadStep& p,
+                   const VecX& q, SimWorkspace& ws, bool derivs) {
+  Kinematics& k = ws.kin;
+  kinematics(m, q, &k);
+  const int nb = static_cast<int>(m.bodies.size());
+  const double c = p.weight / (o.dt * o.dt);
+  double e = 0;
+  if (derivs) {
+    ws.w.assign(nb, Vec6::Zero());
+    ws.h.assign(nb, Mat6::Zero());
+  }
+  for (int b = 1; b < nb; ++b) {
+    const Body& body = m.bodies[b];
+    const Vec3 dx = k.xcom[b] - p.y[b];
+    const Mat3 d = k.xmat[b] - p.a[b];
+    const Mat3 rs = k.xmat[b] * second_moment(body.inertia);
+    e += c * (body.mass * dx.squaredNorm() + (d * second_moment(body.inertia)).cwiseProduct(d).sum()) -
+         body.mass * m.gravity.dot(k.xcom[b]);
+    if (!derivs) continue;
+    const Vec3 f = 2 * c * body.mass * dx - body.mass * m.gravity;
+    Vec3 rot = Vec3::Zero();
+    for (int a = 0; a < 3; ++a) rot += rs.col(a).cross(d.col(a));
+    ws.w[b].head<3>() = 2 * c * rot + k.xcom[b].cross(f);
+    ws.w[b].tail<3>() = f;
+    ws.h[b] = 2 * c * k.cinert[b];
+  }
+  if (o.contact.enabled && !ws.points.empty() && !ws.obstacles.empty()) {
+    const int no = static_cast<int>(ws.obstacles.size());
+    const double kk = o.contact.stiffness;
+    for (size_t i = 0; i < ws.points.size(); ++i) {
+      const ContactPoint& cp = ws.points[i];
+      const Vec3 x = k.xpos[cp.body] + k.xmat[cp.body] * cp.local;
+      for (int ob = 0; ob < no; ++ob) {
+        const int slot = static_cast<int>(i) * no + ob;
+        Vec3 n;
+        const double dist = obstacle_distance(m.geoms[ws.obstacles[ob]], x, &n) - cp.radius;
+        if (dist < 0) {
+          e += 0.5 * kk * dist * dist;
+          if (derivs) {
+            ws.w[cp.body] += point_wrench(x, kk * dist * n);
+            ws.h[cp.body] += point_hessian(x, kk * n * n.transpose());
+          }
+        }
+        const double fn = slot < static_cast<int>(s.normal_force_prev.size()) ? s.normal_force_prev[slot] : 0;
+        if (fn <= 0 || o.contact.friction == FrictionModel::None) continue;
+        const Mat3 pt = Mat3::Identity() - n * n.transpose();
+        const Vec3 st = pt * (x - p.prev_points[i]);
+        if (o.contact.friction == FrictionModel::Coulomb) {
+          const double eps = o.contact.slip_eps, r = std::sqrt(st.squaredNorm() + eps * eps);
+          e += o.contact.mu * fn * (r - eps);
+          if (derivs) {
+            ws.w[cp.body] += point_wrench(x, o.contact.mu * fn / r * st);
+            ws.h[cp.body] += point_hessian(x, (o.contact.mu * fn / r) * pt);
+          }
+        } else {
+          const double g = o.contact.ck * fn / o.dt;
+          e += 0.5 * g * st.squaredNorm();
+          if (derivs) {
+            ws.w[cp.body] += point_wrench(x, g * st);
+            ws.h[cp.body] += point_hessian(x, g * pt);
+          }
+        }
+      }
+    }
+  }
+  // Actuator work and joint damping (dissipation potential) in joint space.
+  VecX tau;
+  actuator_forces(m, s, &tau);
+  const VecX dq = qpos_difference(m, q, s.qpos);
+  e -= tau.dot(dq);
+  for (const Joint& j : m.joints)
+    for (int i = 0; i < joint_nv(j.type); ++i)
+      e += 0.5 * j.damping / o.dt * dq[j.vadr + i] * dq[j.vadr + i];
+  if (derivs) {
+    std::vector<Vec6> w = ws.w;
+    wrenches_to_generalized(m, k, w, &ws.grad);
+    ws.grad -= tau;
+    for (const Joint& j : m.joints)
+      for (int i = 0; i < joint_nv(j.type); ++i) ws.grad[j.vadr + i] += j.damping / o.dt * dq[j.vadr + i];
+  }
+  return e;
+}
+
+// Generalized contact + actuator forces for explicit integrators at (k, qvel).
+void explicit_forces(const Model& m, const SimOptions& o, const State& s, const Kinematics& k,
+                     const VecX& qvel, SimWorkspace& ws, VecX* tau, std::vector<Contact>* record) {
+  actuator_forces(m, s, tau);
+  if (!o.contact.enabled || ws.points.empty() || ws.obstacles.empty()) return;
+  find_contacts(m, k, ws.points, ws.obstacles, &ws.contacts);
+  if (ws.contacts.empty()) return;
+  const int nb = static_cast<int>(m.bodies.size());
+  std::vector<Vec6> v(nb), w(nb, Vec6::Zero());
+  v[0].setZero();
+  for (int b = 1; b < nb; ++b) {
+    const Body& body = m.bodies[b];
+    v[b] = v[body.parent];
+    for (int d = body.dof_begin; d < body.dof_begin + body.dof_count; ++d) v[b] += k.cdof[d] * qvel[d];
+  }
+  for (Contact& c : ws.contacts) {
+    const Vec3 vp = v[c.body].tail<3>() + v[c.body].head<3>().cross(c.point);
+    const double vn = vp.dot(c.normal);
+    const double fn = std::max(0.0, o.contact.stiffness * c.depth - o.contact.damping * vn);
+    const Vec3 vt = vp - vn * c.normal;
+    Vec3 ft = Vec3::Zero();
+    if (o.contact.friction == FrictionModel::Coulomb) {
+      const double eps = o.contact.slip_eps / o.dt;
+      ft = -o.contact.mu * fn * vt / std::sqrt(vt.squaredNorm() + eps * eps);
+    } else if (o.contact.friction == FrictionModel::Ck) {
+      ft = -o.contact.ck * fn * vt;
+    }
+    c.force = fn * c.normal + ft;
+    w[c.body] += point_wrench(c.point, c.force);
+  }
+  VecX tc;
+  wrenches_to_generalized(m, k, w, &tc);
+  *tau += tc;
+  if (record) *record = ws.contacts;
+}
+
+void accel(const Model& m, const SimOptions& o, const State& s, const VecX& q, const VecX& v,
+           SimWorkspace& ws, VecX* a) {
+  kinematics(m, q, &ws.kin);
+  VecX tau;
+  explicit_forces(m, o, s, ws.kin, v, ws, &tau, nullptr);
+  forward_dynamics(m, ws.kin, v, tau, a, &ws.tree);
+}
+
+bool finite(const VecX& v) { return v.allFinite(); }
+
+// q(-dt) and q(-2 dt) from the state's velocity and acceleration (second-order Taylor).
+void startup_past(const Model& m, const SimOptions& o, const State& s, SimWorkspace& ws, VecX* q1,
+                  VecX* q2) {
+  VecX a;
+  accel(m, o, s, s.qpos, s.qvel, ws, &a);
+  if (!a.allFinite()) a.setZero();
+  const double dt = o.dt;
+  *q1 = s.qpos;
+  qpos_integrate(m, *q1, -dt * s.qvel + 0.5 * dt * dt * a, 1.0);
+  *q2 = s.qpos;
+  qpos_integrate(m, *q2, -2 * dt * s.qvel + 2 * dt * dt * a, 1.0);
+}
+
+}  // namespace
+
+Integrator integrator_from_name(const std::string& name) {
+  if (name == "pbad2") return Integrator::Pbad2;
+  if (name == "pbad3") return Integrator::Pbad3;
+  if (name == "euler") return Integrator::Euler;
+  if (name == "rk4") return Integrator::Rk4;
+  throw std::invalid_argument("unknown integrator \"" + name + "\"");
+}
+
+std::string integrator_name(Integrator i) {
+  switch (i) {
+    case Integrator::Pbad2: return "pbad2";
+    case Integrator::Pbad3: return "pbad3";
+    case Integrator::Euler: return "euler";
+    case Integrator::Rk4: return "rk4";
+  }
+  return "?";
+}
+
+void sim_prepare(const Model& m, SimWorkspace& ws) {
+  if (ws.cached_for == &m) return;
+  ws.points = contact_points(m);
+  ws.obstacles = contact_obstacles(m);
+  ws.cached_for = &m;
+}
+
+State state_init(const Model& m) {
+  State s;
+  s.qpos = m.qpos0;
+  s.qvel = VecX::Zero(m.nv);
+  s.ctrl = VecX::Zero(m.actuators.size());
+  return s;
+}
+
+void pbad_begin(const Model& m, const SimOptions& o, const State& s, PbadStep& p, SimWorkspace& ws) {
+  sim_prepare(m, ws);
+  const double dt = o.dt;
+  // Past frames; before the first step they come from a Taylor expansion with the
+  // initial acceleration (a constant-velocity past would make the start first-order).
+  VecX q1, q2;
+  const bool third = o.integrator == Integrator::Pbad3;
+  if (s.past.size() >= 2) {
+    q1 = s.past[0];
+    q2 = s.past[1];
+  } else {
+    startup_past(m, o, s, ws, &q1, &q2);
+  }
+  ws.kin_past.resize(2);
+  kinematics(m, s.qpos, &ws.kin_prev);
+  kinematics(m, q1, &ws.kin_past[0]);
+  if (third) kinematics(m, q2, &ws.kin_past[1]);
+  const int nb = static_cast<int>(m.bodies.size());
+  p.y.resize(nb);
+  p.a.resize(nb);
+  for (int b = 0; b < nb; ++b) {
+    const Kinematics &k0 = ws.kin_prev, &k1 = ws.kin_past[0];
+    if (third) {
+      const Kinematics& k2 = ws.kin_past[1];
+      p.y[b] = 0.5 * (5 * k0.xcom[b] - 4 * k1.xcom[b] + k2.xcom[b]);
+      p.a[b] = 0.5 * (5 * k0.xmat[b] - 4 * k1.xmat[b] + k2.xmat[b]);
+    } else {
+      p.y[b] = 2 * k0.xcom[b] - k1.xcom[b];
+      p.a[b] = 2 * k0.xmat[b] - k1.xmat[b];
+    }
+  }
+  p.weight = third ? 1.0 : 0.5;
+  p.prev_points.resize(ws.points.size());
+  for (size_t i = 0; i < ws.points.size(); ++i)
+    p.prev_points[i] = ws.kin_prev.xpos[ws.points[i].body] + ws.kin_prev.xmat[ws.points[i].body] * ws.points[i].local;
+  // Prediction: constant velocity.
+  p.q = s.qpos;
+  qpos_integrate(m, p.q, s.qvel, dt);
+  p.lambda = 1e-6;
+  p.iterations = 0;
+  p.done = false;
+  p.energy = pbad_energy(m, o, s, p, p.q, ws, true);
+}
+
+bool pbad_iterate(const Model& m, const SimOptions& o, const State& s, PbadStep& p, SimWorkspace& ws) {
+  if (p.done) return true;
+  ++p.iterations;
+  ws.diag = tree_diagonal(m, ws.kin, ws.h);
+  const VecX rhs = -ws.grad;
+  for (int tries = 0; tries < 12; ++tries) {
+    ws.arm = p.lambda * ws.diag;
+    for (const Joint& j : m.joints)
+      for (int i = 0; i < joint_nv(j.type); ++i) ws.arm[j.vadr + i] += j.damping / o.dt;
+    tree_solve(m, ws.kin, ws.h, ws.arm, rhs, &ws.step, &ws.tree);
+    const double step_max = ws.step.lpNorm<Eigen::Infinity>();
+    ws.q_trial = p.q;
+    qpos_integrate(m, ws.q_trial, ws.step, 1.0);
+    if (!ws.q_trial.allFinite()) {
+      p.lambda *= 10;
+      continue;
+    }
+    const bool tiny = step_max < o.lm_tolerance;
+    // Energy comparison with a round-off allowance (E ~ m/dt^2 is large).
+    const double e_trial = pbad_energy(m, o, s, p, ws.q_trial, ws, false);
+    if (tiny || e_trial <= p.energy) {
+      // Decrease at the round-off floor of E (E ~ m/dt^2 |X - Y|^2 + V): converged.
+      const bool stalled = p.energy - e_trial < 1e-14 * (std::abs(p.energy) + 1e-300);
+      p.q = ws.q_trial;
+      p.lambda = std::max(p.lambda * 0.3, 1e-12);
+      p.energy = pbad_energy(m, o, s, p, p.q, ws, true);
+      if (tiny || stalled || p.iterations >= o.lm_max_iterations) p.done = true;
+      return p.done;
+    }
+    p.lambda *= 10;
+  }
+  // No decrease possible: at a minimum to round-off.
+  p.energy = pbad_energy(m, o, s, p, p.q, ws, true);
+  p.done = true;
+  return true;
+}
+
+void pbad_finish(const Model& m, const SimOptions& o, State& s, const PbadStep& p, SimWorkspace& ws) {
+  const double dt = o.dt;
+  VecX q1, q2;
+  if (s.past.size() >= 2) {
+    q1 = s.past[0];
+  } else {
+    startup_past(m, o, s, ws, &q1, &q2);
+  }
+  const VecX a = qpos_difference(m, p.q, s.qpos), b = qpos_difference(m, s.qpos, q1);
+  s.qvel = (3 * a - b) / (2 * dt);  // second-order backward difference
+  s.past = {s.qpos, q1};
+  s.qpos = p.q;
+  // Normal forces for next step's friction.
+  kinematics(m, s.qpos, &ws.kin);
+  s.normal_force_prev.assign(ws.points.size() * ws.obstacles.size(), 0.0);
+  find_contacts(m, ws.kin, ws.points, ws.obstacles, &ws.contacts);
+  for (const Contact& c : ws.contacts) s.normal_force_prev[c.slot] = o.contact.stiffness * c.depth;
+  s.time += dt;
+  ++s.step;
+}
+
+bool sim_step(const Model& m, const SimOptions& o, State& s, SimWorkspace& ws, StepInfo* info) {
+  sim_prepare(m, ws);
+  const double dt = o.dt;
+  StepInfo si;
+  switch (o.integrator) {
+    case Integrator::Pbad2:
+    case Integrator::Pbad3: {
+      PbadStep p;
+      pbad_begin(m, o, s, p, ws);
+      while (!pbad_iterate(m, o, s, p, ws)) {
+      }
+      si.iterations = p.iterations;
+      si.converged = p.iterations < o.lm_max_iterations;
+      si.energy_residual = ws.grad.lpNorm<Eigen::Infinity>();
+      pbad_finish(m, o, s, p, ws);
+      break;
+    }
+    case Integrator::Euler: {
+      VecX a;
+      accel(m, o, s, s.qpos, s.qvel, ws, &a);
+      s.qvel += dt * a;
+      qpos_integrate(m, s.qpos, s.qvel, dt);
+      s.time += dt;
+      ++s.step;
+      break;
+    }
+    case Integrator::Rk4: {
+      const VecX q0 = s.qpos, v0 = s.qvel;
+      VecX a1, a2, a3, a4;
+      accel(m, o, s, q0, v0, ws, &a1);
+      VecX q = q0;
+      qpos_integrate(m, q, v0, dt / 2);
+      const VecX v2 = v0 + dt / 2 * a1;
+      accel(m, o, s, q, v2, ws, &a2);
+      q = q0;
+      qpos_integrate(m, q, v2, dt / 2);
+      const VecX v3 = v0 + dt / 2 * a2;
+      accel(m, o, s, q, v3, ws, &a3);
+      q = q0;
+      qpos_integrate(m, q, v3, dt);
+      const VecX v4 = v0 + dt * a3;
+      accel(m, o, s, q, v4, ws, &a4);
+      s.qpos = q0;
+      qpos_integrate(m, s.qpos, (v0 + 2 * v2 + 2 * v3 + v4) / 6, dt);
+      s.qvel = v0 + dt / 6 * (a1 + 2 * a2 + 2 * a3 + a4);
+      s.time += dt;
+      ++s.step;
+      break;
+    }
+  }
+  if (info) *info = si;
+  return finite(s.qpos) && finite(s.qvel);
+}
+
+Energy state_energy(const Model& m, const SimOptions& o, const State& s, SimWorkspace& ws) {
+  sim_prepare(m, ws);
+  kinematics(m, s.qpos, &ws.kin);
+  Energy e;
+  e.kinetic = kinetic_energy(m, ws.kin, s.qvel);
+  e.potential = potential_energy(m, ws.kin);
+  if (o.contact.enabled) {
+    find_contacts(m, ws.kin, ws.points, ws.obstacles, &ws.contacts);
+    for (const Contact& c : ws.contacts) e.potential += 0.5 * o.contact.stiffness * c.depth * c.depth;
+  }
+  e.total = e.kinetic + e.potential;
+  return e;
+}
+
+}  // namespace pliant::articulated
