@@ -181,6 +181,7 @@ TEST(Admm, ResumesFromItsStateAndCallsBack) {
   ControlModel m = circle_to_square();
   m.progressive_preview = false;
   m.max_iterations = 4;
+  m.polish_iterations = 0;
   ControlState a = control_init(m);
   Progress progress;
   int calls = 0;
@@ -218,6 +219,7 @@ TEST(Admm, ProgressivePreviewShowsTheCoarseSolutionFirst) {
   replace("0.03125", "0.015625");
   ControlModel m = control_compile(parse_scene(text, "circle_to_square_64.json"));
   m.max_iterations = 2;
+  m.polish_iterations = 0;
   m.progressive_preview = true;
   ControlState s = control_init(m);
   Progress progress;
