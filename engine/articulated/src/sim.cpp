@@ -201,8 +201,15 @@ State state_init(const Model& m) {
   return s;
 }
 
-void pbad_begin(const Model& m, const SimOptions& o, const State& s, PbadStep& p, SimWorkspace& ws) {
+void pbad_begin(const Model& m, const SimOptions& o, State& s, PbadStep& p, SimWorkspace& ws) {
   sim_prepare(m, ws);
+  if (s.normal_force_prev.size() != ws.points.size() * ws.obstacles.size()) {
+    // First step: friction uses the normal forces of the initial state.
+    kinematics(m, s.qpos, &ws.kin);
+    s.normal_force_prev.assign(ws.points.size() * ws.obstacles.size(), 0.0);
+    find_contacts(m, ws.kin, ws.points, ws.obstacles, &ws.contacts);
+    for (const Contact& c : ws.contacts) s.normal_force_prev[c.slot] = o.contact.stiffness * c.depth;
+  }
   const double dt = o.dt;
   // Past frames; before the first step they come from a Taylor expansion with the
   // initial acceleration (a constant-velocity past would make the start first-order).

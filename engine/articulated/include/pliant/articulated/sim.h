@@ -80,7 +80,7 @@ struct PbadStep {
   int iterations = 0;
   bool done = false;
 };
-void pbad_begin(const Model& m, const SimOptions& o, const State& s, PbadStep& p, SimWorkspace& ws);
+void pbad_begin(const Model& m, const SimOptions& o, State& s, PbadStep& p, SimWorkspace& ws);
 bool pbad_iterate(const Model& m, const SimOptions& o, const State& s, PbadStep& p, SimWorkspace& ws);
 void pbad_finish(const Model& m, const SimOptions& o, State& s, const PbadStep& p, SimWorkspace& ws);
 

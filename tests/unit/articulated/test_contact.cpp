@@ -1,0 +1,103 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "pliant/articulated/io.h"
+#include "pliant/articulated/sim.h"
+
+namespace pliant::articulated {
+namespace {
+
+// A 1 kg box (half size 0.1) with a free joint on a plane tilted by `slope` about y.
+Model box_on_plane(double slope) {
+  const Quat q(Eigen::AngleAxisd(slope, Vec3::UnitY()));
+  const std::string quat = std::to_string(q.w()) + " " + std::to_string(q.x()) + " " +
+                           std::to_string(q.y()) + " " + std::to_string(q.z());
+  const std::string xml = "<mujoco><worldbody><geom type=\"plane\" quat=\"" + quat +
+                          "\"/><body name=\"box\" pos=\"0 0 0.1\"><freejoint/>"
+                          "<geom type=\"box\" size=\"0.1 0.1 0.1\" mass=\"1\"/></body></worldbody></mujoco>";
+  return model_from_mjcf(xml, "box.xml");
+}
+
+State resting_box(const Model& m, double slope, double stiffness) {
+  const Quat q(Eigen::AngleAxisd(slope, Vec3::UnitY()));
+  const Vec3 n = q * Vec3::UnitZ();
+  const double depth = 1.0 * 9.81 * std::cos(slope) / (4 * stiffness);
+  State s = state_init(m);
+  s.qpos.head<3>() = n * (0.1 - depth);
+  s.qpos.segment<4>(3) << q.w(), q.x(), q.y(), q.z();
+  return s;
+}
+
+TEST(Contact, ObstacleDistances) {
+  Geom box;
+  box.type = GeomType::Box;
+  box.size = Vec3(1, 2, 3);
+  Vec3 n;
+  EXPECT_NEAR(obstacle_distance(box, Vec3(2, 0, 0), &n), 1.0, 1e-12);
+  EXPECT_NEAR(n.x(), 1.0, 1e-12);
+  EXPECT_NEAR(obstacle_distance(box, Vec3(0, 0, 2.5), &n), -0.5, 1e-12);
+  EXPECT_NEAR(n.z(), 1.0, 1e-12);
+  EXPECT_NEAR(obstacle_distance(box, Vec3(2, 3, 0), &n), std::sqrt(2.0), 1e-12);
+  Geom sphere;
+  sphere.type = GeomType::Sphere;
+  sphere.size[0] = 0.5;
+  EXPECT_NEAR(obstacle_distance(sphere, Vec3(0, 2, 0), &n), 1.5, 1e-12);
+  EXPECT_NEAR(n.y(), 1.0, 1e-12);
+}
+
+TEST(Contact, BoxCornersAreContactPoints) {
+  const Model m = box_on_plane(0);
+  EXPECT_EQ(contact_points(m).size(), 8u);
+  EXPECT_EQ(contact_obstacles(m).size(), 1u);
+}
+
+TEST(Contact, SlidingBoxStopsAtAnalyticDistance) {
+  // v0 = 2 m/s, mu = 0.5: d = v0^2 / (2 mu g) = 0.4077 m.
+  const Model m = box_on_plane(0);
+  SimOptions o;
+  o.integrator = Integrator::Pbad3;
+  o.dt = 0.01;
+  o.contact.mu = 0.5;
+  State s = resting_box(m, 0, o.contact.stiffness);
+  s.qvel[0] = 2.0;
+  SimWorkspace ws;
+  const double x0 = s.qpos[0];
+  for (int i = 0; i < 150; ++i) ASSERT_TRUE(sim_step(m, o, s, ws));
+  const double analytic = 4.0 / (2 * 0.5 * 9.81);
+  EXPECT_NEAR((s.qpos[0] - x0) / analytic, 1.0, 0.02);
+  EXPECT_LT(std::abs(s.qvel[0]), 1e-3);
+}
+
+TEST(Contact, BoxBelowFrictionAngleCreepsLessThanAMillimetre) {
+  const double slope = 20 * M_PI / 180;  // tan 20 deg = 0.36 < mu = 0.5
+  const Model m = box_on_plane(slope);
+  SimOptions o;
+  o.integrator = Integrator::Pbad3;
+  o.dt = 0.01;
+  o.contact.mu = 0.5;
+  State s = resting_box(m, slope, o.contact.stiffness);
+  SimWorkspace ws;
+  const Vec3 p0 = s.qpos.head<3>();
+  for (int i = 0; i < 500; ++i) ASSERT_TRUE(sim_step(m, o, s, ws));
+  EXPECT_LT((s.qpos.head<3>() - p0).norm(), 1e-3);
+}
+
+TEST(Contact, BoxAboveFrictionAngleSlides) {
+  const double slope = 35 * M_PI / 180;  // tan 35 deg = 0.70 > mu = 0.5
+  const Model m = box_on_plane(slope);
+  SimOptions o;
+  o.integrator = Integrator::Pbad3;
+  o.dt = 0.01;
+  o.contact.mu = 0.5;
+  State s = resting_box(m, slope, o.contact.stiffness);
+  SimWorkspace ws;
+  const Vec3 p0 = s.qpos.head<3>();
+  for (int i = 0; i < 100; ++i) ASSERT_TRUE(sim_step(m, o, s, ws));
+  // s = 1/2 g (sin a - mu cos a) t^2 along the slope after 1 s.
+  const double expect = 0.5 * 9.81 * (std::sin(slope) - 0.5 * std::cos(slope));
+  EXPECT_NEAR((s.qpos.head<3>() - p0).norm() / expect, 1.0, 0.05);
+}
+
+}  // namespace
+}  // namespace pliant::articulated

@@ -1,0 +1,63 @@
+#include <gtest/gtest.h>
+
+#include "pliant/articulated/io.h"
+#include "pliant/core/error.h"
+
+namespace pliant::articulated {
+namespace {
+
+Model from_json(const nlohmann::json& j) {
+  JsonReader r(j, "m.json");
+  Model m = model_from_json(r);
+  r.finish();
+  return m;
+}
+
+TEST(ModelJson, BodiesJointsGeomsAndObstacles) {
+  const nlohmann::json j = {
+      {"gravity", {0, 0, -10}},
+      {"bodies",
+       {{{"name", "torso"},
+         {"pos", {0, 0, 1}},
+         {"joints", {{{"type", "slide"}, {"axis", {1, 0, 0}}, {"name", "x"}}}},
+         {"geoms", {{{"type", "box"}, {"size", {0.1, 0.2, 0.3}}, {"mass", 2}}}}},
+        {{"name", "leg"},
+         {"parent", "torso"},
+         {"joints", {{{"type", "hinge"}, {"axis", {0, 1, 0}}, {"name", "hip"}}}},
+         {"inertial", {{"mass", 1.5}, {"pos", {0, 0, -0.2}}, {"diaginertia", {0.1, 0.1, 0.01}}}}}}},
+      {"actuators", {{{"joint", "hip"}, {"gear", 5}}}},
+      {"obstacles", {{{"type", "plane"}}}}};
+  const Model m = from_json(j);
+  EXPECT_EQ(m.nv, 2);
+  EXPECT_EQ(m.bodies[1].mass, 2);
+  EXPECT_NEAR(m.bodies[1].inertia(0, 0), 2.0 / 12 * (0.16 + 0.36), 1e-12);
+  EXPECT_EQ(m.bodies[2].mass, 1.5);
+  EXPECT_EQ(m.gravity.z(), -10);
+  EXPECT_EQ(m.geoms.back().body, 0);
+  EXPECT_EQ(m.actuators[0].gear, 5);
+}
+
+TEST(ModelJson, ErrorsNameTheField) {
+  auto pointer_of = [](const nlohmann::json& j) {
+    try {
+      from_json(j);
+    } catch (const InputError& e) {
+      return e.pointer();
+    }
+    return std::string("no error");
+  };
+  EXPECT_EQ(pointer_of({{"bodies", {{{"name", "a"}, {"parent", "nope"}}}}}), "/bodies/0/parent");
+  EXPECT_EQ(pointer_of({{"bodies", {{{"name", "a"}, {"geoms", {{{"type", "cone"}}}}}}}}), "/bodies/0/geoms/0/type");
+  EXPECT_EQ(pointer_of({{"bodies", {{{"name", "a"}, {"jionts", nlohmann::json::array()}}}}}), "/bodies/0/jionts");
+  EXPECT_EQ(pointer_of({{"chain", {{"links", 0}}}}), "/chain/links");
+}
+
+TEST(ModelJson, ChainGeneratorMatchesMjcf) {
+  const Model a = from_json({{"chain", {{"links", 3}, {"link_length", 0.2}}}});
+  const Model b = model_from_mjcf(chain_mjcf(3, 0.2), "c.xml");
+  EXPECT_EQ(a.nv, b.nv);
+  EXPECT_EQ(a.bodies[3].mass, b.bodies[3].mass);
+}
+
+}  // namespace
+}  // namespace pliant::articulated
