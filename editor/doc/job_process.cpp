@@ -84,6 +84,7 @@ bool JobProcess::start(const JobSpec& spec, std::string* err) {
     args.push_back("--threads");
     args.push_back(std::to_string(spec.threads));
   }
+  if (spec.resume) args.push_back("--resume");
   std::vector<char*> argv;
   for (auto& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);

@@ -43,6 +43,7 @@ struct JobSpec {
   std::filesystem::path scene;   // a saved scene file
   std::filesystem::path take;
   int threads = 0;
+  bool resume = false;  // `pliant run --resume`: continue the take from its checkpoint
 };
 
 // dirname(/proc/self/exe)/pliant.

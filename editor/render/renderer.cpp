@@ -62,7 +62,9 @@ void Renderer::set_frame(const Record& frame) {
   const auto& s = density->shape;
   if (s.size() == 2) {
     const Field* velocity = find_field(frame, "velocity");
-    impl_->smoke2d.upload(*density, velocity && well_formed(*velocity) ? velocity : nullptr);
+    const Field* force = find_field(frame, "force");
+    impl_->smoke2d.upload(*density, velocity && well_formed(*velocity) ? velocity : nullptr,
+                          force && well_formed(*force) ? force : nullptr);
     const float longest = static_cast<float>(std::max(s[0], s[1]));
     impl_->extent = {s[1] / longest, s[0] / longest, 0.0f};
     impl_->dim = 2;

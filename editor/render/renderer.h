@@ -14,6 +14,7 @@ struct ViewSettings {
   float density_scale = 1.0f;     // density mapped to opacity
   bool show_grid = true;          // domain outline / grid
   bool show_velocity = false;     // 2D: velocity arrows
+  bool show_force = false;        // 2D: control force arrows (keyframe takes)
   std::array<float, 3> background{0.08f, 0.09f, 0.11f};
   std::array<float, 3> smoke_color{0.95f, 0.95f, 1.0f};
 };

@@ -18,7 +18,7 @@ bool Smoke2DDrawer::init(std::string* err) {
   return true;
 }
 
-void Smoke2DDrawer::upload(const Field& density, const Field* velocity) {
+void Smoke2DDrawer::upload(const Field& density, const Field* velocity, const Field* force) {
   ny_ = static_cast<int>(density.shape[0]);
   nx_ = static_cast<int>(density.shape[1]);
   glBindTexture(GL_TEXTURE_2D, density_.get());
@@ -29,23 +29,28 @@ void Smoke2DDrawer::upload(const Field& density, const Field* velocity) {
   if (velocity && velocity->shape.size() == 3 && velocity->shape[0] == density.shape[0] &&
       velocity->shape[1] == density.shape[1] && velocity->shape[2] == 2)
     velocity_ = velocity->data;
+  force_.clear();
+  if (force && force->shape.size() == 3 && force->shape[0] == density.shape[0] &&
+      force->shape[1] == density.shape[1] && force->shape[2] == 2)
+    force_ = force->data;
 }
 
 int Smoke2DDrawer::arrow_stride(int nx, int ny) { return std::max(1, std::max(nx, ny) / 16); }
 
-void Smoke2DDrawer::add_arrows(float half_w, float half_h, LineDrawer& lines) const {
+void Smoke2DDrawer::add_arrows(const std::vector<float>& field, float half_w, float half_h,
+                               const std::array<float, 4>& color_in, LineDrawer& lines) const {
   const int k = arrow_stride(nx_, ny_);
   const float cell = 2.0f * half_w / static_cast<float>(nx_);
   float vmax = 0;
-  for (size_t i = 0; i + 1 < velocity_.size(); i += 2)
-    vmax = std::max(vmax, std::hypot(velocity_[i], velocity_[i + 1]));
+  for (size_t i = 0; i + 1 < field.size(); i += 2)
+    vmax = std::max(vmax, std::hypot(field[i], field[i + 1]));
   if (vmax <= 0) return;
   // The fastest arrow is 0.9 strides long.
   const float scale = 0.9f * static_cast<float>(k) * cell / vmax;
-  const LineDrawer::Color color{1.0f, 0.62f, 0.2f, 0.9f};
+  const LineDrawer::Color color{color_in[0], color_in[1], color_in[2], color_in[3]};
   for (int j = k / 2; j < ny_; j += k) {
     for (int i = k / 2; i < nx_; i += k) {
-      const float* v = &velocity_[(static_cast<size_t>(j) * nx_ + i) * 2];
+      const float* v = &field[(static_cast<size_t>(j) * nx_ + i) * 2];
       const float ux = v[0] * scale, uy = v[1] * scale;
       const float len = std::hypot(ux, uy);
       if (len < 0.05f * cell) continue;
@@ -99,7 +104,8 @@ void Smoke2DDrawer::draw(const Mat4& mvp, float half_w, float half_h, const View
     lines.add(c11, c01, outline);
     lines.add(c01, c00, outline);
   }
-  if (view.show_velocity && !velocity_.empty()) add_arrows(half_w, half_h, lines);
+  if (view.show_velocity && !velocity_.empty()) add_arrows(velocity_, half_w, half_h, {1.0f, 0.62f, 0.2f, 0.9f}, lines);
+  if (view.show_force && !force_.empty()) add_arrows(force_, half_w, half_h, {0.35f, 1.0f, 0.45f, 0.9f}, lines);
   lines.draw(mvp);
 }
 
@@ -109,6 +115,7 @@ void Smoke2DDrawer::shutdown() {
   density_.reset();
   nx_ = ny_ = 0;
   velocity_.clear();
+  force_.clear();
 }
 
 }  // namespace pliant::editor

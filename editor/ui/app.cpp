@@ -5,6 +5,7 @@
 #include <imgui.h>
 #include <imgui_impl_opengl3.h>
 
+#include <cctype>
 #include <cstdio>
 
 #include "doc/config_dir.h"
@@ -15,6 +16,22 @@
 namespace pliant::editor {
 
 namespace fs = std::filesystem;
+
+namespace {
+std::string lower_ext(const std::string& p) {
+  std::string e = fs::path(p).extension().string();
+  for (char& c : e) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return e;
+}
+bool is_image_file(const std::string& p) {
+  const std::string e = lower_ext(p);
+  return e == ".png" || e == ".jpg" || e == ".jpeg" || e == ".bmp" || e == ".tga";
+}
+bool is_mesh_file(const std::string& p) {
+  const std::string e = lower_ext(p);
+  return e == ".obj" || e == ".stl" || e == ".ply" || e == ".off" || e == ".fbx" || e == ".gltf" || e == ".glb";
+}
+}  // namespace
 
 App::App(AppOptions opt)
     : recent(fs::path()), opt_(std::move(opt)) {
@@ -84,6 +101,7 @@ void App::shutdown(bool clean) {
   shut_down_ = true;
   for (auto& j : jobs) j->cancel();
   jobs.clear();  // joins the reader threads
+  if (export_run) export_run->wait();
   if (autosave && clean) {
     // Closing a window with unsaved edits keeps them: the autosave stays and the
     // next start offers to recover it. Headless runs are automation: always clean.
@@ -99,6 +117,7 @@ void App::shutdown(bool clean) {
     if (viewport.color_tex) glDeleteTextures(1, &viewport.color_tex);
     if (viewport.depth_rb) glDeleteRenderbuffers(1, &viewport.depth_rb);
     viewport.fbo = viewport.color_tex = viewport.depth_rb = 0;
+    release_canvas_gl(canvas);
     if (renderer_ok_) renderer.shutdown();
     if (gl_backend_) ImGui_ImplOpenGL3_Shutdown();
   }
@@ -154,8 +173,12 @@ void App::handle_drops(const std::vector<std::string>& paths) {
       cmd_open_take(p);
     } else if (fs::path(p).extension() == ".json") {
       cmd_open(p);
+    } else if (is_image_file(p)) {
+      import_image_keyframe(*this, p, /*new_keyframe=*/true);
+    } else if (is_mesh_file(p)) {
+      import_mesh_keyframe(*this, p);
     } else {
-      log.warn("dropped file ignored (not a scene .json or a take folder): " + p);
+      log.warn("dropped file ignored (not a scene .json, a take folder, an image or a mesh): " + p);
     }
   }
 }
@@ -171,6 +194,7 @@ void App::frame() {
 
   handle_drops(platform_->take_dropped_files());
   poll_jobs();
+  poll_export();
   take.update(ImGui::GetIO().DeltaTime);
   if (autosave && autosave->tick(doc, std::chrono::steady_clock::now()))
     log.add(LogLevel::Debug, "editor", "autosaved to " + autosave->autosave_file().string());

@@ -16,6 +16,7 @@
 
 #include "doc/autosave.h"
 #include "doc/document.h"
+#include "doc/export_run.h"
 #include "doc/job_process.h"
 #include "doc/log_buffer.h"
 #include "doc/recent_files.h"
@@ -23,6 +24,7 @@
 #include "render/image.h"
 #include "render/renderer.h"
 #include "ui/injected_input.h"
+#include "ui/keyframe_canvas.h"
 #include "ui/take_view.h"
 #include "ui/ui_mark.h"
 
@@ -48,6 +50,11 @@ struct ViewportState {
   int fbo_w = 0, fbo_h = 0;
   std::string shown_dir;  // what the renderer holds now
   int shown_frame = -1, shown_count = -1;
+  size_t shown_records = 0;   // record count when a preview was uploaded
+  bool showing_preview = false;
+  std::string preview_label;  // "preview 16x16, 3 of 5" while one is shown
+  bool show_canvas = false;   // smoke 2D: the keyframe canvas instead of the result
+  bool show_outlines = true;  // keyframe outlines over the result at keyframe frames
 };
 
 struct PanelVisibility {
@@ -88,7 +95,12 @@ class App {
   void cmd_undo();
   void cmd_redo();
   // Starts `pliant run` on the document; take_dir "" = default_take_dir().
-  bool cmd_run(const std::filesystem::path& take_dir = {});
+  bool cmd_run(const std::filesystem::path& take_dir = {}, bool resume = false);
+  // Continues the newest job's take from its last checkpoint (`pliant run --resume`).
+  bool cmd_resume();
+  // Exports the shown take: "png" (plugin), "mp4" (PNGs then ffmpeg), "vdb" (plugin).
+  bool cmd_export(const std::string& format, const std::filesystem::path& out);
+  void poll_export();  // logs the end of an export once
   void cmd_cancel(size_t job);
   void open_file_dialog(FileDialog::Mode mode);
   void handle_drops(const std::vector<std::string>& paths);
@@ -128,6 +140,8 @@ class App {
   UiMarks marks;
   InjectedInput input;
   Renderer renderer;
+  KeyframeCanvasState canvas;  // smoke keyframe painting (keyframe_canvas.h)
+  std::unique_ptr<ExportRun> export_run;  // the newest export (app_export.cpp)
   // Scripts hook here: before_frame runs after platform.new_frame (to inject
   // input), after_render after the frame is drawn (screenshots).
   std::function<void(App&)> before_frame, after_render;
@@ -148,6 +162,7 @@ class App {
   std::string last_title_;
   uint64_t frames_ = 0;
   int job_counter_ = 0;
+  bool export_reported_ = true;
 };
 
 }  // namespace pliant::editor

@@ -79,7 +79,7 @@ void App::cmd_redo() {
   if (doc.redo()) set_status("Redo " + label);
 }
 
-bool App::cmd_run(const fs::path& take_dir) {
+bool App::cmd_run(const fs::path& take_dir, bool resume) {
   if (const std::string& e = scene_error(); !e.empty()) {
     set_status("Cannot run: " + e, true);
     log.error(status_);
@@ -89,6 +89,7 @@ bool App::cmd_run(const fs::path& take_dir) {
   spec.pliant = opt_.pliant.empty() ? default_pliant_binary() : opt_.pliant;
   spec.take = take_dir.empty() ? default_take_dir(doc.path(), opt_.config_dir) : take_dir;
   spec.threads = job_threads;
+  spec.resume = resume;
   // The job runs what the user sees, saved or not: write the scene beside the
   // take (same folder depth as the take, so the job never reads a half-saved file).
   spec.scene = doc.has_path() && !doc.dirty() ? doc.path()
@@ -117,6 +118,16 @@ bool App::cmd_run(const fs::path& take_dir) {
   take.open(spec.take);
   doc.take_dir = spec.take;
   return true;
+}
+
+bool App::cmd_resume() {
+  JobProcess* j = newest_job();
+  if (!j || !j->snapshot().ended()) {
+    set_status("Nothing to resume: no ended job", true);
+    log.error(status_);
+    return false;
+  }
+  return cmd_run(j->spec().take, /*resume=*/true);
 }
 
 void App::cmd_cancel(size_t i) {

@@ -7,6 +7,7 @@
 
 #include "ui/app.h"
 #include "ui/panel_window.h"
+#include "ui/smoke_panels.h"
 
 namespace pliant::editor {
 
@@ -15,6 +16,7 @@ void draw_jobs_panel(App& app, const PanelRect& r) {
     ImGui::End();
     return;
   }
+  draw_smoke_solve_panel(app);
   bool valid = app.scene_error().empty();
   if (!valid) ImGui::BeginDisabled();
   if (ImGui::Button("Run (F5)")) app.cmd_run();

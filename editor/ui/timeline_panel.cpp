@@ -5,7 +5,9 @@
 #include <string>
 
 #include "ui/app.h"
+#include "doc/smoke_keyframes.h"
 #include "ui/panel_window.h"
+#include "ui/smoke_panels.h"
 
 namespace pliant::editor {
 
@@ -46,6 +48,8 @@ void draw_timeline_panel(App& app, const PanelRect& r) {
   if (ImGui::SliderInt("##frame", &f, 0, n > 0 ? n - 1 : 0, "frame %d")) t.set_frame(f);
   if (n == 0) ImGui::EndDisabled();
   ui_mark("frame_slider");
+  // Scene kinds with keyframes draw their markers under the slider.
+  if (has_control(app.doc.scene()) || is_smoke_2d(app.doc.scene())) draw_keyframe_markers(app);
   ImGui::End();
 }
 

@@ -34,4 +34,8 @@ void ui_mark_field(const std::string& label) {
   g_marks->add(label, UiRect{a.x, a.y, b.x, b.y});
 }
 
+void ui_mark_rect(const std::string& label, float x0, float y0, float x1, float y1) {
+  if (g_marks) g_marks->add(label, UiRect{x0, y0, x1, y1});
+}
+
 }  // namespace pliant::editor

@@ -32,5 +32,7 @@ void ui_mark(const std::string& label);
 // For labelled fields (drags, inputs, combos): only the input frame, whose
 // width is the current item width, so a click lands on the field, not its label.
 void ui_mark_field(const std::string& label);
+// A rectangle that is not an ImGui item (a marker drawn on a strip).
+void ui_mark_rect(const std::string& label, float x0, float y0, float x1, float y1);
 
 }  // namespace pliant::editor

@@ -8,10 +8,15 @@
 #include <algorithm>
 #include <cstdint>
 
+#include "doc/smoke_keyframes.h"
+#include "render/contour.h"
 #include "ui/app.h"
+#include "ui/keyframe_canvas.h"
 #include "ui/panel_window.h"
 
 namespace pliant::editor {
+
+namespace fs = std::filesystem;
 
 namespace {
 
@@ -39,12 +44,88 @@ void ensure_fbo(ViewportState& v, int w, int h) {
   v.fbo_h = h;
 }
 
+// Progressive preview: before the take has frames, the newest Preview record
+// (a coarse level of the solve, [T+1, ny, nx]) at the current frame (the last
+// frame when none is chosen). Returns false when the take has no preview.
+bool sync_preview(App& app, TakeReader& rd) {
+  ViewportState& v = app.viewport;
+  const int want = canvas_current_frame(app);
+  const std::string dir = app.take.dir().string();
+  if (v.showing_preview && v.shown_dir == dir && v.shown_records == rd.record_count() && v.shown_frame == want)
+    return true;
+  Record r;
+  if (!rd.latest(RecordKind::Preview, &r)) return false;
+  const Field* d = r.find("density");
+  if (!d || d->shape.size() != 3) return false;  // 2D previews only: [T+1, ny, nx]
+  const int frames = int(d->shape[0]), ny = int(d->shape[1]), nx = int(d->shape[2]);
+  const int f = want > 0 && want < frames ? want : frames - 1;
+  Record one;
+  Field slice{"density", {uint32_t(ny), uint32_t(nx)}, {}};
+  const size_t cells = size_t(nx) * ny;
+  slice.data.assign(d->data.begin() + f * cells, d->data.begin() + (f + 1) * cells);
+  one.fields.push_back(std::move(slice));
+  const bool new_take = v.shown_dir != dir;
+  app.renderer.set_frame(one);
+  if (new_take) v.camera.reset();
+  v.showing_preview = true;
+  v.shown_dir = dir;
+  v.shown_records = rd.record_count();
+  v.shown_frame = want;
+  v.shown_count = 0;
+  v.preview_label = "preview " + std::to_string(nx) + "x" + std::to_string(ny) + " #" +
+                    std::to_string(r.index + 1) + ", frame " + std::to_string(f);
+  return true;
+}
+
+// Outline of the keyframe at the shown frame over the result (2D), in the panel's
+// screen rectangle; cached per document revision and frame.
+struct OutlineCache {
+  uint64_t revision = ~uint64_t(0);
+  int frame = -1;
+  int nx = 0, ny = 0;
+  std::vector<ContourSegment> segs;
+};
+
+void draw_keyframe_outline(App& app, ImVec2 pos, int w, int h) {
+  static OutlineCache cache;
+  if (!app.viewport.show_outlines || app.renderer.frame_dim() != 2) return;
+  const nlohmann::json& scene = app.doc.scene();
+  const int frame = app.viewport.showing_preview ? app.viewport.shown_frame : app.take.frame;
+  const int slot = keyframe_at_frame(scene, frame);
+  if (slot < 0) return;
+  if (cache.revision != app.doc.revision() || cache.frame != frame) {
+    std::string err;
+    geom::PaintedGrid g = rasterize_slot(scene, app.doc.has_path() ? app.doc.path().parent_path() : fs::path(),
+                                         slot, &err);
+    std::vector<float> v(g.value.begin(), g.value.end());
+    cache.segs = g.cells() ? contour_lines(v.data(), g.n[0], g.n[1], 127.5f) : std::vector<ContourSegment>{};
+    cache.nx = g.n[0];
+    cache.ny = g.n[1];
+    cache.revision = app.doc.revision();
+    cache.frame = frame;
+  }
+  if (cache.nx <= 0) return;
+  const auto e = app.renderer.domain_extent();
+  const auto m = app.viewport.camera.view_projection_2d(float(w) / float(h), e[0], e[1]);
+  auto screen = [&](const std::array<float, 2>& c) {
+    const float wx = -0.5f * e[0] + c[0] / cache.nx * e[0], wy = -0.5f * e[1] + c[1] / cache.ny * e[1];
+    const float nx = m[0] * wx + m[4] * wy + m[12], ny = m[1] * wx + m[5] * wy + m[13];
+    return ImVec2(pos.x + 0.5f * (nx + 1.0f) * w, pos.y + 0.5f * (1.0f - ny) * h);
+  };
+  ImDrawList* dl = ImGui::GetWindowDrawList();
+  dl->PushClipRect(pos, ImVec2(pos.x + w, pos.y + h), true);
+  for (const auto& sgm : cache.segs) dl->AddLine(screen(sgm.a), screen(sgm.b), IM_COL32(90, 200, 255, 230), 1.5f);
+  dl->PopClipRect();
+}
+
 // Uploads the frame the timeline points at when it changed.
 void sync_frame(App& app) {
   std::string& shown_dir = app.viewport.shown_dir;
   int& shown_frame = app.viewport.shown_frame;
   int& shown_count = app.viewport.shown_count;
   TakeReader* rd = app.take.reader();
+  if (rd && app.take.frame_count() == 0 && sync_preview(app, *rd)) return;
+  app.viewport.showing_preview = false;
   if (!rd || app.take.frame_count() == 0) {
     if (app.renderer.has_frame()) app.renderer.clear_frame();
     shown_dir.clear();
@@ -77,6 +158,22 @@ void draw_viewport_panel(App& app, const PanelRect& r) {
     return;
   }
   ViewportState& v = app.viewport;
+  // Smoke 2D scenes: the result or the keyframe canvas. Other kinds add their
+  // editors beside this switch.
+  const bool paintable = is_smoke_2d(app.doc.scene());
+  if (paintable) {
+    if (ImGui::RadioButton("Result", !v.show_canvas)) v.show_canvas = false;
+    ui_mark("view_result");
+    ImGui::SameLine();
+    if (ImGui::RadioButton("Keyframes", v.show_canvas)) v.show_canvas = true;
+    ui_mark("view_keyframes");
+    ImGui::SameLine();
+  }
+  if (paintable && v.show_canvas) {
+    draw_keyframe_canvas(app);
+    ImGui::End();
+    return;
+  }
   if (ImGui::Button("Reset view")) v.camera.reset();
   ui_mark("Reset view");
   ImGui::SameLine();
@@ -87,6 +184,12 @@ void draw_viewport_panel(App& app, const PanelRect& r) {
   ImGui::Checkbox("grid", &v.settings.show_grid);
   ImGui::SameLine();
   ImGui::Checkbox("velocity", &v.settings.show_velocity);
+  ImGui::SameLine();
+  ImGui::Checkbox("force", &v.settings.show_force);
+  if (paintable) {
+    ImGui::SameLine();
+    ImGui::Checkbox("outlines", &v.show_outlines);
+  }
 
   ImVec2 avail = ImGui::GetContentRegionAvail();
   int w = std::max(16, static_cast<int>(avail.x));
@@ -120,6 +223,10 @@ void draw_viewport_panel(App& app, const PanelRect& r) {
     ImGui::GetWindowDrawList()->AddImage(
         reinterpret_cast<ImTextureID>(static_cast<intptr_t>(v.color_tex)), pos,
         ImVec2(pos.x + w, pos.y + h), ImVec2(0, 1), ImVec2(1, 0));
+    if (app.renderer.has_frame()) draw_keyframe_outline(app, pos, w, h);
+    if (v.showing_preview)
+      ImGui::GetWindowDrawList()->AddText(ImVec2(pos.x + 12, pos.y + 12), IM_COL32(255, 210, 120, 255),
+                                          v.preview_label.c_str());
   }
   if (!app.renderer.has_frame()) {
     const char* msg = app.take.dir().empty() ? "No take yet: press Run (F5)"
