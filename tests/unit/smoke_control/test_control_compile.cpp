@@ -71,7 +71,8 @@ TEST(ControlCompile, EveryShippedControlSceneCompilesWithMatchedMass) {
   // Incompressible flow cannot compress smoke: each keyframe must hold about the
   // initial mass, or its IoU is capped. The scenes size their targets for that.
   for (const char* name : {"smoke_circle_to_square.json", "smoke_circle_to_letter.json", "smoke_fluid_letters.json",
-                           "smoke_circle_to_heart.json", "smoke_sphere_to_box_3d.json"}) {
+                           "smoke_circle_to_heart.json", "smoke_sphere_to_box_3d.json", "smoke_circles_to_bunny.json",
+                           "smoke_sphere_to_bunny_3d.json"}) {
     const ControlModel m = control_compile(load_scene(kScenes / name));
     double mass = 0;
     for (float v : m.initial_density) mass += v;
@@ -81,6 +82,24 @@ TEST(ControlCompile, EveryShippedControlSceneCompilesWithMatchedMass) {
       EXPECT_NEAR(km, mass, 0.04 * mass) << name << " " << k.source;
     }
   }
+}
+
+TEST(ControlCompile, SeveralTargetsAtOneFrameAreTheirUnionAndFramesAreUnique) {
+  const std::string one = R"({"type": "circle", "center": [0.3, 0.5], "radius": 0.1})";
+  const std::string two = R"({"type": "circle", "center": [0.7, 0.5], "radius": 0.1})";
+  const ControlModel a = control_compile(scene_with(R"([{"frame": 4, "target": )" + one + "}]"));
+  const ControlModel b = control_compile(scene_with(R"([{"frame": 4, "target": )" + two + "}]"));
+  const ControlModel u = control_compile(scene_with(R"([{"frame": 4, "targets": [)" + one + ", " + two + "]}]"));
+  ASSERT_EQ(u.keyframes.size(), 1u);
+  for (size_t i = 0; i < u.keyframes[0].density.size(); ++i)
+    ASSERT_FLOAT_EQ(u.keyframes[0].density[i],
+                    std::min(1.0f, a.keyframes[0].density[i] + b.keyframes[0].density[i]));
+  EXPECT_EQ(u.keyframes[0].source, "circle + circle");
+  // Two keyframes at one frame would be two conflicting targets for one density.
+  const Scene dup = scene_with(R"([{"frame": 4, "target": )" + one + R"(}, {"frame": 4, "target": )" + two + "}]");
+  EXPECT_EQ(error_of(dup),
+            "/control/keyframes/1/frame | frame 4 already has a keyframe; put several shapes in one keyframe's "
+            "\"targets\"");
 }
 
 TEST(ControlCompile, FramePastTheEndNamesThePointer) {

@@ -128,6 +128,8 @@ void admm_run(const ControlModel& m, ControlState& s, Progress& progress, const 
     const Series z_prev = z;
     const NsoStats ns = nso.solve(z, d, beta, m.nso_vcycles);
     it.vcycle_factors = ns.vcycle_factors;
+    it.nso_lm_steps = ns.lm_steps;
+    it.nso_rejected = ns.rejected;
     it.nso_s = seconds_since(t1);
     for (int t = 0; t < T; ++t)
       for (size_t e = 0; e < F; ++e) lam[t][e] += u[t][e] - z[t][e];

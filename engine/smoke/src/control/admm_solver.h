@@ -26,6 +26,7 @@ struct AdmmIterationStats {
   double objective = 0, primal = 0, dual = 0, ao_s = 0, nso_s = 0, forces_s = 0;
   double ao_keyframe_error = 0;  // keyframe term of the AO density (advected by u)
   int ao_steps = 0;
+  int nso_lm_steps = 0, nso_rejected = 0;  // Levenberg-Marquardt steps accepted / rejected
   double beta = 0;  // penalty used in this iteration
   std::vector<double> vcycle_factors;
 };

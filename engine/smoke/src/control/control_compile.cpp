@@ -5,7 +5,8 @@
 //   "control": {"method": "admm"|"lbfgs", "r": >0, "max_iterations", "tolerance",
 //     "admm": {"penalty", "ao_iterations", "nso_vcycles", "polish_iterations"}, "progressive_preview",
 //     "initial_density": [TARGET], "obstacles": [TARGET],
-//     "keyframes": [{"frame": 1..T, "weight": >0, "target": TARGET}],
+//     "keyframes": [{"frame": 1..T (one keyframe per frame), "weight": >0,
+//                    "target": TARGET or "targets": [TARGET] (their union)}],
 //     "sequence": {"images": "dir/" or "pattern%03d.png", "first_frame", "every",
 //                  "weight", + the placement fields of an image TARGET}}
 //   TARGET: {"type": circle|sphere|box|square|mask|image|text|mesh|painted, placement
@@ -277,9 +278,25 @@ ControlModel control_compile(const Scene& scene) {
     kf.frame = frame_in_range(k, "frame", T, true, 0);
     kf.weight = k.number("weight", 1.0);
     if (!(kf.weight > 0)) k.fail("weight", "expected a number > 0");
-    auto t = k.object("target");
-    if (!t) k.fail("target", "missing required field; expected a target object with \"type\"");
-    kf.density = target(*t, ctx, &kf.source);
+    if (k.has("targets")) {  // several shapes at one frame: their union (summed, clamped to 1)
+      if (k.has("target")) k.fail("target", "give either \"target\" or \"targets\", not both");
+      kf.density.assign(cells, 0.0f);
+      std::string part;
+      for (JsonReader& t : k.objects("targets")) {
+        const auto d = target(t, ctx, &part);
+        for (size_t i = 0; i < cells; ++i) kf.density[i] = std::min(1.0f, kf.density[i] + d[i]);
+        kf.source += (kf.source.empty() ? "" : " + ") + part;
+      }
+      if (kf.source.empty()) k.fail("targets", "expected at least one target");
+    } else {
+      auto t = k.object("target");
+      if (!t) k.fail("target", "missing required field; expected a target object with \"type\" (or \"targets\")");
+      kf.density = target(*t, ctx, &kf.source);
+    }
+    for (const Keyframe& other : m.keyframes)
+      if (other.frame == kf.frame)
+        k.fail("frame", "frame " + std::to_string(kf.frame) +
+                            " already has a keyframe; put several shapes in one keyframe's \"targets\"");
     k.finish();
     m.keyframes.push_back(std::move(kf));
   }
@@ -289,6 +306,9 @@ ControlModel control_compile(const Scene& scene) {
     const bool binarise = s->boolean("binarise", true);
     const int ss = int(s->integer("supersample", 2, 1, 16));
     for (const auto& [frame, file] : sequence_files(*s, scene, T)) {
+      for (const Keyframe& other : m.keyframes)
+        if (other.frame == frame)
+          s->fail("images", "frame " + std::to_string(frame) + " (" + file + ") already has a keyframe");
       Keyframe kf;
       kf.frame = frame;
       kf.weight = weight;
