@@ -97,6 +97,47 @@ TEST_F(Control, KilledRunResumesToTheSameObjective) {
   EXPECT_NEAR(double(m["objective"]), objective, 1e-9 * objective);
 }
 
+// The ADMM method (outer loop, then the L-BFGS polish): SIGKILL after its second outer
+// iteration's report (its checkpoint precedes the report), --resume ends at the
+// uninterrupted run's objective (the checkpoint holds all the state the solver carries).
+TEST_F(Control, KilledAdmmRunResumesToTheSameObjective) {
+  nlohmann::json doc = control_scene(32, 12, 10, 1e-4);
+  doc["control"]["method"] = "admm";
+  doc["control"]["admm"] = {{"nso_vcycles", 2}, {"polish_iterations", 20}};
+  const fs::path scene = write_scene("admm.json", doc);
+  const ProcessResult full = pliant({"run", scene.string(), "--take", (dir_ / "full").string(), "--threads", "1"});
+  ASSERT_EQ(full.exit_code, 0) << full.err;
+  const auto full_events = parse_json_lines(full.out);
+  const nlohmann::json* full_done = find_done(full_events);
+  ASSERT_TRUE(full_done);
+  const double objective = double((*full_done)["metrics"]["objective"]);
+  const fs::path take = dir_ / "killed";
+  {
+    LiveProcess p({kPliant, "run", scene.string(), "--take", take.string(), "--threads", "1"}, dir_ / "err.txt");
+    bool seen = false;
+    while (auto line = p.read_line(60)) {
+      const auto e = nlohmann::json::parse(*line);
+      if (e["event"] == "progress" && e["stage"] == "admm" && int(e["iter"]) >= 2) {
+        seen = true;
+        break;
+      }
+    }
+    ASSERT_TRUE(seen);
+    p.send_signal(SIGKILL);
+  }
+  Record cp;
+  ASSERT_TRUE(TakeReader(take).latest(RecordKind::Checkpoint, &cp));
+  const ProcessResult resumed =
+      pliant({"run", scene.string(), "--take", take.string(), "--threads", "1", "--resume"});
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
+  const auto resumed_events = parse_json_lines(resumed.out);
+  const nlohmann::json* done = find_done(resumed_events);
+  ASSERT_TRUE(done);
+  const auto& m = (*done)["metrics"];
+  EXPECT_GE(int(m["resumed_from_iteration"]), 2);
+  EXPECT_NEAR(double(m["objective"]), objective, 1e-9 * objective);
+}
+
 TEST_F(Control, InvalidKeyframesExitTwo) {
   nlohmann::json doc = control_scene(16, 6, 5);
   doc["control"]["keyframes"][0]["frame"] = 7;

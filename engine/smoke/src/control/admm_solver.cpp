@@ -160,8 +160,10 @@ void admm_run(const ControlModel& m, ControlState& s, Progress& progress, const 
     s.wall_s += seconds_since(t0);
     ++s.iteration;
     if (stats) stats->push_back(it);
-    progress.report(s.iteration, it.objective);
+    // Checkpoint first, then report: whoever sees the progress event can rely on the
+    // checkpoint being in the take (as in control_lbfgs.cpp).
     if (cb.on_iteration) cb.on_iteration(s);
+    progress.report(s.iteration, it.objective);
   }
 }
 
