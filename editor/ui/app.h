@@ -63,7 +63,7 @@ struct PanelVisibility {
 
 // The path-entry popup that stands in for native file dialogs.
 struct FileDialog {
-  enum class Mode { None, Open, SaveAs, OpenTake } mode = Mode::None;
+  enum class Mode { None, Open, SaveAs, OpenTake, ExportPng, ExportMp4, ExportVdb, ImportImage } mode = Mode::None;
   bool open_requested = false;
   char path[1024] = {};
   std::string error;

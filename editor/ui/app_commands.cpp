@@ -144,6 +144,11 @@ void App::open_file_dialog(FileDialog::Mode mode) {
   std::string init;
   if (mode == FileDialog::Mode::SaveAs && doc.has_path()) init = doc.path().string();
   if (mode == FileDialog::Mode::OpenTake && !doc.take_dir.empty()) init = doc.take_dir.string();
+  if (!take.dir().empty()) {
+    if (mode == FileDialog::Mode::ExportPng) init = take.dir().string() + "-png";
+    if (mode == FileDialog::Mode::ExportMp4) init = take.dir().string() + "-mp4";
+    if (mode == FileDialog::Mode::ExportVdb) init = take.dir().string() + "-vdb";
+  }
   std::snprintf(file_dialog.path, sizeof file_dialog.path, "%s", init.c_str());
 }
 

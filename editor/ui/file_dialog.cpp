@@ -20,9 +20,14 @@ void draw_file_dialog(App& app) {
   ImGui::SetNextWindowPos(ImVec2(ds.x * 0.5f, ds.y * 0.4f), ImGuiCond_Always, ImVec2(0.5f, 0.5f));
   ImGui::SetNextWindowSize(ImVec2(std::min(640.0f, ds.x - 40), 0), ImGuiCond_Always);
   if (!ImGui::BeginPopupModal(id, nullptr, ImGuiWindowFlags_NoMove)) return;
-  const char* what = d.mode == FileDialog::Mode::Open     ? "Open scene (.json)"
-                     : d.mode == FileDialog::Mode::SaveAs ? "Save scene as (.json)"
-                                                          : "Open take folder";
+  using M = FileDialog::Mode;
+  const char* what = d.mode == M::Open          ? "Open scene (.json)"
+                     : d.mode == M::SaveAs      ? "Save scene as (.json)"
+                     : d.mode == M::ExportPng   ? "Export PNG sequence to folder"
+                     : d.mode == M::ExportMp4   ? "Export MP4 (take.mp4 and frames/) to folder"
+                     : d.mode == M::ExportVdb   ? "Export OpenVDB density (3D) to folder"
+                     : d.mode == M::ImportImage ? "Import image as a new keyframe at the current frame"
+                                                : "Open take folder";
   ImGui::TextUnformatted(what);
   if (ImGui::IsWindowAppearing()) ImGui::SetKeyboardFocusHere();
   ImGui::SetNextItemWidth(-1);
@@ -38,6 +43,10 @@ void draw_file_dialog(App& app) {
     bool done = false;
     if (d.mode == FileDialog::Mode::Open) done = app.cmd_open(d.path);
     else if (d.mode == FileDialog::Mode::SaveAs) done = app.cmd_save_as(d.path);
+    else if (d.mode == M::ExportPng) done = app.cmd_export("png", d.path);
+    else if (d.mode == M::ExportMp4) done = app.cmd_export("mp4", d.path);
+    else if (d.mode == M::ExportVdb) done = app.cmd_export("vdb", d.path);
+    else if (d.mode == M::ImportImage) done = import_image_keyframe(app, d.path, true);
     else done = app.cmd_open_take(d.path);
     if (done) {
       d.mode = FileDialog::Mode::None;

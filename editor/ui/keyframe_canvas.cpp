@@ -220,7 +220,7 @@ void draw_keyframe_canvas(App& app) {
   const json& scene = app.doc.scene();
   refresh_canvas_cache(app);
 
-  // Row 1: slot, tool, brush.
+  // Row 1 (after the Result/Keyframes switch): slot, onion skin, whole-keyframe edits.
   ImGui::SetNextItemWidth(150);
   if (ImGui::BeginCombo("##slot", slot_label(s.slot, scene).c_str())) {
     if (ImGui::Selectable("Initial density", s.slot == kInitialDensitySlot)) s.slot = kInitialDensitySlot;
@@ -231,46 +231,47 @@ void draw_keyframe_canvas(App& app) {
     ImGui::EndCombo();
   }
   ui_mark("canvas_slot");
-  for (int t = 0; t < 7; ++t) {
-    ImGui::SameLine();
-    if (ImGui::RadioButton(kToolNames[t], s.tool == CanvasTool(t))) s.tool = CanvasTool(t);
-    ui_mark(std::string("tool_") + kToolNames[t]);
-  }
-  ImGui::SetNextItemWidth(110);
-  ImGui::SliderFloat("size", &s.radius_cells, 0.5f, 32.0f, "%.1f cells", ImGuiSliderFlags_Logarithmic);
   ImGui::SameLine();
-  ImGui::SetNextItemWidth(90);
-  ImGui::SliderFloat("hardness", &s.hardness, 0.0f, 1.0f, "%.2f");
+  ImGui::Checkbox("onion", &s.onion);
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("previous keyframe in blue, next in orange");
   ImGui::SameLine();
-  ImGui::Checkbox("onion skin", &s.onion);
-  ImGui::SameLine();
-  if (ImGui::Button("Clear")) {
-    commit_canvas(app, make_painted_grid(s.grid.n[0], s.grid.n[1]), "Clear");
-  }
+  if (ImGui::Button("Clear")) commit_canvas(app, make_painted_grid(s.grid.n[0], s.grid.n[1]), "Clear");
   ui_mark("canvas_clear");
   ImGui::SameLine();
   if (ImGui::Button("Grow")) commit_canvas(app, transform_grid(s.grid, 0, 0, 1.1), "Scale 110%");
   ImGui::SameLine();
   if (ImGui::Button("Shrink")) commit_canvas(app, transform_grid(s.grid, 0, 0, 1.0 / 1.1), "Scale 91%");
+  // Row 2: tools and the brush.
+  for (int t = 0; t < 7; ++t) {
+    if (t) ImGui::SameLine();
+    if (ImGui::RadioButton(kToolNames[t], s.tool == CanvasTool(t))) s.tool = CanvasTool(t);
+    ui_mark(std::string("tool_") + kToolNames[t]);
+  }
   // Row 2: tool options.
+  ImGui::SetNextItemWidth(110);
+  ImGui::SliderFloat("size", &s.radius_cells, 0.5f, 32.0f, "%.1f cells", ImGuiSliderFlags_Logarithmic);
+  ImGui::SameLine();
+  ImGui::SetNextItemWidth(80);
+  ImGui::SliderFloat("hardness", &s.hardness, 0.0f, 1.0f, "%.2f");
+  ImGui::SameLine();
   if (s.tool == CanvasTool::Text) {
-    ImGui::SetNextItemWidth(120);
+    ImGui::SetNextItemWidth(70);
     ImGui::InputText("text", s.text, sizeof s.text);
     ui_mark("canvas_text");
     ImGui::SameLine();
-    ImGui::SetNextItemWidth(90);
+    ImGui::SetNextItemWidth(70);
     ImGui::SliderFloat("height", &s.text_height, 0.05f, 1.0f, "%.2f");
     if (ImGui::IsItemHovered()) ImGui::SetTooltip("letter height as a fraction of the domain; click the canvas to place");
     ImGui::SameLine();
-    ImGui::SetNextItemWidth(200);
+    ImGui::SetNextItemWidth(90);
     ImGui::InputTextWithHint("font", "DejaVu Sans Bold (shipped)", s.font, sizeof s.font);
   } else {
-    ImGui::SetNextItemWidth(260);
-    ImGui::InputTextWithHint("##import", "image file (PNG, JPG) or drop one on the window", s.import_path,
+    ImGui::SetNextItemWidth(150);
+    ImGui::InputTextWithHint("##import", "image file, or drop one", s.import_path,
                              sizeof s.import_path);
     ui_mark("canvas_import_path");
     ImGui::SameLine();
-    if (ImGui::Button("Import image")) import_image_keyframe(app, s.import_path, false);
+    if (ImGui::Button("Import")) import_image_keyframe(app, s.import_path, false);
     ui_mark("canvas_import");
   }
   if (!s.error.empty()) ImGui::TextColored(kWarnColor, "%s", s.error.c_str());

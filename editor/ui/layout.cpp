@@ -10,10 +10,10 @@ namespace pliant::editor {
 Layout compute_layout(float width, float height, float menu_h) {
   float left = std::clamp(width * 0.22f, 260.0f, 380.0f);
   float right = std::clamp(width * 0.22f, 260.0f, 380.0f);
-  float timeline_h = 96.0f;
+  float timeline_h = 124.0f;  // slider + keyframe markers
   float top = menu_h, body_h = std::max(height - menu_h, 100.0f);
   float mid_w = std::max(width - left - right, 100.0f);
-  float jobs_h = std::floor(body_h * 0.5f);
+  float jobs_h = std::floor(body_h * 0.6f);  // room for the solve panel's curves
   Layout l;
   l.inspector = {0, top, left, body_h};
   l.viewport = {left, top, mid_w, body_h - timeline_h};

@@ -22,6 +22,21 @@ void draw_menu_bar(App& app) {
     ImGui::Separator();
     if (ImGui::MenuItem("Open Take...")) app.open_file_dialog(FileDialog::Mode::OpenTake);
     ImGui::Separator();
+    if (ImGui::MenuItem("Import Image as Keyframe...")) app.open_file_dialog(FileDialog::Mode::ImportImage);
+    ui_mark("Import Image");
+    const bool has_frames = app.take.frame_count() > 0;
+    if (ImGui::MenuItem("Export PNG Sequence...", nullptr, false, has_frames))
+      app.open_file_dialog(FileDialog::Mode::ExportPng);
+    ui_mark("Export PNG");
+    if (ImGui::MenuItem("Export MP4...", nullptr, false, has_frames && !find_ffmpeg().empty()))
+      app.open_file_dialog(FileDialog::Mode::ExportMp4);
+    ui_mark("Export MP4");
+    if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled) && find_ffmpeg().empty())
+      ImGui::SetTooltip("needs ffmpeg (apt-get install ffmpeg)");
+    if (ImGui::MenuItem("Export OpenVDB (3D)...", nullptr, false, has_frames))
+      app.open_file_dialog(FileDialog::Mode::ExportVdb);
+    ui_mark("Export VDB");
+    ImGui::Separator();
     if (ImGui::MenuItem("Quit")) app.request_quit();
     ImGui::EndMenu();
   }

@@ -110,7 +110,6 @@ void draw_smoke_solve_panel(App& app) {
     if (ImGui::IsItemHovered())
       ImGui::SetTooltip("cells along x and y; painted keyframes are resampled, so you can sketch coarse\n"
                         "and solve fine (the cell size stays: the domain grows or shrinks)");
-    ImGui::SameLine();
   }
   int frames = smoke_frames(scene);
   ImGui::SetNextItemWidth(80);
@@ -136,6 +135,7 @@ void draw_smoke_solve_panel(App& app) {
   if (ImGui::IsItemHovered())
     ImGui::SetTooltip("ADMM: the paper's solver with a spacetime multigrid (coarse previews first).\n"
                       "L-BFGS: the discrete-adjoint baseline.");
+  ImGui::SameLine();
   int iters = c.value("max_iterations", 50);
   ImGui::SetNextItemWidth(80);
   if (ImGui::InputInt("iterations", &iters, 1, 10, ImGuiInputTextFlags_EnterReturnsTrue) && iters >= 1)

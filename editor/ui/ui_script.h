@@ -13,6 +13,11 @@
 //   wait_frames N [timeout_s] until the take has N frames
 //   click_item LABEL [left|right|double]   an item marked with ui_mark(LABEL)
 //   drag_item LABEL DX DY [frames]         drag from an item's centre
+//   drag_item_at LABEL FX0 FY0 FX1 FY1 [frames]  drag between points given as
+//                             fractions of an item's rectangle (0,0 top-left)
+//   click_item_at LABEL FX FY a left click at a fraction of an item's rectangle
+//   export png|mp4|vdb DIR    File > Export through the path dialog
+//   wait_export [timeout_s]   until the newest export has ended (default 60 s)
 //   set_frame N               drags the timeline slider, then steps with arrow keys
 //   screenshot PATH [viewport]
 //   drop PATH...              as if files were dropped on the window

@@ -25,6 +25,8 @@ const std::map<std::string, Arity>& commands() {
       {"click_item", {1, 2}},  {"drag_item", {3, 4}},    {"set_frame", {1, 1}},
       {"screenshot", {1, 2}},  {"drop", {1, -1}},        {"expect", {1, 1}},
       {"expect_json", {2, 2}}, {"quit", {0, 0}},
+      {"drag_item_at", {5, 6}}, {"click_item_at", {3, 3}}, {"export", {2, 2}},
+      {"wait_export", {0, 1}},
   };
   return m;
 }
@@ -120,7 +122,10 @@ Script parse_script(const std::string& text, const std::string& file_label,
     } else if (c.op == "move" || c.op == "drag" || c.op == "scroll" || c.op == "wait" ||
         c.op == "wait_job" || c.op == "wait_frames" || c.op == "set_frame")
       need_num(0, n);
-    if (c.op == "drag_item") need_num(1, n);
+    if (c.op == "drag_item" || c.op == "drag_item_at" || c.op == "click_item_at") need_num(1, n);
+    if (c.op == "wait_export") need_num(0, n);
+    if (c.op == "export" && c.args[0] != "png" && c.args[0] != "mp4" && c.args[0] != "vdb")
+      fail("export: unknown format '" + c.args[0] + "' (png, mp4 or vdb)");
     if (c.op == "click") {
       int first = 0;
       if (n == 1 || n == 3) {

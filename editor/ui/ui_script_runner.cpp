@@ -261,6 +261,59 @@ bool ScriptRunner::run_command(App& app, const ScriptCommand& c) {
     }
     return drag_phases(phase_ - y_base_);
   }
+  if (c.op == "drag_item_at" || c.op == "click_item_at") {
+    const bool is_click = c.op == "click_item_at";
+    if (phase_ == 0) button_ = -1;
+    if (button_ < 0) {
+      const UiRect* r;
+      if (!locate(a[0], &r)) return false;
+      auto px = [&](const std::string& f) { return r->x0 + (r->x1 - r->x0) * num(f); };
+      auto py = [&](const std::string& f) { return r->y0 + (r->y1 - r->y0) * num(f); };
+      x0_ = px(a[1]);
+      y0_ = py(a[2]);
+      x1_ = is_click ? x0_ : px(a[3]);
+      y1_ = is_click ? y0_ : py(a[4]);
+      frames_ = is_click ? 1 : std::max(1, a.size() > 5 ? static_cast<int>(num(a[5])) : 10);
+      button_ = 0;
+      y_base_ = phase_;
+    }
+    return is_click ? click_phases(phase_ - y_base_, false) : drag_phases(phase_ - y_base_);
+  }
+  if (c.op == "export") {
+    // Through the menu's dialog: the same path a person takes.
+    if (phase_ == 0) {
+      app.open_file_dialog(a[0] == "png" ? FileDialog::Mode::ExportPng
+                           : a[0] == "mp4" ? FileDialog::Mode::ExportMp4
+                                           : FileDialog::Mode::ExportVdb);
+      std::snprintf(app.file_dialog.path, sizeof app.file_dialog.path, "%s", resolve(a[1]).c_str());
+      return false;
+    }
+    if (phase_ < 3) return false;  // the popup opens
+    const UiRect* r;
+    if (phase_ == 3) frames_ = -1;
+    if (frames_ < 0) {
+      if (!locate("dialog_ok", &r)) return false;
+      frames_ = phase_;
+      x0_ = r->cx();
+      y0_ = r->cy();
+      button_ = 0;
+    }
+    return click_phases(phase_ - frames_, false);
+  }
+  if (c.op == "wait_export") {
+    double timeout = a.empty() ? 60 : num(a[0]);
+    if (!app.export_run) {
+      fail(c, "no export was started");
+      return false;
+    }
+    if (app.export_run->done()) {
+      if (!app.export_run->ok()) fail(c, app.export_run->message());
+      return !failed_;
+    }
+    yield_cpu();
+    if (elapsed() > timeout) fail(c, "export still running after " + std::to_string(timeout) + " s");
+    return false;
+  }
   if (c.op == "set_frame") {
     int target = static_cast<int>(num(a[0]));
     if (phase_ == 0) {
