@@ -76,6 +76,10 @@ bool ContainerShape::in_cavity(const Vec3& p, int dim) const {
   return p[1] <= height_m && cavity_sdf(*this, r, p[1]) < 0;
 }
 
+bool ContainerShape::in_extended_cavity(const Vec3& p, int dim) const {
+  return cavity_sdf(*this, radial(*this, p, dim), p[1]) < 0;
+}
+
 double ContainerShape::cavity_volume(int dim) const {
   const double pi = 3.14159265358979323846;
   auto section = [&](double rad) {

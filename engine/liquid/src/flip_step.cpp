@@ -176,7 +176,7 @@ void particles_to_grid(const FlipGrid& g, const LiquidState& s, FlipWorkspace& w
     w.valid[c].resize(g.faces(c));
   }
   const float R = float(0.6 * g.h);
-  w.phi_liquid.assign(g.cells(), float(3 * g.h));
+  w.phi_liquid.assign(g.cells(), float(9 * g.h * g.h));
   const int axis = g.dim - 1;
   const int layers = axis == 2 ? g.nz : g.ny;
   const int plane = axis == 2 ? g.nx * g.ny : g.nx;
@@ -222,12 +222,15 @@ void particles_to_grid(const FlipGrid& g, const LiquidState& s, FlipWorkspace& w
               const Vec3 cp = g.cell_pos(i, j, k);
               float d2 = 0;
               for (int a = 0; a < g.dim; ++a) d2 += (x[a] - float(cp[a])) * (x[a] - float(cp[a]));
-              float& phi = w.phi_liquid[g.cell(i, j, k)];
-              phi = std::min(phi, std::sqrt(d2) - R);
+              float& phi = w.phi_liquid[g.cell(i, j, k)];  // squared distance until the end
+              phi = std::min(phi, d2);
             }
       }
     }
   }
+  const int nc = g.cells();
+#pragma omp parallel for schedule(static) if (worth_threads(g.cells()))
+  for (int ci = 0; ci < nc; ++ci) w.phi_liquid[ci] = std::sqrt(w.phi_liquid[ci]) - R;
   for (int c = 0; c < g.dim; ++c) {
     const int n = g.faces(c);
 #pragma omp parallel for schedule(static) if (worth_threads(g.cells()))
@@ -356,7 +359,16 @@ void liquid_substep(const LiquidModel& m, LiquidState& s, double dt, StepStats* 
   const FlipGrid g = model_grid(m);
   FlipWorkspace& w = workspace(m);
   const int np = int(s.count());
+  double clock = omp_get_wtime();
+  auto lap = [&](double* acc) {
+    const double now = omp_get_wtime();
+    if (stats) *acc += now - clock;
+    clock = now;
+  };
+  StepStats local;
+  StepStats& acc = stats ? *stats : local;
   build_solids(g, m, w, s.time_s + dt);
+  lap(&acc.solids_s);
   sort_particles(g, s, w);
   particles_to_grid(g, s, w);
   w.fluid.assign(g.cells(), 0);
@@ -371,10 +383,14 @@ void liquid_substep(const LiquidModel& m, LiquidState& s, double dt, StepStats* 
     for (int f = 0; f < n; ++f)
       if (w.open[c][f] > 0) w.vel[c][f] += dv;
   }
+  lap(&acc.transfer_s);
   apply_viscosity(g, m, w, dt);
+  lap(&acc.viscosity_s);
   const int iters = project_pressure(g, m, w, dt);
+  lap(&acc.pressure_s);
   extrapolate(g, w, 3);
   set_solid_faces(g, w);
+  lap(&acc.transfer_s);
   // Grid to particles (FLIP/PIC blend) and RK2 advection in the new field.
   const float flip = float(m.flip_ratio);
   const Pose pose_end = source_pose_at(m, s.time_s + dt);
@@ -397,6 +413,7 @@ void liquid_substep(const LiquidModel& m, LiquidState& s, double dt, StepStats* 
     for (int c = 0; c < g.dim; ++c) sp += double(v[c]) * v[c];
     vmax = std::max(vmax, sp);
   }
+  lap(&acc.advect_s);
   s.time_s += dt;
   ++s.substeps;
   if (stats) {

@@ -184,6 +184,11 @@ LiquidModel liquid_compile(const Scene& scene) {
                                                : Planner::None;
     m.planner.iterations = int(p->integer("iterations", m.planner.iterations, 1, 1000));
     m.planner.population = int(p->integer("population", m.planner.population, 4, 1000));
+    m.planner.generations = int(p->integer("generations", m.planner.generations, 1, 100000));
+    m.planner.keys = int(p->integer("keys", m.planner.keys, 1, 20));
+    m.planner.fit_discharge = p->boolean("fit_discharge", m.planner.fit_discharge);
+    m.planner.refine_iterations = int(p->integer("refine_iterations", m.planner.refine_iterations, 0, 100));
+    m.planner.discharge_coefficient = p->number("discharge_coefficient", m.planner.discharge_coefficient, 0.01, 10);
     m.planner.pour_time_s = p->number("pour_time_s", m.planner.pour_time_s, 0.1, 100);
     m.planner.max_tilt_rad = p->number("max_tilt_deg", m.planner.max_tilt_rad / kDeg, 10, 180) * kDeg;
     m.planner.seed = uint64_t(p->integer("seed", 1, 0));

@@ -14,7 +14,7 @@ namespace {
 double dot(const std::vector<double>& a, const std::vector<double>& b) {
   double s = 0;
   const int n = int(a.size());
-#pragma omp parallel for schedule(static) reduction(+ : s) if (worth_threads(n))
+#pragma omp parallel for schedule(static) reduction(+ : s) if (n > (1 << 19))
   for (int i = 0; i < n; ++i) s += a[i] * b[i];
   return s;
 }
@@ -114,8 +114,11 @@ int project_pressure(const FlipGrid& g, const LiquidModel& m, FlipWorkspace& w, 
       z[ci] = t * pre[ci];
     }
   };
+  // The MIC(0) sweeps are sequential, so the Krylov vector operations between
+  // them are threaded only on large grids (a barrier per operation costs more
+  // than it saves below about half a million cells).
   auto matvec = [&](const std::vector<double>& x, std::vector<double>& y) {
-#pragma omp parallel for schedule(static) if (worth_threads(g.cells()))
+#pragma omp parallel for schedule(static) if (n > (1 << 19))
     for (int ci = 0; ci < n; ++ci) {
       if (A0[ci] <= 0) { y[ci] = 0; continue; }
       double t = A0[ci] * x[ci];
@@ -141,7 +144,7 @@ int project_pressure(const FlipGrid& g, const LiquidModel& m, FlipWorkspace& w, 
       matvec(w.s, As);
       const double alpha = rho / std::max(1e-300, dot(w.s, As));
       double rmax = 0;
-#pragma omp parallel for schedule(static) reduction(max : rmax) if (worth_threads(g.cells()))
+#pragma omp parallel for schedule(static) reduction(max : rmax) if (n > (1 << 19))
       for (int i = 0; i < n; ++i) {
         w.p[i] += alpha * w.s[i];
         w.r[i] -= alpha * As[i];
@@ -152,7 +155,7 @@ int project_pressure(const FlipGrid& g, const LiquidModel& m, FlipWorkspace& w, 
       const double rho_new = dot(w.z, w.r);
       const double beta = rho_new / rho;
       rho = rho_new;
-#pragma omp parallel for schedule(static) if (worth_threads(g.cells()))
+#pragma omp parallel for schedule(static) if (n > (1 << 19))
       for (int i = 0; i < n; ++i) w.s[i] = w.z[i] + beta * w.s[i];
     }
   }

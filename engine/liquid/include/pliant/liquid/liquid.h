@@ -46,6 +46,10 @@ struct ContainerShape {
   double wall_sdf(const Vec3& local, int dim) const;
   // Inside the cavity (below the opening)?
   bool in_cavity(const Vec3& local, int dim) const;
+  // Inside the cavity continued above the opening (the walls extended upward).
+  bool in_extended_cavity(const Vec3& local, int dim) const;
+  // Opening radius (bottle: neck) and the cavity's bounding half-widths.
+  double opening_radius() const { return type == Bottle ? neck_radius_m : radius_m; }
   double cavity_volume(int dim) const;  // m^3 (2D: m^2 of the cross-section)
 };
 
@@ -81,8 +85,13 @@ enum class Planner { None, Correction, Simplified, Feedback };
 
 struct PlannerSettings {
   Planner planner = Planner::None;
-  int iterations = 10;            // correction: MaxIterations; simplified: CMA-ES generations
+  int iterations = 10;            // correction: MaxIterations of Algorithm 2
+  int generations = 100;          // simplified: CMA-ES generations
   int population = 12;            // CMA-ES lambda
+  int keys = 6;                   // trajectory key poses after the start
+  bool fit_discharge = true;      // simplified: fit Cd to one full simulation
+  int refine_iterations = 3;      // simplified: Algorithm 2 rounds on the CMA-ES plan (0 = none)
+  double discharge_coefficient = 0.6;  // Cd when not fitted
   double pour_time_s = 1.5;       // duration of the planned pour
   double max_tilt_rad = 2.4;
   uint64_t seed = 1;
@@ -126,6 +135,8 @@ struct StepStats {
   int substeps = 0;
   int pressure_iterations = 0;
   double max_speed = 0;
+  // Wall seconds per phase (profiling; summed over substeps).
+  double solids_s = 0, transfer_s = 0, pressure_s = 0, viscosity_s = 0, advect_s = 0;
 };
 
 LiquidModel liquid_compile(const Scene& scene);  // throws InputError

@@ -1,0 +1,129 @@
+// bench_liquid [--quick] [--out FILE]: prints one JSON object per case and
+// writes them as an array to bench/results/liquid.json.
+//   sim_<dim>d_<n>k_t<threads>: dam-break-style collapse, particle_steps_per_s
+//   dam_break_3d: 0.5 m cube in a 1 m box (~60k particles), wall_per_sim_s
+//   planner cases: see planner_cases() (success_at_5, mean_transfer, plan_s).
+#include <omp.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "bench_planners.h"
+#include "pliant/liquid/liquid.h"
+
+using namespace pliant::liquid;
+
+namespace {
+
+std::string machine() {
+  std::ifstream in("/proc/cpuinfo");
+  std::string line, model = "unknown";
+  while (std::getline(in, line))
+    if (line.rfind("model name", 0) == 0) {
+      model = line.substr(line.find(':') + 2);
+      break;
+    }
+  return std::to_string(std::thread::hardware_concurrency()) + " x " + model;
+}
+
+// A cube of liquid of side `side` (m) in the corner of a box of side 2*side,
+// cells sized so the cube holds about `particles` particles (8 per cell in 3D,
+// 4 in 2D).
+LiquidModel collapse_model(int dim, double side, int particles) {
+  LiquidModel m;
+  m.dim = dim;
+  const double per_cell = dim == 3 ? 8 : 4;
+  const double cells_per_axis = std::pow(particles / per_cell, 1.0 / dim);
+  m.cell_size_m = side / cells_per_axis;
+  m.domain_min_m = {0, 0, 0};
+  m.domain_max_m = {2 * side, 2 * side, dim == 3 ? 2 * side : 0};
+  const int n = int(std::ceil(2 * side / m.cell_size_m - 1e-9));
+  m.n = {n, n, dim == 3 ? n : 1};
+  m.has_source = m.has_target = false;
+  m.cfl = 2.0;
+  m.liquid_boxes.push_back({{0, 0, 0}, {side, side, dim == 3 ? side : 0}});
+  return m;
+}
+
+nlohmann::json run_sim(const std::string& name, const LiquidModel& m, int threads, double sim_s) {
+  omp_set_num_threads(threads);
+  LiquidState s = liquid_init(m);
+  StepStats st;
+  liquid_step(m, s);  // warm the workspace
+  s = liquid_init(m);
+  const int frames = std::max(1, int(sim_s / m.dt_s + 0.5));
+  long long particle_steps = 0;
+  const double t0 = omp_get_wtime();
+  for (int f = 0; f < frames; ++f) {
+    const int before = st.substeps;
+    liquid_step(m, s, &st);
+    particle_steps += (long long)(st.substeps - before) * (long long)s.count();
+  }
+  const double wall = omp_get_wtime() - t0;
+  nlohmann::json j = {{"case", name},
+                      {"dim", m.dim},
+                      {"particles", s.count()},
+                      {"cells", m.n[0] * m.n[1] * m.n[2]},
+                      {"threads", threads},
+                      {"simulated_s", frames * m.dt_s},
+                      {"substeps", st.substeps},
+                      {"wall_s", wall},
+                      {"particle_steps_per_s", particle_steps / wall},
+                      {"wall_per_sim_s", wall / (frames * m.dt_s)},
+                      {"pressure_iterations_per_substep", double(st.pressure_iterations) / st.substeps},
+                      {"phase_s",
+                       {{"solids", st.solids_s},
+                        {"transfer", st.transfer_s},
+                        {"pressure", st.pressure_s},
+                        {"viscosity", st.viscosity_s},
+                        {"advect", st.advect_s}}}};
+  return j;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  bool quick = false, sims = true, planners = true;
+  std::string out = PLIANT_BENCH_RESULTS;
+  for (int i = 1; i < argc; ++i) {
+    if (!std::strcmp(argv[i], "--quick")) quick = true;
+    else if (!std::strcmp(argv[i], "--out") && i + 1 < argc) out = argv[++i];
+    else if (!std::strcmp(argv[i], "--sim-only")) planners = false;
+    else if (!std::strcmp(argv[i], "--planners-only")) sims = false;
+  }
+  const std::string mach = machine();
+  nlohmann::json all = nlohmann::json::array();
+  auto emit = [&](nlohmann::json j) {
+    j["machine"] = mach;
+    j["mode"] = quick ? "quick" : "full";
+    std::printf("%s\n", j.dump().c_str());
+    std::fflush(stdout);
+    all.push_back(j);
+  };
+  const int maxt = std::max(1, int(std::thread::hardware_concurrency()));
+  if (sims) {
+    const double sim_s = quick ? 0.1 : 0.4;
+    for (int dim : {3, 2})
+      for (int np : {8000, 60000})
+        for (int t : {1, std::min(2, maxt)}) {
+          if (t == 1 && maxt == 1 && t != 1) continue;
+          emit(run_sim("sim_" + std::to_string(dim) + "d_" + std::to_string(np / 1000) + "k_t" + std::to_string(t),
+                       collapse_model(dim, 0.5, np), t, sim_s));
+          if (maxt == 1) break;
+        }
+    // The dam break of the issue: 0.5 m cube in a 1 m box, ~60k particles, all threads.
+    LiquidModel dam = collapse_model(3, 0.5, 60000);
+    emit(run_sim("dam_break_3d", dam, std::min(2, maxt), quick ? 0.2 : 1.0));
+  }
+  if (planners)
+    for (auto& j : bench_planners(quick)) emit(j);
+  std::ofstream f(out);
+  f << all.dump(2) << "\n";
+  std::fprintf(stderr, "wrote %s\n", out.c_str());
+  return 0;
+}
