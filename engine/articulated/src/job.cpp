@@ -141,8 +141,14 @@ nlohmann::json articulated_run_job(JobContext& ctx) {
   const auto t0 = std::chrono::steady_clock::now();
   double e0 = 0, e_min = 1e300, e_max = -1e300;
   int frames_written = 0;
+  Vec3 root0 = Vec3::Zero();
+  double root_displacement = 0;
   auto write = [&](const State& s) {
     Record rec = articulated_frame_record(m, o, s, frames_written, ws);
+    if (m.bodies.size() > 1) {
+      if (frames_written == 0) root0 = ws.kin.xpos[1];
+      root_displacement = (ws.kin.xpos[1] - root0).norm();
+    }
     const double e = rec.find("energy")->data[2];
     if (frames_written == 0) e0 = e;
     e_min = std::min(e_min, e);
@@ -188,6 +194,7 @@ nlohmann::json articulated_run_job(JobContext& ctx) {
   metrics["energy_initial"] = e0;
   metrics["energy_drift"] = std::max(std::abs(e_max - e0), std::abs(e_min - e0));
   metrics["frames"] = frames_written;
+  metrics["root_displacement_m"] = root_displacement;
   return metrics;
 }
 
