@@ -1,0 +1,389 @@
+// bench_articulated: PBAD (2nd/3rd order) and our Euler/RK4 against MuJoCo 2.2.2's
+// Euler, RK4 and implicit integrators on the same MJCF chains, in one process
+// (BENCHMARKS.md, "Articulated bodies (PBAD)"). One JSON object per case on stdout;
+// all of them in bench/results/articulated.json.
+//   chain_swing: chain released horizontally (whips when it swings down);
+//   chain_tilt:  chain released 30 degrees from vertical (smooth swing);
+//   energy_drift = max |E(t) - E0| / (potential energy range, horizontal to hanging).
+#include <omp.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <map>
+#include <tuple>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "pliant/articulated/io.h"
+#include "pliant/articulated/mpc.h"
+#include "pliant/articulated/sim.h"
+#ifdef PLIANT_HAVE_MUJOCO
+#include <mujoco/mujoco.h>
+#endif
+
+using namespace pliant::articulated;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+nlohmann::json g_results = nlohmann::json::array();
+std::string g_machine;
+
+void emit(nlohmann::json j) {
+  j["machine"] = g_machine;
+  std::printf("%s\n", j.dump().c_str());
+  std::fflush(stdout);
+  g_results.push_back(std::move(j));
+}
+
+std::string machine() {
+  std::ifstream in("/proc/cpuinfo");
+  std::string line, model = "unknown CPU";
+  while (std::getline(in, line))
+    if (line.rfind("model name", 0) == 0) {
+      model = line.substr(line.find(':') + 2);
+      break;
+    }
+  return std::to_string(omp_get_num_procs()) + " x " + model;
+}
+
+struct Outcome {
+  double drift = 0, wall = 0, sim_time = 0, iterations = 0;
+  int steps = 0;
+  bool stable = true;
+};
+
+double chain_range(const Model& m, int links, double len) {
+  double mass = 0;
+  for (const Body& b : m.bodies) mass += b.mass;
+  return mass / links * 9.81 * len * links * links / 2.0;
+}
+
+State chain_initial(const Model& m, bool tilt) {
+  State s = state_init(m);
+  if (tilt) s.qpos[0] = 1.3;  // hinge y of the root: 30 degrees from vertical
+  s.qvel[1] = tilt ? 0.3 : 0.5;
+  return s;
+}
+
+Outcome run_ours(const Model& m, Integrator integ, double dt, double duration, const State& init,
+                 double range) {
+  SimOptions o;
+  o.integrator = integ;
+  o.dt = dt;
+  o.contact.enabled = false;
+  State s = init;
+  SimWorkspace ws;
+  Outcome out;
+  const double e0 = state_energy(m, o, s, ws).total;
+  const int n = static_cast<int>(std::llround(duration / dt));
+  for (int i = 0; i < n; ++i) {
+    const auto t0 = Clock::now();
+    StepInfo info;
+    const bool ok = sim_step(m, o, s, ws, &info);
+    out.wall += std::chrono::duration<double>(Clock::now() - t0).count();
+    out.iterations += info.iterations;
+    ++out.steps;
+    const double e = ok ? state_energy(m, o, s, ws).total : NAN;
+    const double d = std::abs(e - e0) / range;
+    if (!std::isfinite(d) || d > 2) {
+      out.stable = false;
+      out.drift = std::isfinite(d) ? d : INFINITY;
+      break;
+    }
+    out.drift = std::max(out.drift, d);
+  }
+  out.sim_time = out.steps * dt;
+  out.iterations /= std::max(1, out.steps);
+  return out;
+}
+
+#ifdef PLIANT_HAVE_MUJOCO
+mjModel* mujoco_load(const std::string& xml, std::string* error) {
+  const auto path = std::filesystem::temp_directory_path() / ("bench_art_" + std::to_string(::getpid()) + ".xml");
+  std::ofstream(path) << xml;
+  char err[1000] = "";
+  mjModel* mm = mj_loadXML(path.c_str(), nullptr, err, sizeof(err));
+  std::filesystem::remove(path);
+  if (!mm) *error = err;
+  return mm;
+}
+
+Outcome run_mujoco(mjModel* mm, const Model& m, int integrator, double dt, double duration,
+                   const State& init, double range) {
+  mm->opt.integrator = integrator;
+  mm->opt.timestep = dt;
+  mjData* d = mj_makeData(mm);
+  for (int i = 0; i < m.nq; ++i) d->qpos[i] = init.qpos[i];
+  for (int i = 0; i < m.nv; ++i) d->qvel[i] = init.qvel[i];
+  SimOptions o;
+  o.contact.enabled = false;
+  SimWorkspace ws;
+  State s = init;
+  Outcome out;
+  const double e0 = state_energy(m, o, s, ws).total;
+  const int n = static_cast<int>(std::llround(duration / dt));
+  for (int i = 0; i < n; ++i) {
+    const auto t0 = Clock::now();
+    mj_step(mm, d);
+    out.wall += std::chrono::duration<double>(Clock::now() - t0).count();
+    ++out.steps;
+    for (int k = 0; k < m.nq; ++k) s.qpos[k] = d->qpos[k];
+    for (int k = 0; k < m.nv; ++k) s.qvel[k] = d->qvel[k];
+    const double e = s.qpos.allFinite() && s.qvel.allFinite() ? state_energy(m, o, s, ws).total : NAN;
+    const double dd = std::abs(e - e0) / range;
+    if (!std::isfinite(dd) || dd > 2 || d->warning[mjWARN_BADQACC].number > 0) {
+      out.stable = false;
+      out.drift = std::isfinite(dd) ? dd : INFINITY;
+      break;
+    }
+    out.drift = std::max(out.drift, dd);
+  }
+  out.sim_time = out.steps * dt;
+  mj_deleteData(d);
+  return out;
+}
+#endif
+
+nlohmann::json row(const std::string& c, const std::string& method, int links, double dt, const Outcome& o) {
+  nlohmann::json j = {{"case", c},
+                      {"method", method},
+                      {"links", links},
+                      {"dt", dt},
+                      {"energy_drift", std::isfinite(o.drift) ? nlohmann::json(o.drift) : nlohmann::json("inf")},
+                      {"stable", o.stable},
+                      {"wall_per_sim_s", o.sim_time > 0 ? o.wall / o.sim_time : 0.0},
+                      {"wall_per_step_us", o.steps > 0 ? 1e6 * o.wall / o.steps : 0.0},
+                      {"simulated_s", o.sim_time}};
+  if (method.rfind("pbad", 0) == 0) j["lm_iterations_per_step"] = o.iterations;
+  return j;
+}
+
+// Box on a plane tilted by `slope` (optionally sliding at v0 along x).
+std::string box_xml(double slope, double mu) {
+  const Quat q(Eigen::AngleAxisd(slope, Vec3::UnitY()));
+  char buf[1024];
+  std::snprintf(buf, sizeof buf,
+                "<mujoco><option timestep=\"0.01\"/><worldbody><geom type=\"plane\" size=\"50 50 0.1\" quat=\"%.17g %.17g %.17g %.17g\" friction=\"%g 0.005 0.0001\"/>"
+                "<body name=\"box\" pos=\"0 0 0.1\"><freejoint/><geom type=\"box\" size=\"0.1 0.1 0.1\" mass=\"1\" friction=\"%g 0.005 0.0001\"/></body>"
+                "</worldbody></mujoco>",
+                q.w(), q.x(), q.y(), q.z(), mu, mu);
+  return buf;
+}
+
+State box_state(const Model& m, double slope, double stiffness, double v0) {
+  const Quat q(Eigen::AngleAxisd(slope, Vec3::UnitY()));
+  const Vec3 n = q * Vec3::UnitZ();
+  State s = state_init(m);
+  s.qpos.head<3>() = n * (0.1 - 9.81 * std::cos(slope) / (4 * stiffness));
+  s.qpos.segment<4>(3) << q.w(), q.x(), q.y(), q.z();
+  s.qvel[0] = v0;
+  return s;
+}
+
+void contact_cases(bool quick) {
+  const double mu = 0.5, slope = 20 * M_PI / 180, dt = 0.01;
+  // Slope creep over 5 s.
+  {
+    const std::string xml = box_xml(slope, mu);
+    const Model m = model_from_mjcf(xml, "box.xml");
+    for (Integrator integ : {Integrator::Pbad3, Integrator::Pbad2}) {
+      SimOptions o;
+      o.integrator = integ;
+      o.dt = dt;
+      o.contact.mu = mu;
+      State s = box_state(m, slope, o.contact.stiffness, 0);
+      SimWorkspace ws;
+      const Vec3 p0 = s.qpos.head<3>();
+      const auto t0 = Clock::now();
+      for (int i = 0; i < 500; ++i) sim_step(m, o, s, ws);
+      const double wall = std::chrono::duration<double>(Clock::now() - t0).count();
+      emit({{"case", "slope_creep"}, {"method", integrator_name(integ)}, {"dt", dt}, {"slope_deg", 20}, {"mu", mu},
+            {"creep_m", (s.qpos.head<3>() - p0).norm()}, {"wall_s", wall}});
+    }
+#ifdef PLIANT_HAVE_MUJOCO
+    std::string err;
+    mjModel* mm = mujoco_load(xml, &err);
+    for (auto [name, integ, step] : {std::tuple{"mujoco_euler", (int)mjINT_EULER, 0.01},
+                                     std::tuple{"mujoco_euler", (int)mjINT_EULER, 0.002},
+                                     std::tuple{"mujoco_implicit", (int)mjINT_IMPLICIT, 0.01}}) {
+      mm->opt.integrator = integ;
+      mm->opt.timestep = step;
+      mjData* d = mj_makeData(mm);
+      const State s0 = box_state(m, slope, 1e5, 0);
+      for (int i = 0; i < 7; ++i) d->qpos[i] = s0.qpos[i];
+      // Let MuJoCo's soft contact settle for 0.5 s, then measure 5 s of creep.
+      const int settle = static_cast<int>(0.5 / step), n = static_cast<int>(5.0 / step);
+      for (int i = 0; i < settle; ++i) mj_step(mm, d);
+      const Vec3 p0(d->qpos[0], d->qpos[1], d->qpos[2]);
+      for (int i = 0; i < n; ++i) mj_step(mm, d);
+      emit({{"case", "slope_creep"}, {"method", name}, {"dt", step}, {"slope_deg", 20}, {"mu", mu},
+            {"creep_m", (Vec3(d->qpos[0], d->qpos[1], d->qpos[2]) - p0).norm()},
+            {"note", "MuJoCo defaults (pyramidal cone, default solref/solimp), after 0.5 s settling"}});
+      mj_deleteData(d);
+    }
+    mj_deleteModel(mm);
+#endif
+  }
+  // Box sliding v0 = 2 m/s: analytic stop distance 0.408 m.
+  {
+    const std::string xml = box_xml(0, mu);
+    const Model m = model_from_mjcf(xml, "box.xml");
+    const double analytic = 4.0 / (2 * mu * 9.81);
+    for (Integrator integ : {Integrator::Pbad3, Integrator::Pbad2}) {
+      SimOptions o;
+      o.integrator = integ;
+      o.dt = dt;
+      o.contact.mu = mu;
+      State s = box_state(m, 0, o.contact.stiffness, 2.0);
+      SimWorkspace ws;
+      const double x0 = s.qpos[0];
+      for (int i = 0; i < 150; ++i) sim_step(m, o, s, ws);
+      emit({{"case", "box_slide"}, {"method", integrator_name(integ)}, {"dt", dt}, {"stop_m", s.qpos[0] - x0},
+            {"analytic_m", analytic}, {"error_rel", (s.qpos[0] - x0) / analytic - 1}});
+    }
+#ifdef PLIANT_HAVE_MUJOCO
+    std::string err;
+    mjModel* mm = mujoco_load(xml, &err);
+    mm->opt.timestep = dt;
+    mjData* d = mj_makeData(mm);
+    const State s0 = box_state(m, 0, 1e5, 0);
+    for (int i = 0; i < 7; ++i) d->qpos[i] = s0.qpos[i];
+    for (int i = 0; i < 50; ++i) mj_step(mm, d);  // settle
+    const double x0 = d->qpos[0];
+    d->qvel[0] = 2.0;
+    for (int i = 0; i < 150; ++i) mj_step(mm, d);
+    emit({{"case", "box_slide"}, {"method", "mujoco_euler"}, {"dt", dt}, {"stop_m", d->qpos[0] - x0},
+          {"analytic_m", analytic}, {"error_rel", (d->qpos[0] - x0) / analytic - 1}});
+    mj_deleteData(d);
+    mj_deleteModel(mm);
+#endif
+  }
+  (void)quick;
+}
+
+void batched_case(bool quick) {
+  const Model m = model_from_mjcf(chain_mjcf(40), "chain.xml");
+  SimOptions o;
+  o.integrator = Integrator::Pbad3;
+  o.dt = 0.01;
+  o.contact.enabled = false;
+  const int trajectories = 100, steps = 10;
+  std::vector<double> walls;
+  for (int threads : {1, omp_get_num_procs()}) {
+    double best = 1e300;
+    int passes = 0;
+    for (int rep = 0; rep < (quick ? 1 : 3); ++rep) {
+      std::vector<State> states(trajectories);
+      for (int t = 0; t < trajectories; ++t) {
+        states[t] = chain_initial(m, true);
+        states[t].qvel[1] = 0.3 + 0.01 * t;  // every trajectory different
+      }
+      const auto t0 = Clock::now();
+      passes = batch_rollout(m, o, states, steps, threads);
+      best = std::min(best, std::chrono::duration<double>(Clock::now() - t0).count());
+    }
+    walls.push_back(best);
+    emit({{"case", "batched_rollouts"}, {"method", "pbad3"}, {"links", 40}, {"dt", o.dt},
+          {"trajectories", trajectories}, {"steps", steps}, {"threads", threads}, {"wall_s", best},
+          {"passes", passes}, {"trajectory_steps_per_s", trajectories * steps / best},
+          {"speedup_vs_1_thread", walls.front() / best}});
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  bool quick = false;
+  std::string out = std::string(PLIANT_RESULTS_DIR) + "/articulated.json";
+  for (int i = 1; i < argc; ++i) {
+    if (!std::strcmp(argv[i], "--quick")) quick = true;
+    else if (!std::strcmp(argv[i], "--out") && i + 1 < argc) out = argv[++i];
+  }
+  g_machine = machine();
+  const double duration = quick ? 2.0 : 10.0;
+  const std::vector<int> link_counts = quick ? std::vector<int>{10, 40} : std::vector<int>{10, 40, 100};
+  const std::vector<double> dts = quick ? std::vector<double>{0.005, 0.01, 0.05}
+                                        : std::vector<double>{0.001, 0.005, 0.01, 0.02, 0.05, 0.1};
+  // Matched accuracy bookkeeping: best wall per simulated second at drift <= 1%.
+  std::map<std::string, std::map<int, std::map<std::string, std::pair<double, double>>>> best;  // case, links, method -> (wall, dt)
+  for (const char* chain_case : {"chain_swing", "chain_tilt"}) {
+    const bool tilt = std::string(chain_case) == "chain_tilt";
+    for (int links : link_counts) {
+      const std::string xml = chain_mjcf(links);
+      const Model m = model_from_mjcf(xml, "chain.xml");
+      const double range = chain_range(m, links, 0.1);
+      const State init = chain_initial(m, tilt);
+      auto note = [&](const std::string& method, double dt, const Outcome& o) {
+        if (!o.stable || o.drift > 0.01) return;
+        auto& slot = best[chain_case][links][method];
+        const double w = o.wall / o.sim_time;
+        if (slot.first == 0 || dt > slot.second) slot = {w, dt};
+      };
+      for (double dt : dts) {
+        for (Integrator integ : {Integrator::Pbad2, Integrator::Pbad3, Integrator::Euler, Integrator::Rk4}) {
+          const Outcome o = run_ours(m, integ, dt, duration, init, range);
+          emit(row(chain_case, integrator_name(integ), links, dt, o));
+          note(integrator_name(integ), dt, o);
+        }
+#ifdef PLIANT_HAVE_MUJOCO
+        std::string err;
+        mjModel* mm = mujoco_load(xml, &err);
+        for (auto [name, integ] : {std::pair{"mujoco_euler", (int)mjINT_EULER}, std::pair{"mujoco_rk4", (int)mjINT_RK4},
+                                   std::pair{"mujoco_implicit", (int)mjINT_IMPLICIT}}) {
+          if (!mm) {
+            emit({{"case", chain_case}, {"method", name}, {"links", links}, {"dt", dt}, {"refused", true},
+                  {"stable", false}, {"error", err}});
+            continue;
+          }
+          const Outcome o = run_mujoco(mm, m, integ, dt, duration, init, range);
+          emit(row(chain_case, name, links, dt, o));
+          note(name, dt, o);
+        }
+        if (mm) mj_deleteModel(mm);
+#endif
+      }
+      // Matched accuracy: each family's largest dt in the sweep reaching <= 1% drift.
+      auto best_of = [&](std::initializer_list<const char*> methods, std::string* which, double* dt) {
+        double w = 0;
+        for (const char* meth : methods) {
+          auto it = best[chain_case][links].find(meth);
+          if (it == best[chain_case][links].end()) continue;
+          if (w == 0 || it->second.first < w) {
+            w = it->second.first;
+            *which = meth;
+            *dt = it->second.second;
+          }
+        }
+        return w;
+      };
+      std::string ours_m, mj_m;
+      double ours_dt = 0, mj_dt = 0;
+      const double ours_w = best_of({"pbad2", "pbad3"}, &ours_m, &ours_dt);
+      const double mj_w = best_of({"mujoco_euler", "mujoco_rk4", "mujoco_implicit"}, &mj_m, &mj_dt);
+      nlohmann::json j = {{"case", std::string("matched_") + chain_case}, {"links", links}, {"drift_bound", 0.01}};
+      j["pliant_method"] = ours_w > 0 ? nlohmann::json(ours_m) : nlohmann::json("none reached 1%");
+      j["mujoco_method"] = mj_w > 0 ? nlohmann::json(mj_m) : nlohmann::json("none reached 1%");
+      if (ours_w > 0) j["pliant_dt"] = ours_dt, j["pliant_wall_per_sim_s"] = ours_w;
+      if (mj_w > 0) j["mujoco_dt"] = mj_dt, j["mujoco_wall_per_sim_s"] = mj_w;
+      if (ours_w > 0 && mj_w > 0) j["ratio_vs_mujoco"] = ours_w / mj_w;
+      double ex_w = 0;
+      std::string ex_m;
+      double ex_dt = 0;
+      ex_w = best_of({"euler", "rk4"}, &ex_m, &ex_dt);
+      if (ex_w > 0) j["pliant_explicit_method"] = ex_m, j["pliant_explicit_dt"] = ex_dt, j["pliant_explicit_wall_per_sim_s"] = ex_w;
+      emit(j);
+    }
+  }
+  contact_cases(quick);
+  batched_case(quick);
+  std::filesystem::create_directories(std::filesystem::path(out).parent_path());
+  std::ofstream(out) << g_results.dump(1) << "\n";
+  std::fprintf(stderr, "wrote %s\n", out.c_str());
+  return 0;
+}
