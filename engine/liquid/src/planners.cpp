@@ -28,7 +28,14 @@ struct KeyBox {
 
 KeyBox key_box(const LiquidModel& m) {
   const double D = m.target.pose.position_m[0] - m.source.pose.position_m[0];
-  return {std::min(-0.05, D - 0.1), std::max(0.05, D + 0.05), -0.05, 0.2, m.planner.max_tilt_rad};
+  // Keep the whole container (any tilt) inside the domain.
+  const auto& c = m.source.shape;
+  const double reach = std::hypot(c.radius_m + c.wall_m, c.height_m) + 0.01;
+  const double y0 = m.source.pose.position_m[1], x0 = m.source.pose.position_m[0];
+  const double y_hi = std::max(0.0, std::min(0.2, m.domain_max_m[1] - reach - y0));
+  const double x_lo = std::max(std::min(-0.05, D - 0.1), m.domain_min_m[0] + reach - x0);
+  const double x_hi = std::min(std::max(0.05, D + 0.05), m.domain_max_m[0] - reach - x0);
+  return {x_lo, std::max(x_lo + 1e-3, x_hi), -0.05, std::max(y_hi, 1e-3), m.planner.max_tilt_rad};
 }
 
 // u in [0,1]^(3K) -> trajectory: start pose at t = 0, K keys up to pour_time_s.

@@ -71,7 +71,9 @@ int project_pressure(const FlipGrid& g, const LiquidModel& m, FlipWorkspace& w, 
               diag += a / ghost_theta(w.phi_liquid[ci], w.phi_liquid[nb]);
             }
           }
-        A0[ci] = diag;
+        // A tiny shift keeps a pocket of liquid sealed by walls (no air
+        // neighbour: a singular Neumann block) solvable.
+        A0[ci] = diag > 0 ? diag + 1e-6 : 0.0;
         w.rhs[ci] = diag > 0 ? -div : 0.0;
       }
   // MIC(0) preconditioner (sequential: a lower-triangular sweep).
@@ -142,7 +144,9 @@ int project_pressure(const FlipGrid& g, const LiquidModel& m, FlipWorkspace& w, 
     As.assign(n, 0.0);
     for (iters = 1; iters <= m.pressure_max_iterations; ++iters) {
       matvec(w.s, As);
-      const double alpha = rho / std::max(1e-300, dot(w.s, As));
+      const double sas = dot(w.s, As);
+      if (!(sas > 0)) break;  // breakdown: keep the iterate so far
+      const double alpha = rho / sas;
       double rmax = 0;
 #pragma omp parallel for schedule(static) reduction(max : rmax) if (n > (1 << 19))
       for (int i = 0; i < n; ++i) {

@@ -9,7 +9,7 @@ namespace pliant::liquid {
 namespace {
 
 struct Voxels {
-  std::vector<Vec3> centres;  // cavity continued to twice the height
+  std::vector<Vec3> centres;  // cavity below the opening
   double cell_volume = 0;
 };
 
@@ -18,13 +18,13 @@ Voxels voxelise(const ContainerShape& c, int dim) {
   const double v = dim == 3 ? std::min(c.radius_m, c.depth_m) / 12 : c.radius_m / 24;
   Voxels out;
   out.cell_volume = std::pow(v, dim);
-  const int nx = int(std::ceil(2 * half_x / v)), ny = int(std::ceil(2 * c.height_m / v));
+  const int nx = int(std::ceil(2 * half_x / v)), ny = int(std::ceil(c.height_m / v));
   const int nz = dim == 3 ? int(std::ceil(2 * half_z / v)) : 1;
   for (int k = 0; k < nz; ++k)
     for (int j = 0; j < ny; ++j)
       for (int i = 0; i < nx; ++i) {
         const Vec3 p{-half_x + (i + 0.5) * v, (j + 0.5) * v, dim == 3 ? -half_z + (k + 0.5) * v : 0.0};
-        if (c.in_extended_cavity(p, dim)) out.centres.push_back(p);
+        if (c.in_cavity(p, dim)) out.centres.push_back(p);
       }
   return out;
 }

@@ -1,10 +1,10 @@
 // The simplified dynamic model of section 2.5: the liquid in the source is
 // described by its tilt theta and volume vol only.
 //
-// Lookup tables per container (built by voxelising the cavity, continued above
-// the opening, in the container frame; for each tilt the voxels are sorted by
-// world height, so the water level holding a volume is found exactly by
-// bisection on the sorted heights):
+// Lookup tables per container (built by voxelising the cavity in the container
+// frame; for each tilt the voxels are sorted by world height, so the water
+// level holding a volume is found exactly by bisection on the sorted heights;
+// above the held volume the level rises over the lip, giving the head):
 //   dh(theta, vol): height of the free surface above the lowest lip point,
 //   A(theta, vol):  area (2D: length) of the opening below the free surface,
 //   W(theta, vol):  weir integral over that part of the opening,
