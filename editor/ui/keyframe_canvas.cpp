@@ -224,9 +224,11 @@ void draw_keyframe_canvas(App& app) {
   ImGui::SetNextItemWidth(150);
   if (ImGui::BeginCombo("##slot", slot_label(s.slot, scene).c_str())) {
     if (ImGui::Selectable("Initial density", s.slot == kInitialDensitySlot)) s.slot = kInitialDensitySlot;
+    ui_mark("slot_initial");
     for (const auto& k : list_keyframes(scene)) {
       std::string l = "Keyframe " + std::to_string(k.frame) + "##" + std::to_string(k.index);
       if (ImGui::Selectable(l.c_str(), s.slot == k.index)) s.slot = k.index;
+      ui_mark("slot_" + std::to_string(k.frame));
     }
     ImGui::EndCombo();
   }
