@@ -103,13 +103,14 @@ void tree_solve(const Model& m, const Kinematics& k, const std::vector<Mat6>& h,
   }
 }
 
-VecX tree_diagonal(const Model& m, const Kinematics& k, const std::vector<Mat6>& h) {
+void tree_diagonal(const Model& m, const Kinematics& k, const std::vector<Mat6>& h, VecX* diag,
+                   TreeWorkspace* ws) {
   const int nb = static_cast<int>(m.bodies.size());
-  std::vector<Mat6> c(h.begin(), h.end());
+  std::vector<Mat6>& c = ws->ia;  // scratch, overwritten by tree_solve
+  c.assign(h.begin(), h.end());
   for (int b = nb - 1; b >= 1; --b) c[m.bodies[b].parent] += c[b];
-  VecX d(m.nv);
-  for (int i = 0; i < m.nv; ++i) d[i] = k.cdof[i].dot(c[m.dof_body[i]] * k.cdof[i]);
-  return d;
+  diag->resize(m.nv);
+  for (int i = 0; i < m.nv; ++i) (*diag)[i] = k.cdof[i].dot(c[m.dof_body[i]] * k.cdof[i]);
 }
 
 void wrenches_to_generalized(const Model& m, const Kinematics& k, std::vector<Vec6>& w, VecX* tau) {

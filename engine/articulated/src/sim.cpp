@@ -32,15 +32,18 @@ double pbad_energy(const Model& m, const SimOptions& o, const State& s, const Pb
   const double c = p.weight / (o.dt * o.dt);
   double e = 0;
   if (derivs) {
-    ws.w.assign(nb, Vec6::Zero());
-    ws.h.assign(nb, Mat6::Zero());
+    ws.w.resize(nb);
+    ws.h.resize(nb);
+    ws.w[0].setZero();
+    ws.h[0].setZero();
   }
   for (int b = 1; b < nb; ++b) {
     const Body& body = m.bodies[b];
     const Vec3 dx = k.xcom[b] - p.y[b];
     const Mat3 d = k.xmat[b] - p.a[b];
-    const Mat3 rs = k.xmat[b] * second_moment(body.inertia);
-    e += c * (body.mass * dx.squaredNorm() + (d * second_moment(body.inertia)).cwiseProduct(d).sum()) -
+    const Mat3 sm = second_moment(body.inertia);
+    const Mat3 rs = k.xmat[b] * sm;
+    e += c * (body.mass * dx.squaredNorm() + (d * sm).cwiseProduct(d).sum()) -
          body.mass * m.gravity.dot(k.xcom[b]);
     if (!derivs) continue;
     const Vec3 f = 2 * c * body.mass * dx - body.mass * m.gravity;
@@ -90,19 +93,22 @@ double pbad_energy(const Model& m, const SimOptions& o, const State& s, const Pb
     }
   }
   // Actuator work and joint damping (dissipation potential) in joint space.
-  VecX tau;
-  actuator_forces(m, s, &tau);
-  const VecX dq = qpos_difference(m, q, s.qpos);
-  e -= tau.dot(dq);
-  for (const Joint& j : m.joints)
-    for (int i = 0; i < joint_nv(j.type); ++i)
-      e += 0.5 * j.damping / o.dt * dq[j.vadr + i] * dq[j.vadr + i];
-  if (derivs) {
-    std::vector<Vec6> w = ws.w;
-    wrenches_to_generalized(m, k, w, &ws.grad);
-    ws.grad -= tau;
+  const bool joint_terms = !m.actuators.empty() || p.any_damping;
+  if (joint_terms) {
+    actuator_forces(m, s, &ws.tau);
+    ws.dq = qpos_difference(m, q, s.qpos);
+    e -= ws.tau.dot(ws.dq);
     for (const Joint& j : m.joints)
-      for (int i = 0; i < joint_nv(j.type); ++i) ws.grad[j.vadr + i] += j.damping / o.dt * dq[j.vadr + i];
+      for (int i = 0; i < joint_nv(j.type); ++i)
+        e += 0.5 * j.damping / o.dt * ws.dq[j.vadr + i] * ws.dq[j.vadr + i];
+  }
+  if (derivs) {
+    wrenches_to_generalized(m, k, ws.w, &ws.grad);  // consumes ws.w
+    if (joint_terms) {
+      ws.grad -= ws.tau;
+      for (const Joint& j : m.joints)
+        for (int i = 0; i < joint_nv(j.type); ++i) ws.grad[j.vadr + i] += j.damping / o.dt * ws.dq[j.vadr + i];
+    }
   }
   return e;
 }
@@ -243,9 +249,11 @@ void pbad_begin(const Model& m, const SimOptions& o, State& s, PbadStep& p, SimW
   p.prev_points.resize(ws.points.size());
   for (size_t i = 0; i < ws.points.size(); ++i)
     p.prev_points[i] = ws.kin_prev.xpos[ws.points[i].body] + ws.kin_prev.xmat[ws.points[i].body] * ws.points[i].local;
-  // Prediction: constant velocity.
+  // Prediction: quadratic extrapolation q_i (+) (2 (q_i - q_{i-1}) - (q_{i-1} - q_{i-2})).
+  p.any_damping = false;
+  for (const Joint& j : m.joints) p.any_damping = p.any_damping || j.damping > 0;
   p.q = s.qpos;
-  qpos_integrate(m, p.q, s.qvel, dt);
+  qpos_integrate(m, p.q, 2 * qpos_difference(m, s.qpos, q1) - qpos_difference(m, q1, q2), 1.0);
   p.lambda = 1e-6;
   p.iterations = 0;
   p.done = false;
@@ -255,12 +263,14 @@ void pbad_begin(const Model& m, const SimOptions& o, State& s, PbadStep& p, SimW
 bool pbad_iterate(const Model& m, const SimOptions& o, const State& s, PbadStep& p, SimWorkspace& ws) {
   if (p.done) return true;
   ++p.iterations;
-  ws.diag = tree_diagonal(m, ws.kin, ws.h);
-  const VecX rhs = -ws.grad;
+  tree_diagonal(m, ws.kin, ws.h, &ws.diag, &ws.tree);
+  ws.rhs = -ws.grad;
+  const VecX& rhs = ws.rhs;
   for (int tries = 0; tries < 12; ++tries) {
     ws.arm = p.lambda * ws.diag;
-    for (const Joint& j : m.joints)
-      for (int i = 0; i < joint_nv(j.type); ++i) ws.arm[j.vadr + i] += j.damping / o.dt;
+    if (p.any_damping)
+      for (const Joint& j : m.joints)
+        for (int i = 0; i < joint_nv(j.type); ++i) ws.arm[j.vadr + i] += j.damping / o.dt;
     tree_solve(m, ws.kin, ws.h, ws.arm, rhs, &ws.step, &ws.tree);
     const double step_max = ws.step.lpNorm<Eigen::Infinity>();
     ws.q_trial = p.q;
@@ -317,7 +327,7 @@ bool sim_step(const Model& m, const SimOptions& o, State& s, SimWorkspace& ws, S
   switch (o.integrator) {
     case Integrator::Pbad2:
     case Integrator::Pbad3: {
-      PbadStep p;
+      PbadStep& p = ws.pbad;
       pbad_begin(m, o, s, p, ws);
       while (!pbad_iterate(m, o, s, p, ws)) {
       }

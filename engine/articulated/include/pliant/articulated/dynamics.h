@@ -63,7 +63,8 @@ void tree_solve(const Model& m, const Kinematics& k, const std::vector<Mat6>& h,
                 const VecX& armature, const VecX& rhs, VecX* x, TreeWorkspace* ws);
 
 // Diagonal of sum_b Phi_b^T H_b Phi_b (composite blocks), O(N).
-VecX tree_diagonal(const Model& m, const Kinematics& k, const std::vector<Mat6>& h);
+void tree_diagonal(const Model& m, const Kinematics& k, const std::vector<Mat6>& h, VecX* diag,
+                   TreeWorkspace* ws);
 
 // Generalized force of sum_b Phi_b^T w_b for per-body wrenches w (O(N), backward pass).
 void wrenches_to_generalized(const Model& m, const Kinematics& k, std::vector<Vec6>& w, VecX* tau);

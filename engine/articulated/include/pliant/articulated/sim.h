@@ -49,6 +49,17 @@ struct StepInfo {
   double energy_residual = 0;  // max |gradient| at the end (PBAD)
 };
 
+struct PbadStep {
+  std::vector<Vec3> y;  // target centre per body
+  std::vector<Mat3> a;  // target rotation per body
+  std::vector<Vec3> prev_points;  // world positions of contact points at q_i
+  VecX q;               // current iterate
+  double energy = 0, lambda = 1e-6, weight = 0.5;
+  bool any_damping = false;
+  int iterations = 0;
+  bool done = false;
+};
+
 // Per-trajectory scratch (no allocation once warm).
 struct SimWorkspace {
   Kinematics kin, kin_prev;
@@ -56,11 +67,12 @@ struct SimWorkspace {
   TreeWorkspace tree;
   std::vector<Mat6> h;
   std::vector<Vec6> w;
-  VecX grad, step, q_trial, diag, arm;
+  VecX grad, step, q_trial, diag, arm, rhs, tau, dq;
   std::vector<Contact> contacts;
   std::vector<ContactPoint> points;  // cached from the model on first use
   std::vector<int> obstacles;
   const Model* cached_for = nullptr;
+  PbadStep pbad;  // sim_step's PBAD iterate
 };
 // Caches the model's contact points and obstacles in ws (cheap when already done).
 void sim_prepare(const Model& m, SimWorkspace& ws);
@@ -71,15 +83,6 @@ bool sim_step(const Model& m, const SimOptions& o, State& s, SimWorkspace& ws, S
 
 // PBAD internals exposed for the batched scheduler: begin (prediction and targets),
 // one LM iteration (returns true when converged), finish (shift history, velocity).
-struct PbadStep {
-  std::vector<Vec3> y;  // target centre per body
-  std::vector<Mat3> a;  // target rotation per body
-  std::vector<Vec3> prev_points;  // world positions of contact points at q_i
-  VecX q;               // current iterate
-  double energy = 0, lambda = 1e-6, weight = 0.5;
-  int iterations = 0;
-  bool done = false;
-};
 void pbad_begin(const Model& m, const SimOptions& o, State& s, PbadStep& p, SimWorkspace& ws);
 bool pbad_iterate(const Model& m, const SimOptions& o, const State& s, PbadStep& p, SimWorkspace& ws);
 void pbad_finish(const Model& m, const SimOptions& o, State& s, const PbadStep& p, SimWorkspace& ws);
