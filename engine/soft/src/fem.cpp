@@ -49,12 +49,29 @@ Matrix3d cofactor(const Matrix3d& F) {
   return C;
 }
 
+// dN/dX at every Gauss point as 8x3 matrices for cell size h (cached per h).
+struct ScaledTable {
+  double h = -1;
+  std::array<Eigen::Matrix<double, 8, 3>, 8> G;
+};
+const std::array<Eigen::Matrix<double, 8, 3>, 8>& scaled_table(double h) {
+  thread_local ScaledTable t;
+  if (t.h != h) {
+    for (int q = 0; q < 8; ++q)
+      for (int a = 0; a < 8; ++a) t.G[q].row(a) = gauss().dN[q][a].transpose() / h;
+    t.h = h;
+  }
+  return t.G;
+}
+
+Eigen::Matrix<double, 3, 8> gather(const Lattice& lat, const Eigen::VectorXd& x, int cell) {
+  Eigen::Matrix<double, 3, 8> X;
+  for (int a = 0; a < 8; ++a) X.col(a) = x.segment<3>(3 * lat.cells[cell][a]);
+  return X;
+}
+
 Matrix3d deformation_gradient(const Lattice& lat, const Eigen::VectorXd& x, int cell, int q) {
-  const auto& ids = lat.cells[cell];
-  const double inv_h = 1.0 / lat.cell_size_m;
-  Matrix3d F = Matrix3d::Zero();
-  for (int a = 0; a < 8; ++a) F += x.segment<3>(3 * ids[a]) * (gauss().dN[q][a].transpose() * inv_h);
-  return F;
+  return gather(lat, x, cell) * scaled_table(lat.cell_size_m)[q];
 }
 
 }  // namespace
@@ -123,13 +140,13 @@ double elastic_energy(const Lattice& lat, const Lame& l, const Eigen::VectorXd& 
     const auto& ids = lat.cells[e];
     Eigen::Matrix<double, 24, 24> Ke;
     if (hess) Ke.setZero();
+    const Eigen::Matrix<double, 3, 8> X = gather(lat, x, e);
+    const auto& G = scaled_table(h);
+    Eigen::Matrix<double, 3, 8> gcell = Eigen::Matrix<double, 3, 8>::Zero();
     for (int q = 0; q < 8; ++q) {
-      const Matrix3d F = deformation_gradient(lat, x, e, q);
+      const Matrix3d F = X * G[q];
       energy += we * vol_q * snh_energy(l, F);
-      if (grad) {
-        const Matrix3d P = snh_stress(l, F);
-        for (int a = 0; a < 8; ++a) grad->segment<3>(3 * ids[a]) += we * vol_q * P * (gauss().dN[q][a] * inv_h);
-      }
+      if (grad) gcell.noalias() += (we * vol_q) * snh_stress(l, F) * G[q].transpose();
       if (hess) {
         const Mat9 A = snh_stress_derivative(l, F);
         // dvec(F)/dx_{a,s} = e_s (x) G_a: entry (3c+s) = G_a[c].
@@ -140,6 +157,8 @@ double elastic_energy(const Lattice& lat, const Lame& l, const Eigen::VectorXd& 
         Ke.noalias() += (we * vol_q) * B.transpose() * A * B;
       }
     }
+    if (grad)
+      for (int a = 0; a < 8; ++a) grad->segment<3>(3 * ids[a]) += gcell.col(a);
     if (hess)
       for (int a = 0; a < 8; ++a)
         for (int b = 0; b < 8; ++b)
@@ -149,6 +168,39 @@ double elastic_energy(const Lattice& lat, const Lame& l, const Eigen::VectorXd& 
   if (hess) {
     hess->resize(x.size(), x.size());
     hess->setFromTriplets(trip.begin(), trip.end());
+  }
+  return energy;
+}
+
+double elastic_reduced(const Lattice& lat, const Lame& l, const Eigen::VectorXd& x, const CellWeights& cw,
+                       const Eigen::MatrixXd& U, Eigen::VectorXd* grad, Eigen::MatrixXd* hess) {
+  const double h = lat.cell_size_m, vol_q = h * h * h / 8;
+  const int r = int(U.cols());
+  const int ncell = cw.all() ? int(lat.cells.size()) : int(cw.cells.size());
+  if (grad) grad->setZero(r);
+  if (hess) hess->setZero(r, r);
+  const auto& G = scaled_table(h);
+  Eigen::MatrixXd Ue(24, r), D(9, r);
+  double energy = 0;
+  for (int k = 0; k < ncell; ++k) {
+    const int e = cw.all() ? k : cw.cells[k];
+    const double we = (cw.all() ? 1.0 : cw.weights[k]) * vol_q;
+    const auto& ids = lat.cells[e];
+    const Eigen::Matrix<double, 3, 8> X = gather(lat, x, e);
+    for (int a = 0; a < 8; ++a) Ue.middleRows(3 * a, 3) = U.middleRows(3 * ids[a], 3);
+    for (int q = 0; q < 8; ++q) {
+      const Matrix3d F = X * G[q];
+      energy += we * snh_energy(l, F);
+      // D row (3c + s) = sum_a G_q(a, c) U_e(3a + s, :)
+      D.setZero();
+      for (int a = 0; a < 8; ++a)
+        for (int c = 0; c < 3; ++c) D.middleRows(3 * c, 3) += G[q](a, c) * Ue.middleRows(3 * a, 3);
+      if (grad) {
+        const Matrix3d P = snh_stress(l, F);
+        *grad += we * D.transpose() * Eigen::Map<const Eigen::Matrix<double, 9, 1>>(P.data());
+      }
+      if (hess) hess->noalias() += we * D.transpose() * (snh_stress_derivative(l, F) * D);
+    }
   }
   return energy;
 }

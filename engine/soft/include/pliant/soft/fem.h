@@ -44,6 +44,11 @@ struct CellWeights {
 double elastic_energy(const Lattice& lat, const Lame& l, const Eigen::VectorXd& x, const CellWeights& cw,
                       Eigen::VectorXd* grad, Eigen::SparseMatrix<double>* hess);
 
+// Reduced elastic gradient U^T dE/dx and Hessian U^T K U at x, accumulated cell by
+// cell (no 3N x 3N matrix): per Gauss point D = dvec(F)/dq (9 x r), H += w D^T A D.
+double elastic_reduced(const Lattice& lat, const Lame& l, const Eigen::VectorXd& x, const CellWeights& cw,
+                       const Eigen::MatrixXd& U, Eigen::VectorXd* grad, Eigen::MatrixXd* hess);
+
 // Internal force of one cell (24 values: -dE/dx of its 8 nodes).
 void cell_force(const Lattice& lat, const Lame& l, const Eigen::VectorXd& x, int cell, double* f24);
 

@@ -9,9 +9,9 @@
 // solved by Gauss-Newton (rotation by increments, R <- exp([dw]) R) with a
 // backtracking line search. E_el is the stable neo-Hookean energy of the embedded
 // lattice at X + U q (rotation invariant, so it does not depend on R, c), summed
-// over the cubature cells with their weights. Its Hessian is replaced by the rest
-// stiffness Omega = diag(omega^2) (exact at rest, a quasi-Newton approximation
-// elsewhere; `exact_hessian` assembles U^T K(q) U instead). Drag is explicit (from
+// over the cubature cells with their weights; its reduced Hessian U^T K(q) U is
+// accumulated per cell (fem.h elastic_reduced), so Newton converges quadratically
+// and rollouts are smooth enough for finite-difference Jacobians. Drag is explicit (from
 // the velocity at the start of the step). `full_step` solves the same problem with
 // every node free (sparse Newton with CHOLMOD) for validation and benchmarks.
 #pragma once
@@ -47,7 +47,6 @@ struct SimParams {
   int max_newton = 30;
   double newton_tol = 1e-9;     // on the step, relative to the cell size
   double modal_damping_s = 0.01;
-  bool exact_hessian = false;
 };
 
 struct SoftState {

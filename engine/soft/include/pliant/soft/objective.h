@@ -1,0 +1,81 @@
+// Locomotion objectives (Pan & Manocha TOG 2018 section 6) as a residual vector
+// r(theta) so that the objective is |r|^2 / 2 and Levenberg-Marquardt can use its
+// Gauss-Newton structure. theta are the DMP parameters; r comes from a forward
+// simulation of `frames` steps (shooting: physics holds exactly on every rollout, so
+// the dissertation's physics-violation term is identically zero here).
+// Terms, each scaled by sqrt(weight):
+//   velocity   mean COM velocity over the horizon minus target (3)
+//   position   final COM minus target (3)
+//   heading    mean over frames of R a - d (body axis a, world direction d) (3)
+//   jump       smooth max over frames of COM height gain minus target height (1)
+//   distance   final COM displacement along a direction minus target distance (1)
+//   shuffle    per frame, RMS tangential speed of nodes touching an obstacle (frames)
+//   keyframes  surface vertices minus (rest position + offset) at chosen frames
+//   effort     theta itself (keeps the problem well posed)
+#pragma once
+#include <Eigen/Core>
+#include <functional>
+#include <vector>
+
+#include "pliant/soft/dmp.h"
+#include "pliant/soft/simulator.h"
+
+namespace pliant::soft {
+
+struct Keyframe {
+  int frame = 0;
+  std::vector<int> vertices;  // surface vertex ids
+  Eigen::Vector3d offset_m = Eigen::Vector3d::Zero();
+};
+
+struct Objectives {
+  double w_velocity = 0;
+  Eigen::Vector3d velocity_m_per_s = Eigen::Vector3d::Zero();
+  double w_position = 0;
+  Eigen::Vector3d position_m = Eigen::Vector3d::Zero();
+  double w_heading = 0;
+  Eigen::Vector3d heading_axis = Eigen::Vector3d::UnitX(), heading_direction = Eigen::Vector3d::UnitX();
+  double w_jump = 0;
+  double jump_height_m = 0;
+  double w_distance = 0;
+  double distance_m = 0;
+  Eigen::Vector3d distance_direction = Eigen::Vector3d::UnitX();
+  double w_shuffle = 0;
+  double w_keyframes = 0;
+  std::vector<Keyframe> keyframes;
+  double w_effort = 1e-4;
+};
+
+struct Problem {
+  const Character* character = nullptr;
+  Environment env;
+  SimParams sim;
+  DmpSpec dmp;
+  Objectives obj;
+  int frames = 30;  // rollout horizon of the optimization
+  Eigen::Vector3d start_offset_m = Eigen::Vector3d::Zero();
+};
+
+// Modal control force for DMP activations y (controlled modes; others zero):
+// u_k = omega_k^2 a tanh(y_k / a) / s_k with a = max_activation_m.
+Eigen::VectorXd control_force(const Character& ch, const Eigen::VectorXd& y);
+
+// Forward simulation of n frames under theta; calls on_frame(state) after every
+// step (frame 1..n) when given. Returns the final state.
+// Counts steps whose Newton solve did not converge in *unconverged when given.
+SoftState simulate(const Problem& p, const Eigen::VectorXd& theta, int n,
+                   const std::function<void(const SoftState&)>& on_frame = {}, int* unconverged = nullptr);
+
+// Activations saturate at +-max_activation_m (0.3 x the body's radius) through tanh.
+double max_activation_m(const Character& ch);
+
+// Residual vector (fixed size for a given problem).
+Eigen::VectorXd residuals(const Problem& p, const Eigen::VectorXd& theta);
+// Starting point of the optimizers: small deterministic weights (2% of the
+// activation bound) next to the symmetric rest state.
+Eigen::VectorXd initial_theta(const Problem& p);
+
+// Largest COM height gain over a rollout of n frames (for checks and metrics).
+double max_height_gain(const Problem& p, const Eigen::VectorXd& theta, int n);
+
+}  // namespace pliant::soft

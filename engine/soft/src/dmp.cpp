@@ -1,0 +1,40 @@
+// Periodic DMP (see dmp.h).
+#include "pliant/soft/dmp.h"
+
+#include <cmath>
+
+namespace pliant::soft {
+
+DmpState dmp_init(const DmpSpec& spec) {
+  DmpState s;
+  s.y = Eigen::VectorXd::Zero(spec.modes);
+  s.z = Eigen::VectorXd::Zero(spec.modes);
+  return s;
+}
+
+Eigen::VectorXd dmp_forcing(const DmpSpec& spec, const Eigen::VectorXd& theta, double phase) {
+  Eigen::VectorXd psi(spec.kernels);
+  for (int i = 0; i < spec.kernels; ++i) {
+    const double c = 2 * M_PI * i / spec.kernels;
+    psi[i] = std::exp(spec.kernel_width * (std::cos(phase - c) - 1));
+  }
+  psi /= psi.sum();
+  Eigen::VectorXd f(spec.modes);
+  for (int k = 0; k < spec.modes; ++k) f[k] = theta.segment(k * (spec.kernels + 1), spec.kernels).dot(psi);
+  return f;
+}
+
+const Eigen::VectorXd& dmp_step(const DmpSpec& spec, const Eigen::VectorXd& theta, double dt, DmpState& s) {
+  const double tau = spec.period_s / (2 * M_PI), beta = spec.alpha / 4;
+  const Eigen::VectorXd f = dmp_forcing(spec, theta, s.phase);
+  for (int k = 0; k < spec.modes; ++k) {
+    const double g = theta[k * (spec.kernels + 1) + spec.kernels];
+    // The forcing is scaled by alpha beta so w reads as an amplitude (metres).
+    s.z[k] += dt / tau * (spec.alpha * (beta * (g - s.y[k]) - s.z[k]) + spec.alpha * beta * f[k]);
+    s.y[k] += dt / tau * s.z[k];
+  }
+  s.phase = std::fmod(s.phase + dt / tau, 2 * M_PI);
+  return s.y;
+}
+
+}  // namespace pliant::soft

@@ -1,0 +1,132 @@
+// LM, L-BFGS and the hybrid (see optimizer.h).
+#include "pliant/soft/optimizer.h"
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <deque>
+
+namespace pliant::soft {
+
+const char* optimizer_name(OptimizerKind k) {
+  switch (k) {
+    case OptimizerKind::Hybrid: return "hybrid";
+    case OptimizerKind::LM: return "lm";
+    case OptimizerKind::LBFGS: return "lbfgs";
+  }
+  return "?";
+}
+
+Eigen::MatrixXd fd_jacobian(const ResidualFn& r, const Eigen::VectorXd& theta, const Eigen::VectorXd& r0,
+                            double step) {
+  const int n = int(theta.size());
+  Eigen::MatrixXd J(r0.size(), n);
+#pragma omp parallel for schedule(dynamic, 1)
+  for (int i = 0; i < n; ++i) {
+    Eigen::VectorXd t = theta;
+    const double h = step * std::max(1.0, std::abs(theta[i]));
+    t[i] += h;
+    J.col(i) = (r(t) - r0) / h;
+    // A failed rollout (NaN residuals) gives no derivative information along i.
+    if (!J.col(i).allFinite()) J.col(i).setZero();
+  }
+  return J;
+}
+
+void optimize(const ResidualFn& rf, const OptimizerSettings& s, OptimizerState& st, const IterationFn& on_iteration) {
+  const int n = int(st.theta.size());
+  Eigen::VectorXd r = rf(st.theta);
+  ++st.evaluations;
+  st.objective = 0.5 * r.squaredNorm();
+  if (st.history.empty()) st.history.push_back(st.objective);
+  const double f_initial = st.history.front();
+  // L-BFGS memory.
+  std::deque<Eigen::VectorXd> S, Y;
+  Eigen::VectorXd g_prev, theta_prev;
+  const bool use_lm = s.kind != OptimizerKind::LBFGS;
+  bool lbfgs = s.kind == OptimizerKind::LBFGS || (s.kind == OptimizerKind::Hybrid && st.in_lbfgs);
+  while (st.iteration < s.max_iterations) {
+    if (st.objective <= s.tolerance * f_initial || (s.target >= 0 && st.objective <= s.target)) break;
+    const Eigen::MatrixXd J = fd_jacobian(rf, st.theta, r, s.fd_step);
+    st.evaluations += n;
+    const Eigen::VectorXd g = J.transpose() * r;
+    const double f0 = st.objective;
+    bool accepted = false;
+    std::string kind;
+    if (!lbfgs) {
+      kind = "lm";
+      const Eigen::MatrixXd JtJ = J.transpose() * J;
+      for (int tries = 0; tries < 12 && !accepted; ++tries) {
+        Eigen::MatrixXd A = JtJ;
+        A.diagonal() += st.lambda * (JtJ.diagonal().array() + 1e-9).matrix();
+        const Eigen::VectorXd d = A.ldlt().solve(-g);
+        const Eigen::VectorXd t = st.theta + d;
+        const Eigen::VectorXd rn = rf(t);
+        ++st.evaluations;
+        const double fn = 0.5 * rn.squaredNorm();
+        if (std::isfinite(fn) && fn < f0) {
+          st.theta = t, r = rn, st.objective = fn;
+          st.lambda = std::max(st.lambda / 3, 1e-9);
+          accepted = true;
+        } else {
+          st.lambda *= 4;
+        }
+      }
+      const bool stalled = !accepted || (f0 - st.objective) < s.stall * f0;
+      if (s.kind == OptimizerKind::Hybrid && stalled) {
+        lbfgs = true;  // next iteration(s) by L-BFGS
+        S.clear(), Y.clear();
+      }
+      theta_prev.resize(0);
+    } else {
+      kind = "lbfgs";
+      if (theta_prev.size()) {
+        const Eigen::VectorXd sv = st.theta - theta_prev, yv = g - g_prev;
+        if (sv.dot(yv) > 1e-12 * sv.norm() * yv.norm()) {
+          S.push_back(sv), Y.push_back(yv);
+          if (S.size() > 8) S.pop_front(), Y.pop_front();
+        }
+      }
+      // Two-loop recursion.
+      Eigen::VectorXd q = g;
+      std::vector<double> a(S.size());
+      for (int i = int(S.size()) - 1; i >= 0; --i) {
+        a[i] = S[i].dot(q) / Y[i].dot(S[i]);
+        q -= a[i] * Y[i];
+      }
+      if (!S.empty())
+        q *= S.back().dot(Y.back()) / Y.back().squaredNorm();
+      else
+        q *= std::min(1.0, 0.01 * std::max(1.0, st.theta.norm()) / std::max(g.norm(), 1e-300));
+      for (size_t i = 0; i < S.size(); ++i) q += S[i] * (a[i] - Y[i].dot(q) / Y[i].dot(S[i]));
+      Eigen::VectorXd d = -q;
+      if (g.dot(d) >= 0) d = -g;
+      double alpha = 1;
+      theta_prev = st.theta, g_prev = g;
+      for (int ls = 0; ls < 20; ++ls) {
+        const Eigen::VectorXd t = st.theta + alpha * d;
+        const Eigen::VectorXd rn = rf(t);
+        ++st.evaluations;
+        const double fn = 0.5 * rn.squaredNorm();
+        if (std::isfinite(fn) && fn <= f0 + 1e-4 * alpha * g.dot(d) && fn < f0) {
+          st.theta = t, r = rn, st.objective = fn;
+          accepted = true;
+          break;
+        }
+        alpha *= 0.5;
+      }
+      if (s.kind == OptimizerKind::Hybrid && (!accepted || (f0 - st.objective) < s.stall * f0 * 0.2)) {
+        lbfgs = false;  // back to LM with a fresh damping
+        st.lambda = 1.0;
+      }
+    }
+    st.in_lbfgs = lbfgs;
+    ++st.iteration;
+    st.history.push_back(st.objective);
+    st.step_kinds.push_back(accepted ? kind : kind + "-rejected");
+    if (on_iteration && !on_iteration(st)) break;
+    if (!accepted && s.kind != OptimizerKind::Hybrid) break;
+    (void)use_lm;
+  }
+}
+
+}  // namespace pliant::soft

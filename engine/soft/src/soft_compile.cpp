@@ -1,0 +1,209 @@
+// Scene -> SoftModel: every field read with JsonReader (unknown keys rejected with a
+// suggestion), mesh problems turned into InputError at /character/mesh.
+#include <Eigen/Dense>
+#include <cmath>
+
+#include "pliant/core/json_reader.h"
+#include "pliant/geom/raster_grid.h"
+#include "pliant/soft/soft.h"
+
+namespace pliant::soft {
+namespace {
+
+Eigen::Vector3d vec3(JsonReader& r, std::string_view key, Eigen::Vector3d def) {
+  const auto v = r.numbers(key, {def[0], def[1], def[2]}, 3, 3);
+  return {v[0], v[1], v[2]};
+}
+
+Eigen::Vector3d unit3(JsonReader& r, std::string_view key, Eigen::Vector3d def) {
+  const Eigen::Vector3d v = vec3(r, key, def);
+  if (v.norm() < 1e-12) r.fail(key, "expected a non-zero direction");
+  return v.normalized();
+}
+
+}  // namespace
+
+SoftModel soft_compile(const Scene& scene) {
+  JsonReader root(scene.doc, scene.file);
+  root.accept("pliant");
+  root.accept("kind");
+  root.accept("name");
+  root.accept("editor");
+  SoftModel m;
+  Problem& p = m.problem;
+
+  // Character: mesh, lattice, modes.
+  auto ch = root.object("character");
+  if (!ch) root.fail("character", "missing; expected an object with \"mesh\"");
+  const std::string mesh_rel = ch->required_string("mesh");
+  const double scale = ch->number("scale", 1.0, 1e-12, 1e12);
+  const int resolution = int(ch->integer("resolution", 8, 2, 64));
+  const int modes = int(ch->integer("modes", 10, 1, 60));
+  const bool cub = ch->boolean("cubature", false);
+  const double cub_tol = ch->number("cubature_tolerance", 0.02, 1e-6, 0.5);
+  const int cub_poses = int(ch->integer("cubature_poses", 16, 1, 200));
+  Material mat;
+  if (auto mj = root.object("material")) {
+    mat.density_kg_per_m3 = mj->number("density_kg_per_m3", mat.density_kg_per_m3, 1e-3, 1e6);
+    mat.young_pa = mj->number("young_pa", mat.young_pa, 1, 1e12);
+    mat.poisson = mj->number("poisson", mat.poisson, 0.0, 0.49);
+    mj->finish();
+  }
+  const std::string mesh_ptr = ch->child_pointer("mesh");
+  SurfaceMesh surface;
+  Lattice lat;
+  try {
+    geom::TriangleMesh tm = geom::load_mesh(scene.asset_path(mesh_rel), mesh_rel);
+    for (auto& v : tm.vertices)
+      for (double& c : v) c *= scale;
+    surface = repair_mesh(tm, &m.repair);
+    lat = build_lattice(surface, resolution, mat.density_kg_per_m3);
+  } catch (const geom::GeomError& e) {
+    throw InputError(scene.file, mesh_ptr, e.what());
+  } catch (const BodyError& e) {
+    throw InputError(scene.file, mesh_ptr, mesh_rel + ": " + e.what());
+  }
+  if (lat.nodes() > 20000)
+    throw InputError(scene.file, ch->child_pointer("resolution"),
+                     "lattice has " + std::to_string(lat.nodes()) + " nodes (at most 20000); lower the resolution");
+  ch->finish();
+  m.character = make_character(std::move(surface), std::move(lat), mat, modes);
+
+  // Environment.
+  Environment& env = p.env;
+  bool ground = true;
+  double ground_h = 0;
+  if (auto e = root.object("environment")) {
+    const std::string type = e->choice("type", "ground", {"ground", "water"});
+    env.water = type == "water";
+    env.gravity_m_per_s2 = vec3(*e, "gravity_m_per_s2", env.water ? Eigen::Vector3d::Zero() : env.gravity_m_per_s2);
+    ground = e->boolean("ground", !env.water);
+    ground_h = e->number("ground_height_m", 0.0);
+    env.friction = e->number("friction", env.friction, 0, 10);
+    env.contact_stiffness_per_s2 = e->number("contact_stiffness_per_s2", env.contact_stiffness_per_s2, 1, 1e9);
+    env.friction_eps_m_per_s = e->number("friction_eps_m_per_s", env.friction_eps_m_per_s, 1e-9, 10);
+    env.fluid_density_kg_per_m3 = e->number("fluid_density_kg_per_m3", env.fluid_density_kg_per_m3, 0, 1e5);
+    env.drag_coefficient = e->number("drag_coefficient", env.drag_coefficient, 0, 100);
+    env.skin_coefficient = e->number("skin_coefficient", env.skin_coefficient, 0, 100);
+    if (ground) env.obstacles.push_back({Obstacle::Plane, Eigen::Vector3d(0, ground_h, 0), Eigen::Vector3d::UnitY(), 0});
+    for (auto& o : e->objects("obstacles")) {
+      Obstacle ob;
+      const std::string t = o.choice("type", "sphere", {"sphere", "plane"});
+      if (t == "sphere") {
+        ob.type = Obstacle::Sphere;
+        ob.point = vec3(o, "center_m", Eigen::Vector3d::Zero());
+        ob.radius_m = o.required_number("radius_m", 1e-6, 1e6);
+      } else {
+        ob.type = Obstacle::Plane;
+        ob.point = vec3(o, "point_m", Eigen::Vector3d::Zero());
+        ob.normal = unit3(o, "normal", Eigen::Vector3d::UnitY());
+      }
+      o.finish();
+      env.obstacles.push_back(ob);
+    }
+    e->finish();
+  } else {
+    env.obstacles.push_back({Obstacle::Plane, Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitY(), 0});
+  }
+
+  // Simulation.
+  if (auto s = root.object("simulation")) {
+    p.sim.dt_s = s->number("dt_s", 1.0 / 30, 1e-5, 0.2);
+    m.frames = int(s->integer("frames", 100, 1, 100000));
+    p.sim.modal_damping_s = s->number("modal_damping_s", p.sim.modal_damping_s, 0, 10);
+    p.start_offset_m = vec3(*s, "start_offset_m", Eigen::Vector3d::Zero());
+    p.sim.max_newton = int(s->integer("newton_iterations", p.sim.max_newton, 1, 1000));
+    s->finish();
+  }
+
+  // Controller.
+  p.dmp.modes = std::min(m.character.basis.r(), 6);
+  if (auto c = root.object("controller")) {
+    p.dmp.modes = int(c->integer("modes", p.dmp.modes, 0, m.character.basis.r()));
+    p.dmp.kernels = int(c->integer("kernels", p.dmp.kernels, 1, 64));
+    p.dmp.period_s = c->number("period_s", p.dmp.period_s, 1e-3, 1e3);
+    c->finish();
+  }
+
+  // Objectives.
+  Objectives& o = p.obj;
+  if (auto oj = root.object("objectives")) {
+    if (auto t = oj->object("velocity")) {
+      o.velocity_m_per_s = vec3(*t, "target_m_per_s", Eigen::Vector3d::Zero());
+      o.w_velocity = t->number("weight", 1, 0);
+      t->finish();
+    }
+    if (auto t = oj->object("position")) {
+      o.position_m = vec3(*t, "target_m", Eigen::Vector3d::Zero());
+      o.w_position = t->number("weight", 1, 0);
+      t->finish();
+    }
+    if (auto t = oj->object("heading")) {
+      o.heading_axis = unit3(*t, "body_axis", Eigen::Vector3d::UnitX());
+      o.heading_direction = unit3(*t, "direction", Eigen::Vector3d::UnitX());
+      o.w_heading = t->number("weight", 1, 0);
+      t->finish();
+    }
+    if (auto t = oj->object("jump")) {
+      o.jump_height_m = t->required_number("height_m", 0, 1e3);
+      o.w_jump = t->number("weight", 1, 0);
+      t->finish();
+    }
+    if (auto t = oj->object("distance")) {
+      o.distance_m = t->required_number("distance_m", -1e4, 1e4);
+      o.distance_direction = unit3(*t, "direction", Eigen::Vector3d::UnitX());
+      o.w_distance = t->number("weight", 1, 0);
+      t->finish();
+    }
+    if (auto t = oj->object("shuffle")) {
+      o.w_shuffle = t->number("weight", 1, 0);
+      t->finish();
+    }
+    if (auto t = oj->object("effort")) {
+      o.w_effort = t->number("weight", o.w_effort, 0);
+      t->finish();
+    }
+    if (auto t = oj->object("keyframes")) {
+      o.w_keyframes = t->number("weight", 1, 0);
+      for (auto& k : t->objects("frames")) {
+        Keyframe kf;
+        kf.frame = int(k.required_integer("frame", 1, 1000000));
+        const auto ids = k.integers("vertices", {}, 1, 1000000, 0, int(m.character.surface.vertices.size()) - 1);
+        for (auto v : ids) kf.vertices.push_back(int(v));
+        kf.offset_m = vec3(k, "offset_m", Eigen::Vector3d::Zero());
+        k.finish();
+        o.keyframes.push_back(kf);
+      }
+      t->finish();
+    }
+    oj->finish();
+  }
+
+  // Optimizer.
+  p.frames = std::min(m.frames, 60);
+  if (auto oj = root.object("optimizer")) {
+    const std::string method = oj->choice("method", "hybrid", {"hybrid", "lm", "lbfgs", "none"});
+    m.optimizer.kind = method == "lm" ? OptimizerKind::LM : method == "lbfgs" ? OptimizerKind::LBFGS : OptimizerKind::Hybrid;
+    m.optimizer.max_iterations = int(oj->integer("iterations", 20, 0, 100000));
+    if (method == "none") m.optimizer.max_iterations = 0;
+    p.frames = int(oj->integer("horizon_frames", p.frames, 1, 100000));
+    m.optimizer.fd_step = oj->number("fd_step", m.optimizer.fd_step, 1e-12, 1);
+    m.optimizer.tolerance = oj->number("tolerance", m.optimizer.tolerance, 0, 1);
+    oj->finish();
+  }
+  for (const auto& k : o.keyframes)
+    if (k.frame > p.frames)
+      throw InputError(scene.file, "/objectives/keyframes",
+                       "keyframe at frame " + std::to_string(k.frame) + " is after the optimization horizon (" +
+                           std::to_string(p.frames) + " frames)");
+  root.finish();
+
+  if (cub) {
+    const auto poses = training_poses(m.character, cub_poses, 0.05, 11);
+    m.character.cubature = fit_cubature(m.character, poses, cub_tol, 400, &m.cubature);
+  }
+  p.character = &m.character;
+  return m;
+}
+
+}  // namespace pliant::soft

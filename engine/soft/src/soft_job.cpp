@@ -1,0 +1,168 @@
+// Job kind "soft": optimize the DMP parameters, then re-simulate and write frames.
+#include <chrono>
+#include <cmath>
+
+#include "pliant/core/error.h"
+#include "pliant/core/json_reader.h"
+#include "pliant/soft/soft.h"
+
+namespace pliant::soft {
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+Field vector_field(const std::string& name, const std::vector<double>& v) {
+  Field f{name, {uint32_t(v.size())}, {}};
+  for (double x : v) f.data.push_back(float(x));
+  return f;
+}
+
+}  // namespace
+
+Record soft_frame_record(const SoftModel& m, const SoftState& s, int index, bool with_triangles) {
+  Record r;
+  r.kind = RecordKind::Frame;
+  r.index = index;
+  r.time_s = s.time_s;
+  Eigen::VectorXd x;
+  node_positions(m.character, s, x);
+  std::vector<Eigen::Vector3d> verts;
+  embed_surface(m.character.lattice, x, verts);
+  Field fv{"vertices", {uint32_t(verts.size()), 3}, {}};
+  fv.data.reserve(verts.size() * 3);
+  for (const auto& v : verts)
+    for (int a = 0; a < 3; ++a) fv.data.push_back(float(v[a]));
+  r.fields.push_back(std::move(fv));
+  if (with_triangles) {
+    const auto& tris = m.character.surface.triangles;
+    Field ft{"triangles", {uint32_t(tris.size()), 3}, {}};
+    for (const auto& t : tris)
+      for (int a = 0; a < 3; ++a) ft.data.push_back(float(t[a]));
+    r.fields.push_back(std::move(ft));
+  }
+  const Eigen::Vector3d com = centre_of_mass(m.character, s);
+  r.fields.push_back(Field{"com", {3}, {float(com[0]), float(com[1]), float(com[2])}});
+  return r;
+}
+
+int soft_job_frames(const Scene& scene) {
+  // Cheap: frames are read without building the body.
+  int frames = 100;
+  if (scene.doc.contains("simulation") && scene.doc["simulation"].is_object()) {
+    JsonReader s(scene.doc["simulation"], scene.file, "/simulation");
+    frames = int(s.integer("frames", 100, 1, 100000));
+  }
+  return frames;
+}
+
+nlohmann::json soft_summary(const Scene& scene) {
+  SoftModel m = soft_compile(scene);
+  return {{"frames", m.frames},
+          {"lattice_cells", m.character.lattice.cells.size()},
+          {"lattice_nodes", m.character.lattice.nodes()},
+          {"modes", m.character.basis.r()},
+          {"surface_vertices", m.character.surface.vertices.size()},
+          {"parameters", m.problem.dmp.parameters()}};
+}
+
+nlohmann::json soft_run_job(JobContext& ctx) {
+  const auto t0 = std::chrono::steady_clock::now();
+  ctx.progress.stage("compile");
+  SoftModel m = soft_compile(ctx.scene);
+  soft_bind(m);
+  const double compile_s = seconds_since(t0);
+  const Problem& p = m.problem;
+
+  // Resume from the last checkpoint when asked.
+  OptimizerState st;
+  st.theta = initial_theta(p);
+  if (ctx.resume) {
+    TakeReader reader(ctx.take.dir());
+    Record ck;
+    if (reader.latest(RecordKind::Checkpoint, &ck)) {
+      const Field* th = ck.find("theta");
+      const Field* hist = ck.find("objective_history");
+      const Field* state = ck.find("optimizer_state");
+      if (th && hist && state && int(th->data.size()) == st.theta.size() && state->data.size() == 4) {
+        for (int i = 0; i < st.theta.size(); ++i) st.theta[i] = th->data[i];
+        for (float v : hist->data) st.history.push_back(v);
+        st.iteration = int(state->data[0]);
+        st.lambda = state->data[1];
+        st.in_lbfgs = state->data[2] != 0;
+        st.evaluations = int(state->data[3]);
+      }
+    }
+  }
+  // Checkpoints hold theta in f32: the resumed run continues from the rounded value.
+  const auto t_opt = std::chrono::steady_clock::now();
+  ctx.progress.stage("optimize", m.optimizer.max_iterations);
+  const ResidualFn rf = [&p](const Eigen::VectorXd& th) { return residuals(p, th); };
+  optimize(rf, m.optimizer, st, [&](const OptimizerState& s) {
+    Record ck;
+    ck.kind = RecordKind::Checkpoint;
+    ck.index = s.iteration;
+    ck.fields.push_back(vector_field("theta", std::vector<double>(s.theta.data(), s.theta.data() + s.theta.size())));
+    ck.fields.push_back(vector_field("objective_history", s.history));
+    ck.fields.push_back(vector_field(
+        "optimizer_state", {double(s.iteration), s.lambda, s.in_lbfgs ? 1.0 : 0.0, double(s.evaluations)}));
+    ctx.take.append(ck);
+    ctx.progress.report(s.iteration, s.objective);
+    ctx.progress.check_cancelled();
+    return true;
+  });
+  if (st.history.empty()) st.history.push_back(0.5 * residuals(p, st.theta).squaredNorm());
+  const double optimize_s = seconds_since(t_opt);
+
+  // Re-simulate the whole take under the optimized controller.
+  ctx.progress.stage("playback", m.frames);
+  SoftState s = initial_state(m.character, p.start_offset_m, Eigen::Vector3d::Zero(), p.sim.dt_s);
+  const Eigen::Vector3d com0 = centre_of_mass(m.character, s);
+  ctx.take.append(soft_frame_record(m, s, 0, true));
+  ctx.events.frame(0);
+  DmpState d = dmp_init(p.dmp);
+  double sim_s = 0, max_gain = 0;
+  for (int f = 1; f < m.frames; ++f) {
+    const auto ts = std::chrono::steady_clock::now();
+    const Eigen::VectorXd& y = dmp_step(p.dmp, st.theta, p.sim.dt_s, d);
+    reduced_step(m.character, p.env, p.sim, control_force(m.character, y), s);
+    sim_s += seconds_since(ts);
+    max_gain = std::max(max_gain, centre_of_mass(m.character, s)[1] - com0[1]);
+    ctx.take.append(soft_frame_record(m, s, f, false));
+    ctx.events.frame(f);
+    ctx.progress.report(f + 1);
+    ctx.progress.check_cancelled();
+  }
+  const Eigen::Vector3d disp = centre_of_mass(m.character, s) - com0;
+  const double horizontal = std::hypot(disp[0], disp[2]);
+  const double sim_time = (m.frames - 1) * p.sim.dt_s;
+  nlohmann::json metrics = {
+      {"objective_history", st.history},
+      {"objective_initial", st.history.front()},
+      {"objective_final", st.history.back()},
+      {"iterations", st.iteration},
+      {"rollouts", st.evaluations},
+      {"optimizer", optimizer_name(m.optimizer.kind)},
+      {"step_kinds", st.step_kinds},
+      {"distance_m", horizontal},
+      {"displacement_m", {disp[0], disp[1], disp[2]}},
+      {"distance_per_s", sim_time > 0 ? horizontal / sim_time : 0.0},
+      {"max_height_gain_m", max_gain},
+      {"playback_fps", sim_s > 0 ? (m.frames - 1) / sim_s : 0.0},
+      {"compile_s", compile_s},
+      {"optimize_s", optimize_s},
+      {"wall_s", seconds_since(t0)},
+      {"lattice_cells", m.character.lattice.cells.size()},
+      {"lattice_nodes", m.character.lattice.nodes()},
+      {"pieces_dropped", m.character.lattice.pieces_dropped},
+      {"welded_vertices", m.repair.welded_vertices},
+      {"dropped_triangles", m.repair.dropped_triangles},
+      {"modes", m.character.basis.r()},
+      {"dmp_parameters", p.dmp.parameters()},
+      {"cubature_cells", m.cubature.cells},
+      {"cubature_kept_fraction", m.cubature.kept_fraction}};
+  return metrics;
+}
+
+}  // namespace pliant::soft
