@@ -205,8 +205,7 @@ TEST(Admm, ResumesFromItsStateAndCallsBack) {
 
 // Progressive preview: a 64^2 problem is first solved at 32^2; the preview shows that
 // coarse trajectory (T+1 frames, mass conserved by the upwind operator) before the
-// fine iterations start from its prolonged velocities. (With only max(3, N/4) coarse
-// iterations the head start is small: measured 543 vs 555 at rest on this problem.)
+// fine iterations start from its prolonged forces (control_coarse_to_fine.h).
 TEST(Admm, ProgressivePreviewShowsTheCoarseSolutionFirst) {
   std::ifstream in(std::string(PLIANT_ASSETS_DIR) + "/scenes/smoke_circle_to_square.json");
   std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());

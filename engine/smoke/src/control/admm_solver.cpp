@@ -8,6 +8,7 @@
 
 #include "../smoke_workspace.h"
 #include "ao_solver.h"
+#include "control_coarse_to_fine.h"
 #include "control_forward_model.h"
 #include "nso_solver.h"
 #include "spacetime_multigrid_transfer.h"
@@ -90,6 +91,15 @@ void admm_run(const ControlModel& m, ControlState& s, Progress& progress, const 
     s.dual.assign(T, std::vector<float>(F, 0.0f));
   }
   Series u = to_d(s.velocity), z = to_d(s.split), lam = to_d(s.dual), c(T, Vec(F)), d(T, Vec(F));
+  // Best re-simulated objective so far: the history's and the state's forces' (a start
+  // from prolonged coarse forces may beat the first fine iterations). A function of the
+  // state only, so a resumed run decides the same.
+  double best = std::numeric_limits<double>::infinity();
+  for (double e : s.objective_history) best = std::min(best, e);
+  if (sized(s.force)) {
+    control_detail::SerialBelow serial_e(0, 1);
+    best = std::min(best, control_detail::objective_d(m, ops, to_d(s.force), nullptr));
+  }
   AoSolver ao(m, ops);
   NsoSolver nso(m, ops);
   nso.set_damping(s.nso_damping);
@@ -142,10 +152,7 @@ void admm_run(const ControlModel& m, ControlState& s, Progress& progress, const 
     serial_f.reset();
     it.forces_s = seconds_since(t2);
     // The output forces are the best re-simulated ones so far (ADMM is not monotone in E).
-    const double best = s.objective_history.empty()
-                            ? std::numeric_limits<double>::infinity()
-                            : *std::min_element(s.objective_history.begin(), s.objective_history.end());
-    if (it.objective <= best || !sized(s.force)) s.force = to_f(f);
+    if (it.objective <= best || !sized(s.force)) s.force = to_f(f), best = std::min(best, it.objective);
     s.velocity = to_f(u);
     s.split = to_f(z);
     s.dual = to_f(lam);
@@ -197,57 +204,12 @@ bool admm_coarsen_model(const ControlModel& m, ControlModel& coarse) {
 }
 
 void control_solve_admm(const ControlModel& m, ControlState& s, Progress& progress, const ControlCallbacks& cb) {
-  const int T = m.sim.frames;
-  // Progressive preview: solve at half (or quarter) resolution first, show it, and
-  // prolong its velocities and dual as the fine initial guess.
-  if (m.progressive_preview && s.iteration == 0 && s.split.empty()) {
-    std::vector<ControlModel> chain{m};
-    ControlModel c;
-    while (chain.size() < 3 && chain.back().sim.n[0] > 32 && admm_coarsen_model(chain.back(), c)) chain.push_back(c);
-    if (chain.size() > 1) {
-      ControlModel& cm = chain.back();
-      cm.progressive_preview = false;
-      cm.max_iterations = std::max(3, m.max_iterations / 4);
-      ControlState cs = control_init(cm);
-      admm_run(cm, cs, progress, {}, nullptr);
-      if (cb.on_preview) {
-        control_detail::ForwardOps ops(cm, control_detail::kControlPressureTolerance);
-        control_detail::TrajectoryD tr;
-        control_detail::forward_d(cm, ops, to_d(cs.force), tr);
-        GridDims gd;
-        gd.dim = cm.sim.dim;
-        gd.n = cm.sim.n;
-        std::vector<std::vector<float>> dens;
-        for (const auto& r : tr.rho) dens.emplace_back(r.begin(), r.end());
-        cb.on_preview(gd, dens);
-      }
-      FaceSeries* series[3] = {&cs.velocity, &cs.split, &cs.dual};
-      for (int l = int(chain.size()) - 2; l >= 0; --l) {
-        const SpacetimeGrid fg(model_grid(chain[l].sim), 1), cg(model_grid(chain[l + 1].sim), 1);
-        for (FaceSeries* x : series)
-          for (int t = 0; t < T; ++t) {
-            std::vector<double> xc((*x)[t].begin(), (*x)[t].end()), xf(fg.faces());
-            prolong_faces(fg, cg, xc.data(), xf.data());
-            (*x)[t].assign(xf.begin(), xf.end());
-          }
-      }
-      // The scaled dual belongs to the coarse run's last penalty; the fine run starts at
-      // iteration 0's.
-      const float scale = float(admm_penalty_at(cm, cs.iteration - 1) / admm_penalty_at(m, 0));
-      for (auto& v : cs.dual)
-        for (float& x : v) x *= scale;
-      s.velocity = cs.velocity;
-      s.split = cs.split;
-      s.dual = cs.dual;
-      // The prolonged z is not exactly divergence-free: project it.
-      control_detail::ForwardOps ops(m, control_detail::kControlPressureTolerance);
-      for (auto& zt : s.split) {
-        Vec v(zt.begin(), zt.end());
-        ops.project(v);
-        zt.assign(v.begin(), v.end());
-      }
-    }
-  }
+  // Progressive preview: ADMM (and its polish) at a quarter and half resolution first;
+  // the fine ADMM starts from the trajectory of the prolonged forces.
+  if (m.progressive_preview && s.phase == 0)
+    control_coarse_to_fine(m, s, 3, cb, [&](const ControlModel& cm, ControlState& cs) {
+      control_solve_admm(cm, cs, progress, {});
+    });
   if (s.phase == 0) {
     admm_run(m, s, progress, cb, nullptr);
     if (m.polish_iterations <= 0) return;

@@ -8,6 +8,8 @@
 // The state's forces are those of the best re-simulated objective so far (ADMM is not
 // monotone in E). control_solve_admm then runs ControlModel::polish_iterations of the
 // L-BFGS baseline from those forces (ControlState::phase 1).
+// Progressive preview (control_coarse_to_fine.h): ADMM + polish at 1/4 and 1/2 resolution
+// first; the fine ADMM starts from the trajectory of the prolonged forces.
 // Exact resume: everything carried between outer iterations is in ControlState (u, z,
 // lambda as float and the loop continues from those floats; the NSO damping); the AO's
 // quasi-Newton memory and the NSO multipliers restart at every solve.

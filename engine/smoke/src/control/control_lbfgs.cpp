@@ -16,6 +16,7 @@
 #include <cstdio>
 #include <limits>
 
+#include "control_coarse_to_fine.h"
 #include "control_forward_model.h"
 #include "pliant/core/error.h"
 
@@ -74,6 +75,12 @@ void control_solve_lbfgs(const ControlModel& m, ControlState& s, Progress& progr
   const int T = m.sim.frames;
   const size_t nf = ops.faces();
   if (int(s.force.size()) != T) s = control_init(m);
+  // Progressive preview: L-BFGS at a quarter and half resolution first, the fine solve
+  // starts from the prolonged forces (control_coarse_to_fine.h).
+  if (m.progressive_preview)
+    control_coarse_to_fine(m, s, 3, cb, [&](const ControlModel& cm, ControlState& cs) {
+      control_solve_lbfgs(cm, cs, progress, {});
+    });
   Eigen::VectorXd x(Eigen::Index(size_t(T) * nf));
   for (int i = 0; i < T; ++i) {
     if (s.force[i].size() != nf) throw std::invalid_argument("control_solve_lbfgs: state does not match the model");

@@ -33,6 +33,23 @@ NsoStats NsoSolver::solve(std::vector<Vec>& z, const std::vector<Vec>& d, double
   const double dt = ops_.dt(), w = 2.0 * m_.r / (dt * dt);
   double E = energy(z, d, beta);
   st.e_before = E;
+  if (projected_start) {
+    // Start from the per-frame projection P d when it is better: the exact solution for
+    // r -> 0 (no dynamics term), and a much better guess than the last z while beta
+    // dominates 2r/dt^2, so fewer V-cycles reach the same residual.
+    std::vector<Vec>& pd = pd_;
+    pd.resize(T_);
+    for (int t = 0; t < T_; ++t) {
+      pd[t] = d[t];
+      ops_.project(pd[t]);
+    }
+    const double Ep = energy(pd, d, beta);
+    if (Ep < E) {
+      for (int t = 0; t < T_; ++t) z[t] = pd[t];
+      E = Ep;
+      st.projected_start = true;
+    }
+  }
   NsoLevel& L = mg_->fine();
   std::vector<Vec> zn = z;
   for (int step = 0; step < lm_steps; ++step) {
