@@ -50,7 +50,8 @@ Trajectory decode(const LiquidModel& m, const Eigen::VectorXd& u) {
     kp.pose = m.source.pose;
     kp.pose.position_m[0] += b.x_lo + (b.x_hi - b.x_lo) * u[3 * k];
     kp.pose.position_m[1] += b.y_lo + (b.y_hi - b.y_lo) * u[3 * k + 1];
-    kp.pose.tilt_rad = b.tilt_hi * u[3 * k + 2];
+    // Tilt only grows (a pour never tips back): increments of up to 2 max / K.
+    kp.pose.tilt_rad = std::min(b.tilt_hi, t.keys.back().pose.tilt_rad + 2 * b.tilt_hi / K * u[3 * k + 2]);
     t.keys.push_back(kp);
   }
   return t;
@@ -66,15 +67,25 @@ Eigen::VectorXd initial_guess(const LiquidModel& m) {
     const double s = double(k + 1) / K;
     u[3 * k] = std::clamp((0.4 * D * s - b.x_lo) / (b.x_hi - b.x_lo), 0.0, 1.0);
     u[3 * k + 1] = (0.05 - b.y_lo) / (b.y_hi - b.y_lo);
-    u[3 * k + 2] = 0.85 * s;
+    u[3 * k + 2] = 0.425;  // reaches 0.85 max_tilt at the last key
+    (void)s;
   }
   return u;
 }
 
-double plan_cost(const SimplifiedResult& r, const Eigen::VectorXd& u) {
+// Spill and leftover, robot limits, and smoothness: the model knows nothing of
+// sloshing, so fast or jerky motions (which it would happily exploit) are
+// penalised by the squared key-to-key speeds (m/s, rad/s).
+double plan_cost(const SimplifiedResult& r, const Trajectory& t) {
   double smooth = 0;
-  for (int k = 1; k < u.size() / 3; ++k) smooth += std::pow(u[3 * k + 2] - u[3 * k - 1], 2);
-  return 3 * r.spilled + 2 * r.remaining + 1e4 * r.collision + 0.01 * smooth;
+  for (size_t k = 1; k < t.keys.size(); ++k) {
+    const double dt = t.keys[k].time_s - t.keys[k - 1].time_s;
+    const auto& a = t.keys[k - 1].pose;
+    const auto& b = t.keys[k].pose;
+    const double dx = b.position_m[0] - a.position_m[0], dy = b.position_m[1] - a.position_m[1];
+    smooth += (dx * dx + dy * dy) / (dt * dt) + 0.01 * std::pow((b.tilt_rad - a.tilt_rad) / dt, 2);
+  }
+  return 3 * r.spilled + 2 * r.remaining + 1e4 * r.collision + 0.3 * smooth / double(t.keys.size());
 }
 
 // Cd by golden-section search so the model's volume curve matches one full
@@ -134,7 +145,8 @@ Trajectory plan_simplified(const LiquidModel& m, Progress& progress, nlohmann::j
   o.lower = Eigen::VectorXd::Zero(n);
   o.upper = Eigen::VectorXd::Ones(n);
   auto cost = [&](const Eigen::VectorXd& u) {
-    return plan_cost(simulate_simplified(m, tables, decode(m, u), duration, cd), u);
+    const Trajectory t = decode(m, u);
+    return plan_cost(simulate_simplified(m, tables, t, duration, cd), t);
   };
   progress.stage("cmaes", m.planner.generations);
   const optim::CmaesResult r = optim::cmaes_minimize(cost, initial_guess(m), o, [&](int it, double f) {

@@ -1,0 +1,77 @@
+#include <gtest/gtest.h>
+
+#include "pliant/core/error.h"
+#include "pliant/liquid/liquid.h"
+
+namespace pliant::liquid {
+namespace {
+
+const char* kGood = R"({
+  "pliant": 1, "kind": "liquid", "dim": 2,
+  "domain": {"min_m": [-0.1, 0], "max_m": [0.3, 0.3], "cell_size_m": 0.01},
+  "source": {"container": {"shape": "cylinder", "radius_m": 0.04, "height_m": 0.1, "wall_m": 0.012},
+             "position_m": [0, 0.1],
+             "trajectory": [{"time_s": 0, "position_m": [0, 0.1]}, {"time_s": 1, "position_m": [0, 0.1], "tilt_deg": 90}]},
+  "target": {"container": {"shape": "box", "radius_m": 0.06, "height_m": 0.06}, "position_m": [0.2, 0]}
+})";
+
+std::string problem_of(nlohmann::json doc) {
+  try {
+    liquid_compile(parse_scene(doc.dump(), "scene.json"));
+  } catch (const InputError& e) {
+    return e.pointer() + ": " + e.problem();
+  }
+  return "";
+}
+
+TEST(LiquidCompile, GoodSceneCompiles) {
+  const LiquidModel m = liquid_compile(parse_scene(kGood, "scene.json"));
+  EXPECT_EQ(m.dim, 2);
+  EXPECT_EQ(m.n[0], 40);
+  EXPECT_EQ(m.n[1], 30);
+  EXPECT_EQ(m.source_path.keys.size(), 2u);
+  EXPECT_NEAR(m.source_path.keys[1].pose.tilt_rad, 3.14159265358979 / 2, 1e-12);
+  EXPECT_EQ(m.target.shape.type, ContainerShape::Box);
+  EXPECT_GT(liquid_init(m).count(), 50u);
+}
+
+TEST(LiquidCompile, ErrorsNameTheirPointer) {
+  const auto good = nlohmann::json::parse(kGood);
+  EXPECT_EQ(problem_of({{"pliant", 1}, {"kind", "liquid"}}).rfind("/domain:", 0), 0u);
+  auto d = good;
+  d["source"]["container"]["wall_m"] = 0.002;
+  EXPECT_NE(problem_of(d).find("/source/container: wall_m"), std::string::npos) << problem_of(d);
+  d = good;
+  d["source"]["trajectory"][1]["time_s"] = 0;
+  EXPECT_EQ(problem_of(d).rfind("/source/trajectory/1/time_s", 0), 0u) << problem_of(d);
+  d = good;
+  d["source"]["container"]["shape"] = "cilinder";
+  EXPECT_NE(problem_of(d).find("cylinder"), std::string::npos) << problem_of(d);  // suggestion
+  d = good;
+  d["liquid"] = {{"viscosty_pa_s", 0.1}};
+  EXPECT_NE(problem_of(d).find("viscosity_pa_s"), std::string::npos) << problem_of(d);
+  d = good;
+  d["source"]["container"] = "no/such/container.json";
+  EXPECT_EQ(problem_of(d).rfind("/source/container", 0), 0u) << problem_of(d);
+  d = good;
+  d["planner"] = {{"mode", "simplified"}};
+  d.erase("target");
+  EXPECT_EQ(problem_of(d).rfind("/planner/mode", 0), 0u) << problem_of(d);
+}
+
+TEST(LiquidCompile, ContainerFilesOfTheAssetsLoad) {
+  for (const char* name : {"cylinder", "oval", "box", "cup", "bottle", "target_basin"}) {
+    auto d = nlohmann::json::parse(kGood);
+    d["dim"] = 3;
+    d["domain"]["min_m"] = {-0.1, 0, -0.1};
+    d["domain"]["max_m"] = {0.3, 0.4, 0.1};
+    d["source"]["container"] = std::string(PLIANT_ASSETS_DIR) + "/containers/" + name + ".json";
+    d["source"]["position_m"] = {0, 0.1, 0};
+    d["source"].erase("trajectory");
+    d["target"]["position_m"] = {0.2, 0, 0};
+    EXPECT_EQ(problem_of(d), "") << name;
+  }
+}
+
+}  // namespace
+}  // namespace pliant::liquid
