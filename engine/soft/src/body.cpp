@@ -47,12 +47,22 @@ SurfaceMesh repair_mesh(const geom::TriangleMesh& in, RepairReport* report, doub
     const Vector3d p(in.vertices[v][0], in.vertices[v][1], in.vertices[v][2]);
     const CellKey key{(long long)std::floor((p[0] - lo[0]) / tol), (long long)std::floor((p[1] - lo[1]) / tol),
                       (long long)std::floor((p[2] - lo[2]) / tol)};
-    auto [it, fresh] = grid.emplace(key, int(welded.size()));
-    if (fresh)
-      welded.push_back(p);
-    else
+    // Look in the 27 neighbouring cells so pairs straddling a cell face still weld.
+    int found = -1;
+    for (int dz = -1; dz <= 1 && found < 0; ++dz)
+      for (int dy = -1; dy <= 1 && found < 0; ++dy)
+        for (int dx = -1; dx <= 1 && found < 0; ++dx) {
+          auto it = grid.find(CellKey{key.i + dx, key.j + dy, key.k + dz});
+          if (it != grid.end() && (welded[it->second] - p).norm() <= tol) found = it->second;
+        }
+    if (found >= 0) {
       ++rep.welded_vertices;
-    remap[v] = it->second;
+      remap[v] = found;
+      continue;
+    }
+    grid.emplace(key, int(welded.size()));
+    remap[v] = int(welded.size());
+    welded.push_back(p);
   }
   std::vector<std::array<int, 3>> tris;
   const double min_area = 1e-14 * diag * diag;

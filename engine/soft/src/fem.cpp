@@ -180,27 +180,51 @@ double elastic_reduced(const Lattice& lat, const Lame& l, const Eigen::VectorXd&
   if (grad) grad->setZero(r);
   if (hess) hess->setZero(r, r);
   const auto& G = scaled_table(h);
-  Eigen::MatrixXd Ue(24, r), D(9, r);
+  // B_q = dvec(F)/dx_cell (9 x 24), the same for every cell of the uniform lattice.
+  thread_local std::array<Eigen::Matrix<double, 9, 24>, 8> B;
+  thread_local double B_h = -1;
+  if (B_h != h) {
+    for (int q = 0; q < 8; ++q) {
+      B[q].setZero();
+      for (int a = 0; a < 8; ++a)
+        for (int c = 0; c < 3; ++c)
+          for (int s = 0; s < 3; ++s) B[q](3 * c + s, 3 * a + s) = G[q](a, c);
+    }
+    B_h = h;
+  }
+  Eigen::Matrix<double, 24, Eigen::Dynamic> Ue(24, r);
+  Eigen::Matrix<double, 9, Eigen::Dynamic> D(9, r), AD(9, r);
+  Eigen::Matrix<double, 24, 1> gcell;
   double energy = 0;
   for (int k = 0; k < ncell; ++k) {
     const int e = cw.all() ? k : cw.cells[k];
     const double we = (cw.all() ? 1.0 : cw.weights[k]) * vol_q;
     const auto& ids = lat.cells[e];
     const Eigen::Matrix<double, 3, 8> X = gather(lat, x, e);
-    for (int a = 0; a < 8; ++a) Ue.middleRows(3 * a, 3) = U.middleRows(3 * ids[a], 3);
+    for (int a = 0; a < 8; ++a) Ue.middleRows<3>(3 * a) = U.middleRows<3>(3 * ids[a]);
+    gcell.setZero();
     for (int q = 0; q < 8; ++q) {
       const Matrix3d F = X * G[q];
       energy += we * snh_energy(l, F);
-      // D row (3c + s) = sum_a G_q(a, c) U_e(3a + s, :)
-      D.setZero();
-      for (int a = 0; a < 8; ++a)
-        for (int c = 0; c < 3; ++c) D.middleRows(3 * c, 3) += G[q](a, c) * Ue.middleRows(3 * a, 3);
       if (grad) {
         const Matrix3d P = snh_stress(l, F);
-        *grad += we * D.transpose() * Eigen::Map<const Eigen::Matrix<double, 9, 1>>(P.data());
+        gcell.noalias() += we * B[q].transpose() * Eigen::Map<const Eigen::Matrix<double, 9, 1>>(P.data());
       }
-      if (hess) hess->noalias() += we * D.transpose() * (snh_stress_derivative(l, F) * D);
+      if (hess) {
+        // Lazy (coefficient-based) products: tiny sizes, GEMM packing would dominate.
+        // D = B_q U_e using B's sparsity: row 3c+s = sum_a G(a,c) U_e(3a+s, :).
+        for (int j = 0; j < r; ++j)
+          for (int c = 0; c < 3; ++c)
+            for (int s = 0; s < 3; ++s) {
+              double acc = 0;
+              for (int a = 0; a < 8; ++a) acc += G[q](a, c) * Ue(3 * a + s, j);
+              D(3 * c + s, j) = acc;
+            }
+        AD.noalias() = snh_stress_derivative(l, F).lazyProduct(D);
+        hess->noalias() += we * D.transpose().lazyProduct(AD);
+      }
     }
+    if (grad) grad->noalias() += Ue.transpose().lazyProduct(gcell);
   }
   return energy;
 }
