@@ -7,6 +7,7 @@
 //                        (or frame) of the take
 //   ui_fps_while_solving UI frames per second between Solve and the end of the
 //                        measuring window (quick 15 s, full 60 s) or of the job
+//   ui_fps_idle          baseline in the same run: the same window, no job (3 s)
 //   frame_ms_p95/max     frame times over that window (hitches when records land)
 // Targets (issue 4): ui_fps_while_solving > 30, first_preview_s < 5 at 128^2 x 40.
 // The job is cancelled at the end of the window. One JSON object per case on
@@ -85,6 +86,14 @@ json run_case(const Case& c, double window_s, const fs::path& work) {
   std::string err;
   if (!app.init(make_egl_platform(), &err)) throw std::runtime_error("editor init: " + err);
   for (int i = 0; i < 3; ++i) app.frame();
+  // Baseline in the same run: the same window with no job (3 s).
+  int idle_frames = 0;
+  const auto ti = Clock::now();
+  while (std::chrono::duration<double>(Clock::now() - ti).count() < 3.0) {
+    app.frame();
+    ++idle_frames;
+  }
+  const double idle_fps = idle_frames / std::chrono::duration<double>(Clock::now() - ti).count();
 
   const auto t0 = Clock::now();
   if (!app.cmd_run()) throw std::runtime_error("cannot start the solve: " + app.status());
@@ -115,6 +124,8 @@ json run_case(const Case& c, double window_s, const fs::path& work) {
   json j = {{"case", c.name},
             {"first_preview_s", first_preview},
             {"ui_fps_while_solving", frame_ms.size() / elapsed},
+            {"ui_fps_idle", idle_fps},
+            {"fps_ratio_solving_vs_idle", frame_ms.size() / elapsed / idle_fps},
             {"frame_ms_p95", p95},
             {"frame_ms_max", sorted.empty() ? 0 : sorted.back()},
             {"ui_frames", frame_ms.size()},

@@ -55,6 +55,8 @@ struct ViewportState {
   std::string preview_label;  // "preview 16x16, 3 of 5" while one is shown
   bool show_canvas = false;   // smoke 2D: the keyframe canvas instead of the result
   bool show_outlines = true;  // keyframe outlines over the result at keyframe frames
+  uint64_t uploads = 0;             // bumped whenever the renderer's frame changes
+  std::vector<float> drawn_state;   // what the FBO holds: redraw only when it changes
 };
 
 struct PanelVisibility {

@@ -354,7 +354,12 @@ void draw_keyframe_canvas(App& app) {
 
   ImDrawList* dl = ImGui::GetWindowDrawList();
   if (app.has_gl()) {
-    upload_composite(s, s.stroking ? s.working : s.grid);
+    const std::array<uint64_t, 3> key{app.doc.revision(), uint64_t(int64_t(s.slot)), uint64_t(s.onion)};
+    if (s.stroking || key != s.texture_key || !s.texture) {
+      upload_composite(s, s.stroking ? s.working : s.grid);
+      // After a stroke the working copy was shown: upload the committed grid next frame.
+      s.texture_key = s.stroking ? std::array<uint64_t, 3>{~0ull, 0, 0} : key;
+    }
     // Row 0 of the grid is the bottom: flip v.
     dl->AddImage(reinterpret_cast<ImTextureID>(static_cast<intptr_t>(s.texture)), p0, p1, ImVec2(0, 1),
                  ImVec2(1, 0));

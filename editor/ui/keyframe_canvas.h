@@ -4,6 +4,7 @@
 // so every stroke is one undo step and save/reopen is bit-exact (the grid is
 // stored inline, geom/painted_grid.h).
 #pragma once
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -39,6 +40,7 @@ struct KeyframeCanvasState {
   geom::PaintedGrid working;
   double last_x = 0, last_y = 0, start_x = 0, start_y = 0;
   unsigned texture = 0;  // GL texture of the composite
+  std::array<uint64_t, 3> texture_key{~0ull, 0, 0};  // (revision, slot, onion) it shows
 };
 
 // The canvas with its toolbar, in the current window's remaining region.

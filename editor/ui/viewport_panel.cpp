@@ -66,6 +66,7 @@ bool sync_preview(App& app, TakeReader& rd) {
   one.fields.push_back(std::move(slice));
   const bool new_take = v.shown_dir != dir;
   app.renderer.set_frame(one);
+  ++v.uploads;
   if (new_take) v.camera.reset();
   v.showing_preview = true;
   v.shown_dir = dir;
@@ -127,7 +128,10 @@ void sync_frame(App& app) {
   if (rd && app.take.frame_count() == 0 && sync_preview(app, *rd)) return;
   app.viewport.showing_preview = false;
   if (!rd || app.take.frame_count() == 0) {
-    if (app.renderer.has_frame()) app.renderer.clear_frame();
+    if (app.renderer.has_frame()) {
+      app.renderer.clear_frame();
+      ++app.viewport.uploads;
+    }
     shown_dir.clear();
     shown_frame = -1;
     return;
@@ -138,6 +142,7 @@ void sync_frame(App& app) {
   bool new_take = dir != shown_dir;
   try {
     app.renderer.set_frame(rd->read_frame_at(static_cast<size_t>(app.take.frame)));
+    ++app.viewport.uploads;
     if (new_take) app.viewport.camera.reset();
   } catch (const std::exception& e) {
     app.log.error(std::string("cannot read frame: ") + e.what());
@@ -211,14 +216,27 @@ void draw_viewport_panel(App& app, const PanelRect& r) {
     sync_frame(app);
     GLint prev_fb = 0;
     glGetIntegerv(GL_FRAMEBUFFER_BINDING, &prev_fb);
-    ensure_fbo(v, w, h);
-    glBindFramebuffer(GL_FRAMEBUFFER, v.fbo);
-    glViewport(0, 0, w, h);
-    const auto& bg = v.settings.background;
-    glClearColor(bg[0], bg[1], bg[2], 1.0f);
-    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-    if (app.renderer.has_frame()) app.renderer.render(v.camera, v.settings, w, h);
-    glBindFramebuffer(GL_FRAMEBUFFER, static_cast<GLuint>(prev_fb));
+    // Software GL (llvmpipe) pays per pixel: redraw the FBO only when the frame,
+    // camera, settings or size changed.
+    const OrbitCamera& cam = v.camera;
+    const ViewSettings& vs = v.settings;
+    std::vector<float> state = {float(v.uploads), cam.yaw_deg, cam.pitch_deg, cam.distance, cam.fov_deg,
+                                cam.target[0], cam.target[1], cam.target[2], cam.zoom2d, cam.pan2d[0],
+                                cam.pan2d[1], vs.density_scale, float(vs.show_grid), float(vs.show_velocity),
+                                float(vs.show_force), vs.background[0], vs.background[1], vs.background[2],
+                                vs.smoke_color[0], vs.smoke_color[1], vs.smoke_color[2], float(w), float(h),
+                                float(app.renderer.has_frame())};
+    if (state != v.drawn_state || !v.fbo || v.fbo_w != w || v.fbo_h != h) {
+      ensure_fbo(v, w, h);
+      glBindFramebuffer(GL_FRAMEBUFFER, v.fbo);
+      glViewport(0, 0, w, h);
+      const auto& bg = v.settings.background;
+      glClearColor(bg[0], bg[1], bg[2], 1.0f);
+      glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+      if (app.renderer.has_frame()) app.renderer.render(v.camera, v.settings, w, h);
+      glBindFramebuffer(GL_FRAMEBUFFER, static_cast<GLuint>(prev_fb));
+      v.drawn_state = std::move(state);
+    }
     // GL's origin is bottom-left: flip v so the image is upright.
     ImGui::GetWindowDrawList()->AddImage(
         reinterpret_cast<ImTextureID>(static_cast<intptr_t>(v.color_tex)), pos,
