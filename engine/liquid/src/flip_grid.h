@@ -53,11 +53,16 @@ struct FlipWorkspace {
   std::vector<double> vx, vb, vr, vz, vs, vq, vdiag;  // viscosity solve
   std::array<std::vector<double>, 3> vplus;
   std::vector<int> vindex;
+  std::vector<int> front, front_next;  // extrapolation band
+  std::vector<float> front_value;
   bool static_ready = false;
 };
 
 // Interpolates face component c at world position x (linear tent kernel).
 float interpolate(const FlipGrid& g, int c, const float* field, const float* x);
+// Two fields of the same component at x with one stencil (new and old velocity).
+void interpolate_pair(const FlipGrid& g, int c, const float* a, const float* b, const float* x, float* va,
+                      float* vb);
 
 // Pressure projection with solid fractions and ghost-fluid free surface; returns
 // PCG iterations.

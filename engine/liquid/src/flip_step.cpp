@@ -213,18 +213,27 @@ void particles_to_grid(const FlipGrid& g, const LiquidState& s, FlipWorkspace& w
                 wt[f] += ww;
               }
         }
-        // Liquid level set in the 3^dim neighbourhood of the particle's cell.
+        // Liquid level set at the particle's cell and its 2 dim face neighbours
+        // (the ghost-fluid theta only pairs face-adjacent cells).
         const int cell = w.particle_cell[p];
-        const int ci = cell % g.nx, cj = (cell / g.nx) % g.ny, ck = cell / (g.nx * g.ny);
-        for (int k = std::max(0, ck - 1); k <= std::min(g.nz - 1, ck + 1); ++k)
-          for (int j = std::max(0, cj - 1); j <= std::min(g.ny - 1, cj + 1); ++j)
-            for (int i = std::max(0, ci - 1); i <= std::min(g.nx - 1, ci + 1); ++i) {
-              const Vec3 cp = g.cell_pos(i, j, k);
-              float d2 = 0;
-              for (int a = 0; a < g.dim; ++a) d2 += (x[a] - float(cp[a])) * (x[a] - float(cp[a]));
-              float& phi = w.phi_liquid[g.cell(i, j, k)];  // squared distance until the end
-              phi = std::min(phi, d2);
-            }
+        const int cidx[3] = {cell % g.nx, (cell / g.nx) % g.ny, cell / (g.nx * g.ny)};
+        const int cdim[3] = {g.nx, g.ny, g.nz};
+        const int cst[3] = {1, g.nx, g.nx * g.ny};
+        float rel[3] = {0, 0, 0};  // particle relative to its cell centre
+        for (int a = 0; a < g.dim; ++a) rel[a] = x[a] - float(g.lo[a] + (cidx[a] + 0.5) * g.h);
+        float d2c = 0;
+        for (int a = 0; a < g.dim; ++a) d2c += rel[a] * rel[a];
+        w.phi_liquid[cell] = std::min(w.phi_liquid[cell], d2c);  // squared distance until the end
+        const float hf = float(g.h);
+        for (int a = 0; a < g.dim; ++a)
+          for (int sg = -1; sg <= 1; sg += 2) {
+            const int ni = cidx[a] + sg;
+            if (ni < 0 || ni >= cdim[a]) continue;
+            const float da = rel[a] - sg * hf;
+            const float d2 = d2c - rel[a] * rel[a] + da * da;
+            float& phi = w.phi_liquid[cell + sg * cst[a]];
+            phi = std::min(phi, d2);
+          }
       }
     }
   }
@@ -401,8 +410,8 @@ void liquid_substep(const LiquidModel& m, LiquidState& s, double dt, StepStats* 
     float* v = &s.v[3 * p];
     float vn[3] = {0, 0, 0}, xm[3] = {x[0], x[1], x[2]}, vm[3] = {0, 0, 0};
     for (int c = 0; c < g.dim; ++c) {
-      vn[c] = interpolate(g, c, w.vel[c].data(), x);
-      const float vo = interpolate(g, c, w.vel_old[c].data(), x);
+      float vo;
+      interpolate_pair(g, c, w.vel[c].data(), w.vel_old[c].data(), x, &vn[c], &vo);
       v[c] = flip * (v[c] + vn[c] - vo) + (1 - flip) * vn[c];
       xm[c] = x[c] + float(0.5 * dt) * vn[c];
     }

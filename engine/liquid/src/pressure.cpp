@@ -198,57 +198,106 @@ int project_pressure(const FlipGrid& g, const LiquidModel& m, FlipWorkspace& w, 
   return iters;
 }
 
+// Breadth-first: each layer sets the invalid faces next to valid ones to the
+// mean of their valid neighbours. Only the band around the liquid is visited
+// after one scan of the grid for the first front.
 void extrapolate(const FlipGrid& g, FlipWorkspace& w, int layers) {
   for (int c = 0; c < g.dim; ++c) {
     const auto d = g.face_dims(c);
     const int st[3] = {1, d[0], d[0] * d[1]};
     auto& val = w.valid[c];
-    auto& tmp = w.valid_tmp[c];
+    auto& mark = w.valid_tmp[c];  // 1 = queued in the front
     auto& v = w.vel[c];
-    for (int layer = 0; layer < layers; ++layer) {
-      tmp = val;
-#pragma omp parallel for collapse(2) schedule(static) if (worth_threads(g.cells()))
-      for (int k = 0; k < d[2]; ++k)
-        for (int j = 0; j < d[1]; ++j)
-          for (int i = 0; i < d[0]; ++i) {
-            const int f = i + d[0] * (j + d[1] * k);
-            if (tmp[f]) continue;
-            const int idx[3] = {i, j, k};
-            double sum = 0;
-            int cnt = 0;
-            for (int a = 0; a < g.dim; ++a) {
-              if (idx[a] > 0 && tmp[f - st[a]]) sum += v[f - st[a]], ++cnt;
-              if (idx[a] + 1 < d[a] && tmp[f + st[a]]) sum += v[f + st[a]], ++cnt;
-            }
-            if (cnt) v[f] = float(sum / cnt), val[f] = 1;
-          }
+    const int n = g.faces(c);
+    mark.assign(n, 0);
+    std::vector<int>& front = w.front;
+    std::vector<float>& value = w.front_value;
+    front.clear();
+    auto neighbours = [&](int f, auto&& fn) {
+      int rem = f;
+      const int i = rem % d[0];
+      rem /= d[0];
+      const int j = rem % d[1], k = rem / d[1];
+      const int idx[3] = {i, j, k};
+      for (int a = 0; a < g.dim; ++a) {
+        if (idx[a] > 0) fn(f - st[a]);
+        if (idx[a] + 1 < d[a]) fn(f + st[a]);
+      }
+    };
+    for (int f = 0; f < n; ++f) {
+      if (val[f]) continue;
+      bool near = false;
+      neighbours(f, [&](int nb) { near = near || val[nb]; });
+      if (near) front.push_back(f), mark[f] = 1;
+    }
+    for (int layer = 0; layer < layers && !front.empty(); ++layer) {
+      value.resize(front.size());
+      for (size_t q = 0; q < front.size(); ++q) {
+        double sum = 0;
+        int cnt = 0;
+        neighbours(front[q], [&](int nb) {
+          if (val[nb]) sum += v[nb], ++cnt;
+        });
+        value[q] = cnt ? float(sum / cnt) : 0.f;
+      }
+      for (size_t q = 0; q < front.size(); ++q) v[front[q]] = value[q], val[front[q]] = 1;
+      if (layer + 1 == layers) break;
+      std::vector<int>& next = w.front_next;
+      next.clear();
+      for (int f : front)
+        neighbours(f, [&](int nb) {
+          if (!val[nb] && !mark[nb]) mark[nb] = 1, next.push_back(nb);
+        });
+      front.swap(next);
     }
   }
 }
 
-float interpolate(const FlipGrid& g, int c, const float* field, const float* x) {
+namespace {
+// Tent-kernel stencil of face component c at x: base index, strides, weights.
+struct Stencil {
+  int base, sy, sz;
+  float t[3];
+};
+
+inline Stencil stencil(const FlipGrid& g, int c, const float* x) {
   const auto d = g.face_dims(c);
+  Stencil s{0, d[0], d[0] * d[1], {0, 0, 0}};
   int i0[3] = {0, 0, 0};
-  float t[3] = {0, 0, 0};
   for (int a = 0; a < g.dim; ++a) {
     const float off = a == c ? 0.f : 0.5f;
-    float f = float((x[a] - g.lo[a]) / g.h) - off;
-    int i = int(std::floor(f));
-    i = std::clamp(i, 0, d[a] - 2);
+    const float f = float((x[a] - g.lo[a]) / g.h) - off;
+    const int i = std::clamp(int(std::floor(f)), 0, d[a] - 2);
     i0[a] = i;
-    t[a] = std::clamp(f - float(i), 0.f, 1.f);
+    s.t[a] = std::clamp(f - float(i), 0.f, 1.f);
   }
-  const int sx = 1, sy = d[0], sz = d[0] * d[1];
-  const int base = i0[0] + d[0] * (i0[1] + d[1] * i0[2]);
-  const float* p = field + base;
-  const float a00 = p[0] + t[0] * (p[sx] - p[0]);
-  const float a10 = p[sy] + t[0] * (p[sy + sx] - p[sy]);
+  s.base = i0[0] + d[0] * (i0[1] + d[1] * i0[2]);
+  return s;
+}
+
+inline float apply(const FlipGrid& g, const Stencil& s, const float* field) {
+  const float* p = field + s.base;
+  const float* t = s.t;
+  const float a00 = p[0] + t[0] * (p[1] - p[0]);
+  const float a10 = p[s.sy] + t[0] * (p[s.sy + 1] - p[s.sy]);
   const float b0 = a00 + t[1] * (a10 - a00);
   if (g.dim == 2) return b0;
-  const float a01 = p[sz] + t[0] * (p[sz + sx] - p[sz]);
-  const float a11 = p[sz + sy] + t[0] * (p[sz + sy + sx] - p[sz + sy]);
+  const float a01 = p[s.sz] + t[0] * (p[s.sz + 1] - p[s.sz]);
+  const float a11 = p[s.sz + s.sy] + t[0] * (p[s.sz + s.sy + 1] - p[s.sz + s.sy]);
   const float b1 = a01 + t[1] * (a11 - a01);
   return b0 + t[2] * (b1 - b0);
+}
+}  // namespace
+
+float interpolate(const FlipGrid& g, int c, const float* field, const float* x) {
+  return apply(g, stencil(g, c, x), field);
+}
+
+void interpolate_pair(const FlipGrid& g, int c, const float* a, const float* b, const float* x, float* va,
+                      float* vb) {
+  const Stencil s = stencil(g, c, x);
+  *va = apply(g, s, a);
+  *vb = apply(g, s, b);
 }
 
 }  // namespace pliant::liquid
