@@ -129,7 +129,7 @@ Vector3d centre_of_mass(const Character& ch, const SoftState& s) {
 }
 
 void reduced_step(const Character& ch, const Environment& env, const SimParams& sp, const VectorXd& u,
-                  SoftState& s, StepStats* stats) {
+                  SoftState& s, StepStats* stats, const VectorXd* nodal_force) {
   const Lattice& lat = ch.lattice;
   const int n = lat.nodes(), r = ch.basis.r(), dof = r + 6;
   const double dt = sp.dt_s, idt2 = 1.0 / (dt * dt), eps = env.friction_eps_m_per_s * dt;
@@ -142,7 +142,9 @@ void reduced_step(const Character& ch, const Environment& env, const SimParams& 
     prev.q = s.q_prev, prev.R = s.R_prev, prev.c = s.c_prev;
     node_positions(ch, prev, xp);
   }
-  const StepTargets T = make_targets(ch, env, dt, x, xp);
+  StepTargets T = make_targets(ch, env, dt, x, xp);
+  if (nodal_force)
+    for (int j = 0; j < n; ++j) T.xt.segment<3>(3 * j) += dt * dt * nodal_force->segment<3>(3 * j) / lat.node_mass_kg[j];
   const VectorXd q_t = s.q;
   const double beta = sp.modal_damping_s / dt;
 

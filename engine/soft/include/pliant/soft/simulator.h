@@ -73,8 +73,9 @@ Eigen::Vector3d centre_of_mass(const Character& ch, const SoftState& s);
 // One implicit Euler step under modal control forces u (r values, generalized
 // forces on q; net force and torque on the body are zero: internal actuation).
 // Throws std::runtime_error naming the frame when the state turns non-finite.
+// nodal_force (3N, optional): external forces on the lattice nodes (N).
 void reduced_step(const Character& ch, const Environment& env, const SimParams& sp, const Eigen::VectorXd& u,
-                  SoftState& s, StepStats* stats = nullptr);
+                  SoftState& s, StepStats* stats = nullptr, const Eigen::VectorXd* nodal_force = nullptr);
 
 // Full-space step: positions x (3N), previous x_prev; nodal control force f (3N,
 // may be empty). Same energy with every node free.

@@ -1,0 +1,248 @@
+// bench_soft: the soft-character cases of BENCHMARKS.md.
+//   reduced_vs_full_r{5,15,30}  relative vertex error of the reduced model against the
+//                               full FEM (same implicit Euler energy, every node free) on
+//                               a bar dropped onto the ground; wall time of both.
+//   cubature_<character>        kept fraction of cells, force error on test poses.
+//   optimize_<scene>_<method>   hybrid / L-BFGS / LM side by side: objective after each
+//                               iteration, wall time and iterations to reach 1% of the
+//                               initial objective (null when not reached), ratio hybrid
+//                               vs L-BFGS; distance travelled per simulated second in
+//                               re-simulation.
+//   playback_<scene>            frames per second of DMP open-loop reduced simulation.
+// Prints one JSON object per case; writes the array to bench/results/soft.json.
+#include <Eigen/Dense>
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <thread>
+
+#include "pliant/core/scene.h"
+#include "pliant/geom/triangle_mesh.h"
+#include "pliant/soft/soft.h"
+
+using namespace pliant;
+using namespace pliant::soft;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+std::string machine() {
+  std::ifstream in("/proc/cpuinfo");
+  std::string line, model = "unknown";
+  while (std::getline(in, line))
+    if (line.rfind("model name", 0) == 0) {
+      model = line.substr(line.find(':') + 2);
+      break;
+    }
+  return std::to_string(std::thread::hardware_concurrency()) + " x " + model;
+}
+
+std::vector<nlohmann::json> results;
+void emit(nlohmann::json j) {
+  j["bench"] = "soft";
+  j["machine"] = machine();
+  std::cout << j.dump() << std::endl;
+  results.push_back(j);
+}
+
+Character bar(int res, int modes) {
+  auto cube = geom::unit_cube_mesh();
+  for (auto& v : cube.vertices) {
+    v[0] *= 1.0, v[1] *= 0.2, v[2] *= 0.2;
+  }
+  SurfaceMesh s = repair_mesh(cube);
+  Lattice lat = build_lattice(s, res, 1000);
+  return make_character(std::move(s), std::move(lat), Material{1000, 5e4, 0.3}, modes);
+}
+
+void reduced_vs_full(bool quick) {
+  // A free bar (no gravity, no contact) under a body force growing with x^2 along
+  // it: it accelerates, turns and bends. Error: RMS over frames of the node position
+  // difference, relative to the RMS deformation of the full solution (displacement
+  // minus its rigid best fit).
+  const int res = quick ? 10 : 15;
+  const int frames = quick ? 20 : 40;
+  Environment env;
+  env.gravity_m_per_s2.setZero();
+  SimParams sp;
+  sp.dt_s = 0.01;
+  sp.modal_damping_s = 0;
+  Character full = bar(res, 1);
+  const int n = full.lattice.nodes();
+  Eigen::VectorXd f(3 * n);
+  for (int j = 0; j < n; ++j) {
+    const double s = full.lattice.rest[j][0] + 0.5;  // 0..1 along the bar
+    f.segment<3>(3 * j) = full.lattice.node_mass_kg[j] * Eigen::Vector3d(0, 20.0 * s * s, 5.0 * s);
+  }
+  Eigen::VectorXd x = full.rest, xp = full.rest;
+  std::vector<Eigen::VectorXd> ref;
+  const auto tf = Clock::now();
+  for (int k = 0; k < frames; ++k) {
+    full_step(full, env, sp, f, x, xp);
+    ref.push_back(x);
+  }
+  const double full_s = since(tf);
+  auto deformation = [&](const Eigen::VectorXd& y) {
+    // Remove the best rigid fit (Kabsch) of y to the rest shape.
+    Eigen::Vector3d cy = Eigen::Vector3d::Zero(), cr = Eigen::Vector3d::Zero();
+    for (int j = 0; j < n; ++j) cy += y.segment<3>(3 * j) / n, cr += full.rest.segment<3>(3 * j) / n;
+    Eigen::Matrix3d C = Eigen::Matrix3d::Zero();
+    for (int j = 0; j < n; ++j) C += (y.segment<3>(3 * j) - cy) * (full.rest.segment<3>(3 * j) - cr).transpose();
+    Eigen::JacobiSVD<Eigen::Matrix3d> svd(C, Eigen::ComputeFullU | Eigen::ComputeFullV);
+    Eigen::Matrix3d R = svd.matrixU() * svd.matrixV().transpose();
+    if (R.determinant() < 0) {
+      Eigen::Matrix3d U = svd.matrixU();
+      U.col(2) *= -1;
+      R = U * svd.matrixV().transpose();
+    }
+    double e = 0;
+    for (int j = 0; j < n; ++j) e += (y.segment<3>(3 * j) - (R * (full.rest.segment<3>(3 * j) - cr) + cy)).squaredNorm();
+    return e;
+  };
+  for (int r : {5, 15, 30}) {
+    Character ch = bar(res, r);
+    SoftState s = initial_state(ch, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), sp.dt_s);
+    const Eigen::VectorXd u = Eigen::VectorXd::Zero(ch.basis.r());
+    double num = 0, den = 0;
+    const auto tr = Clock::now();
+    std::vector<Eigen::VectorXd> red;
+    for (int k = 0; k < frames; ++k) {
+      reduced_step(ch, env, sp, u, s, nullptr, &f);
+      node_positions(ch, s, x);
+      red.push_back(x);
+    }
+    const double red_s = since(tr);
+    for (int k = 0; k < frames; ++k) {
+      num += (red[k] - ref[k]).squaredNorm();
+      den += deformation(ref[k]);
+    }
+    emit({{"case", "reduced_vs_full_r" + std::to_string(r)},
+          {"modes", r},
+          {"lattice_nodes", n},
+          {"frames", frames},
+          {"relative_error", std::sqrt(num / den)},
+          {"full_wall_s", full_s},
+          {"reduced_wall_s", red_s},
+          {"speedup", full_s / red_s}});
+  }
+}
+
+SoftModel load(const std::string& name) {
+  const Scene sc = load_scene(std::string(PLIANT_ASSETS_DIR) + "/scenes/" + name);
+  SoftModel m = soft_compile(sc);
+  soft_bind(m);
+  return m;
+}
+
+void cubature(const std::string& scene) {
+  SoftModel m = load(scene);
+  Character& ch = m.character;
+  CubatureReport rep;
+  const auto t = Clock::now();
+  const CellWeights w = fit_cubature(ch, training_poses(ch, 16, 0.05, 11), 0.02, 400, &rep);
+  const double fit_s = since(t);
+  double worst = 0;
+  for (const auto& q : training_poses(ch, 8, 0.05, 77)) {
+    const Eigen::VectorXd a = reduced_force(ch, q, CellWeights{}), b = reduced_force(ch, q, w);
+    worst = std::max(worst, (a - b).norm() / a.norm());
+  }
+  emit({{"case", "cubature_" + scene.substr(0, scene.find('.'))},
+        {"cells", ch.lattice.cells.size()},
+        {"kept_cells", rep.cells},
+        {"kept_fraction", rep.kept_fraction},
+        {"test_force_error", worst},
+        {"fit_s", fit_s}});
+}
+
+void optimizers(const std::string& scene, int iterations) {
+  double lbfgs_time = -1, hybrid_time = -1;
+  for (OptimizerKind k : {OptimizerKind::Hybrid, OptimizerKind::LBFGS, OptimizerKind::LM}) {
+    SoftModel m = load(scene);
+    const Problem& p = m.problem;
+    OptimizerSettings os = m.optimizer;
+    os.kind = k;
+    os.max_iterations = iterations;
+    os.tolerance = 0.01;
+    OptimizerState st;
+    st.theta = initial_theta(p);
+    double t_hit = -1;
+    int it_hit = -1;
+    const auto t0 = Clock::now();
+    std::vector<double> times;
+    optimize([&p](const Eigen::VectorXd& th) { return residuals(p, th); }, os, st, [&](const OptimizerState& s) {
+      times.push_back(since(t0));
+      if (t_hit < 0 && s.objective <= 0.01 * s.history.front()) t_hit = since(t0), it_hit = s.iteration;
+      return true;
+    });
+    const double wall = since(t0);
+    // Re-simulate the optimized controller independently over the take length.
+    Eigen::Vector3d c0 = initial_state(m.character, p.start_offset_m, Eigen::Vector3d::Zero(), p.sim.dt_s).c;
+    const SoftState end = simulate(p, st.theta, m.frames - 1);
+    const Eigen::Vector3d d = end.c - c0;
+    const double sim_t = (m.frames - 1) * p.sim.dt_s;
+    if (k == OptimizerKind::Hybrid) hybrid_time = t_hit;
+    if (k == OptimizerKind::LBFGS) lbfgs_time = t_hit;
+    nlohmann::json j = {{"case", "optimize_" + scene.substr(0, scene.find('.')) + "_" + optimizer_name(k)},
+                        {"method", optimizer_name(k)},
+                        {"iterations", st.iteration},
+                        {"rollouts", st.evaluations},
+                        {"wall_s", wall},
+                        {"objective_initial", st.history.front()},
+                        {"objective_final", st.history.back()},
+                        {"final_over_initial", st.history.back() / st.history.front()},
+                        {"objective_history", st.history},
+                        {"iteration_times_s", times},
+                        {"time_to_1pct_s", t_hit < 0 ? nlohmann::json(nullptr) : nlohmann::json(t_hit)},
+                        {"iterations_to_1pct", it_hit < 0 ? nlohmann::json(nullptr) : nlohmann::json(it_hit)},
+                        {"distance_m", std::hypot(d[0], d[2])},
+                        {"distance_per_s", std::hypot(d[0], d[2]) / sim_t}};
+    if (k == OptimizerKind::LBFGS)
+      j["hybrid_vs_lbfgs"] = (hybrid_time > 0 && lbfgs_time > 0) ? nlohmann::json(lbfgs_time / hybrid_time)
+                                                                  : nlohmann::json(nullptr);
+    emit(j);
+  }
+}
+
+void playback(const std::string& scene, int frames) {
+  SoftModel m = load(scene);
+  const Problem& p = m.problem;
+  const Eigen::VectorXd th = initial_theta(p) * 20;  // a visible open-loop gait
+  const auto t = Clock::now();
+  simulate(p, th, frames);
+  const double s = since(t);
+  emit({{"case", "playback_" + scene.substr(0, scene.find('.'))},
+        {"frames", frames},
+        {"lattice_cells", m.character.lattice.cells.size()},
+        {"cubature_cells", m.cubature.cells},
+        {"modes", m.character.basis.r()},
+        {"playback_fps", frames / s}});
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  bool quick = false;
+  std::string out = std::string(PLIANT_RESULTS_DIR) + "/soft.json";
+  for (int i = 1; i < argc; ++i) {
+    if (!std::strcmp(argv[i], "--quick")) quick = true;
+    else if (!std::strcmp(argv[i], "--out") && i + 1 < argc) out = argv[++i];
+  }
+  reduced_vs_full(quick);
+  cubature("spider_walk.json");
+  cubature("fish_swim.json");
+  playback("spider_walk.json", quick ? 100 : 300);
+  playback("fish_swim.json", quick ? 100 : 300);
+  optimizers("soft_worm_crawl.json", quick ? 3 : 15);
+  if (!quick) {
+    optimizers("spider_walk.json", 12);
+    optimizers("fish_swim.json", 12);
+  }
+  std::ofstream(out) << nlohmann::json(results).dump(2) << "\n";
+  return 0;
+}

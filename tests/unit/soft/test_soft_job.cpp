@@ -1,0 +1,101 @@
+// Job kind "soft": frames carry vertices / triangles (frame 0) / com; a checkpoint
+// per optimizer iteration; --resume continues the objective history.
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+
+#include "pliant/core/error.h"
+#include "pliant/core/scene.h"
+#include "pliant/soft/soft.h"
+
+using namespace pliant;
+
+namespace {
+const char* kScene = R"({"pliant": 1, "kind": "soft",
+  "character": {"mesh": "worm.obj", "resolution": 6, "modes": 4},
+  "environment": {"type": "ground", "friction": 0.6},
+  "simulation": {"dt_s": 0.04, "frames": 5},
+  "controller": {"modes": 2, "kernels": 2, "period_s": 0.4},
+  "objectives": {"velocity": {"target_m_per_s": [0.1, 0, 0], "weight": 10}},
+  "optimizer": {"method": "lm", "iterations": ITER, "horizon_frames": 6}})";
+
+Scene scene_with(int iterations) {
+  std::string t = kScene;
+  t.replace(t.find("ITER"), 4, std::to_string(iterations));
+  return parse_scene(t, "job.json", std::string(PLIANT_ASSETS_DIR) + "/characters");
+}
+
+struct TempDir {
+  std::filesystem::path dir = std::filesystem::temp_directory_path() /
+                              ("pliant_soft_job_" + std::to_string(::getpid()) + "_" + std::to_string(rand()));
+  ~TempDir() { std::filesystem::remove_all(dir); }
+};
+
+nlohmann::json run(const Scene& scene, TakeWriter& take, bool resume) {
+  Progress progress;
+  std::FILE* null_out = std::fopen("/dev/null", "w");
+  JobEvents events(null_out);
+  JobContext ctx{scene, take, progress, events, 1, resume};
+  nlohmann::json m = soft::soft_run_job(ctx);
+  take.finish("done");
+  std::fclose(null_out);
+  return m;
+}
+}  // namespace
+
+TEST(SoftJob, FramesCheckpointsAndResume) {
+  TempDir tmp;
+  {
+    const Scene scene = scene_with(2);
+    EXPECT_EQ(soft::soft_job_frames(scene), 5);
+    const nlohmann::json summary = soft::soft_summary(scene);
+    EXPECT_EQ(summary["frames"], 5);
+    TakeWriter take = TakeWriter::create(tmp.dir / "take", Manifest{});
+    const nlohmann::json m = run(scene, take, false);
+    EXPECT_EQ(m["iterations"], 2);
+    const auto hist = m["objective_history"].get<std::vector<double>>();
+    ASSERT_EQ(hist.size(), 3u);
+    for (size_t i = 1; i < hist.size(); ++i) EXPECT_LE(hist[i], hist[i - 1]);
+    TakeReader reader(tmp.dir / "take");
+    ASSERT_EQ(reader.frame_count(), 5u);
+    const Record f0 = reader.read_frame_at(0), f4 = reader.read_frame_at(4);
+    ASSERT_TRUE(f0.find("vertices") && f0.find("triangles") && f0.find("com"));
+    EXPECT_EQ(f0.find("vertices")->shape[1], 3u);
+    EXPECT_EQ(f0.find("triangles")->shape[1], 3u);
+    EXPECT_EQ(f4.find("triangles"), nullptr);
+    EXPECT_EQ(f4.find("vertices")->shape, f0.find("vertices")->shape);
+    EXPECT_EQ(f4.find("com")->shape, (std::vector<uint32_t>{3}));
+    Record ck;
+    ASSERT_TRUE(reader.latest(RecordKind::Checkpoint, &ck));
+    EXPECT_EQ(ck.index, 2);
+  }
+  {
+    // Resume with a larger budget: continues at iteration 2, keeps the history.
+    const Scene scene = scene_with(3);
+    TakeWriter take = TakeWriter::reopen(tmp.dir / "take");
+    const nlohmann::json m = run(scene, take, true);
+    EXPECT_EQ(m["iterations"], 3);
+    EXPECT_EQ(m["objective_history"].size(), 4u);
+  }
+}
+
+TEST(SoftJob, BadSceneFieldsAreInputErrors) {
+  auto pointer_of = [](const std::string& text) {
+    try {
+      soft::soft_compile(parse_scene(text, "bad.json", std::string(PLIANT_ASSETS_DIR) + "/characters"));
+    } catch (const InputError& e) {
+      return e.pointer();
+    }
+    return std::string("no error");
+  };
+  EXPECT_EQ(pointer_of(R"({"pliant":1,"kind":"soft"})"), "/character");
+  EXPECT_EQ(pointer_of(R"({"pliant":1,"kind":"soft","character":{"mesh":"worm.obj","resolutoin":4}})"),
+            "/character/resolutoin");
+  EXPECT_EQ(pointer_of(R"({"pliant":1,"kind":"soft","character":{"mesh":"worm.obj","resolution":1}})"),
+            "/character/resolution");
+  EXPECT_EQ(pointer_of(R"({"pliant":1,"kind":"soft","character":{"mesh":"worm.obj"},"environment":{"type":"lava"}})"),
+            "/environment/type");
+}
