@@ -14,31 +14,39 @@ int batch_rollout(const Model& m, const SimOptions& o, std::vector<State>& state
   std::vector<PbadStep> step(n);
   std::vector<int> done_steps(n, 0);
   std::vector<char> active(n, 0);
-  int passes = 0, remaining = n;
   const int nt = threads > 0 ? threads : omp_get_max_threads();
-  while (remaining > 0) {
-    ++passes;
-    int finished = 0;
-#pragma omp parallel for schedule(dynamic, 1) num_threads(nt) reduction(+ : finished)
-    for (int t = 0; t < n; ++t) {
-      if (done_steps[t] >= steps) continue;
-      State& s = states[t];
-      if (!pbad) {
-        sim_step(m, o, s, ws[t]);
-        if (++done_steps[t] == steps) ++finished;
-        continue;
+  int passes = 0;
+  // Each worker owns every nt-th trajectory and sweeps over them, one LM iteration
+  // (or one explicit step) per trajectory per pass; no barrier between passes, so a
+  // loaded core delays only its own trajectories.
+#pragma omp parallel num_threads(nt) reduction(max : passes)
+  {
+    const int tid = omp_get_thread_num(), stride = omp_get_num_threads();
+    int my_passes = 0;
+    for (bool any = true; any;) {
+      any = false;
+      for (int t = tid; t < n; t += stride) {
+        if (done_steps[t] >= steps) continue;
+        any = true;
+        State& s = states[t];
+        if (!pbad) {
+          sim_step(m, o, s, ws[t]);
+          ++done_steps[t];
+          continue;
+        }
+        if (!active[t]) {
+          pbad_begin(m, o, s, step[t], ws[t]);
+          active[t] = 1;
+        }
+        if (pbad_iterate(m, o, s, step[t], ws[t])) {
+          pbad_finish(m, o, s, step[t], ws[t]);
+          active[t] = 0;
+          ++done_steps[t];
+        }
       }
-      if (!active[t]) {
-        pbad_begin(m, o, s, step[t], ws[t]);
-        active[t] = 1;
-      }
-      if (pbad_iterate(m, o, s, step[t], ws[t])) {
-        pbad_finish(m, o, s, step[t], ws[t]);
-        active[t] = 0;
-        if (++done_steps[t] == steps) ++finished;
-      }
+      if (any) ++my_passes;
     }
-    remaining -= finished;
+    passes = my_passes;
   }
   return passes;
 }

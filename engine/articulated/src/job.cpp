@@ -61,6 +61,7 @@ ArticulatedScene articulated_compile(const Scene& scene) {
     c->finish();
   }
   if (auto s = r.object("solver")) {
+    o.solver = s->choice("method", "lm", {"lm", "lbfgs"}) == "lbfgs" ? Solver::Lbfgs : Solver::Lm;
     o.lm_max_iterations = static_cast<int>(s->integer("max_iterations", o.lm_max_iterations, 1, 10000));
     o.lm_tolerance = s->number("tolerance", o.lm_tolerance, 1e-16, 1);
     s->finish();

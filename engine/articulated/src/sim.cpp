@@ -255,14 +255,89 @@ void pbad_begin(const Model& m, const SimOptions& o, State& s, PbadStep& p, SimW
   p.q = s.qpos;
   qpos_integrate(m, p.q, 2 * qpos_difference(m, s.qpos, q1) - qpos_difference(m, q1, q2), 1.0);
   p.lambda = 1e-6;
+  // Generalized-force tolerance: lm_tolerance times the model's weight times 1 m.
+  double weight = 0;
+  for (const Body& b : m.bodies) weight += b.mass;
+  p.grad_tol = o.lm_tolerance * (weight * m.gravity.norm() + 1e-3);
+  p.s_hist.clear();
+  p.y_hist.clear();
   p.iterations = 0;
   p.done = false;
   p.energy = pbad_energy(m, o, s, p, p.q, ws, true);
 }
 
+namespace {
+
+// L-BFGS iteration preconditioned by the Gauss-Newton matrix: the two-loop recursion
+// with H0^-1 applied by tree_solve, so the curvature the Gauss-Newton model misses
+// (gravity, the stencil residual times the second derivative of X) is learnt from
+// the last gradient differences; O(N) per iteration; Armijo backtracking on E.
+bool lbfgs_iterate(const Model& m, const SimOptions& o, const State& s, PbadStep& p, SimWorkspace& ws) {
+  const int hist = static_cast<int>(p.s_hist.size());
+  VecX q = ws.grad;
+  std::vector<double> alpha(hist);
+  for (int i = hist - 1; i >= 0; --i) {
+    alpha[i] = p.s_hist[i].dot(q) / p.y_hist[i].dot(p.s_hist[i]);
+    q -= alpha[i] * p.y_hist[i];
+  }
+  tree_diagonal(m, ws.kin, ws.h, &ws.diag, &ws.tree);
+  ws.arm = 1e-9 * ws.diag;
+  if (p.any_damping)
+    for (const Joint& j : m.joints)
+      for (int i = 0; i < joint_nv(j.type); ++i) ws.arm[j.vadr + i] += j.damping / o.dt;
+  tree_solve(m, ws.kin, ws.h, ws.arm, q, &ws.step, &ws.tree);
+  for (int i = 0; i < hist; ++i) {
+    const double beta = p.y_hist[i].dot(ws.step) / p.y_hist[i].dot(p.s_hist[i]);
+    ws.step += p.s_hist[i] * (alpha[i] - beta);
+  }
+  ws.step = -ws.step;
+  double slope = ws.grad.dot(ws.step);
+  if (!(slope < 0)) {  // not a descent direction: restart from the preconditioner alone
+    p.s_hist.clear();
+    p.y_hist.clear();
+    tree_solve(m, ws.kin, ws.h, ws.arm, ws.grad, &ws.step, &ws.tree);
+    ws.step = -ws.step;
+    slope = ws.grad.dot(ws.step);
+    if (!(slope < 0)) return true;
+  }
+  const VecX g_old = ws.grad;
+  double t = 1;
+  for (int tries = 0; tries < 20; ++tries, t *= 0.5) {
+    ws.q_trial = p.q;
+    qpos_integrate(m, ws.q_trial, ws.step, t);
+    if (!ws.q_trial.allFinite()) continue;
+    const double e_trial = pbad_energy(m, o, s, p, ws.q_trial, ws, false);
+    const double step_max = t * ws.step.lpNorm<Eigen::Infinity>();
+    const bool tiny = step_max < o.lm_tolerance;
+    if (tiny || e_trial <= p.energy + 1e-4 * t * slope) {
+      const bool stalled = p.energy - e_trial < 1e-14 * (std::abs(p.energy) + 1e-300);
+      p.q = ws.q_trial;
+      p.energy = pbad_energy(m, o, s, p, p.q, ws, true);
+      VecX sv = t * ws.step, yv = ws.grad - g_old;
+      if (sv.dot(yv) > 1e-12 * sv.norm() * yv.norm()) {
+        if (p.s_hist.size() >= 6) {
+          p.s_hist.erase(p.s_hist.begin());
+          p.y_hist.erase(p.y_hist.begin());
+        }
+        p.s_hist.push_back(std::move(sv));
+        p.y_hist.push_back(std::move(yv));
+      }
+      return tiny || stalled || ws.grad.lpNorm<Eigen::Infinity>() < p.grad_tol;
+    }
+  }
+  return true;  // no decrease along a descent direction: at a minimum to round-off
+}
+
+}  // namespace
+
 bool pbad_iterate(const Model& m, const SimOptions& o, const State& s, PbadStep& p, SimWorkspace& ws) {
   if (p.done) return true;
   ++p.iterations;
+  if (o.solver == Solver::Lbfgs) {
+    p.done = lbfgs_iterate(m, o, s, p, ws) || p.iterations >= o.lm_max_iterations;
+    if (p.done) pbad_energy(m, o, s, p, p.q, ws, true);
+    return p.done;
+  }
   tree_diagonal(m, ws.kin, ws.h, &ws.diag, &ws.tree);
   ws.rhs = -ws.grad;
   const VecX& rhs = ws.rhs;
@@ -288,7 +363,9 @@ bool pbad_iterate(const Model& m, const SimOptions& o, const State& s, PbadStep&
       p.q = ws.q_trial;
       p.lambda = std::max(p.lambda * 0.3, 1e-12);
       p.energy = pbad_energy(m, o, s, p, p.q, ws, true);
-      if (tiny || stalled || p.iterations >= o.lm_max_iterations) p.done = true;
+      if (tiny || stalled || p.iterations >= o.lm_max_iterations ||
+          ws.grad.lpNorm<Eigen::Infinity>() < p.grad_tol)
+        p.done = true;
       return p.done;
     }
     p.lambda *= 10;

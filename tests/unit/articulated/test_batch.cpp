@@ -18,7 +18,7 @@ TEST(Batch, InterleavedIterationsGiveTheSequentialResult) {
   }
   std::vector<State> seq = batch;
   const int passes = batch_rollout(m, o, batch, 8, 2);
-  EXPECT_GT(passes, 8);  // more than one LM iteration per step
+  EXPECT_GT(passes, 8);  // more than one LM iteration per step (passes of the busiest worker)
   for (State& s : seq) {
     SimWorkspace ws;
     for (int i = 0; i < 8; ++i) ASSERT_TRUE(sim_step(m, o, s, ws));

@@ -99,5 +99,24 @@ TEST(Sim, LevenbergMarquardtReachesStationarity) {
   EXPECT_LT(info.energy_residual, 1e-6);
 }
 
+TEST(Sim, LbfgsSolverReachesTheLevenbergMarquardtSolution) {
+  const Model m = model_from_mjcf(chain_mjcf(8), "chain.xml");
+  SimOptions lm, lb;
+  lm.integrator = lb.integrator = Integrator::Pbad3;
+  lm.dt = lb.dt = 0.02;
+  lm.lm_tolerance = lb.lm_tolerance = 1e-10;
+  lb.solver = Solver::Lbfgs;
+  State a = state_init(m), b = a;
+  a.qpos[0] = b.qpos[0] = 1.0;
+  SimWorkspace wa, wb;
+  StepInfo ib;
+  for (int i = 0; i < 5; ++i) {  // few steps: the swinging chain is chaotic
+    ASSERT_TRUE(sim_step(m, lm, a, wa));
+    ASSERT_TRUE(sim_step(m, lb, b, wb, &ib));
+  }
+  EXPECT_LT((a.qpos - b.qpos).norm(), 1e-5);
+  EXPECT_LT(ib.energy_residual, 1e-7);
+}
+
 }  // namespace
 }  // namespace pliant::articulated

@@ -24,6 +24,9 @@
 namespace pliant::articulated {
 
 enum class Integrator { Pbad2, Pbad3, Euler, Rk4 };
+// PBAD's per-step minimiser: Levenberg-Marquardt on the Gauss-Newton model, or
+// L-BFGS preconditioned by the same Gauss-Newton solve (both O(N) per iteration).
+enum class Solver { Lm, Lbfgs };
 Integrator integrator_from_name(const std::string& name);  // throws std::invalid_argument
 std::string integrator_name(Integrator i);
 
@@ -31,8 +34,11 @@ struct SimOptions {
   Integrator integrator = Integrator::Pbad3;
   double dt = 0.01;
   ContactOptions contact;
+  Solver solver = Solver::Lm;
   int lm_max_iterations = 50;
-  double lm_tolerance = 1e-7;  // stop when max |dq| of an LM step is below this (rad or m)
+  // Stop when max |dq| of a step is below this (rad or m), or when max |gradient| is
+  // below it times the model's weight (N) times 1 m.
+  double lm_tolerance = 1e-7;
 };
 
 struct State {
@@ -56,6 +62,8 @@ struct PbadStep {
   VecX q;               // current iterate
   double energy = 0, lambda = 1e-6, weight = 0.5;
   bool any_damping = false;
+  double grad_tol = 0;
+  std::vector<VecX> s_hist, y_hist;  // L-BFGS pairs
   int iterations = 0;
   bool done = false;
 };
