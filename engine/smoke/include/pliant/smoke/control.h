@@ -56,7 +56,7 @@ struct ControlModel {
   // ADMM specifics (ignored by L-BFGS).
   double admm_penalty = 1.0;           // beta of the augmented Lagrangian
   int ao_iterations = 10;              // fixed-point iterations per AO solve
-  int nso_vcycles = 4;                 // FAS V-cycles per NSO solve
+  int nso_vcycles = 2;                 // FAS V-cycles per NSO solve (after the projected start)
   // L-BFGS iterations on E(f) after the ADMM loop, from its best forces (0 = none):
   // ADMM finds the transport path from rest (where plain L-BFGS stalls at once), the
   // polish makes the re-simulated keyframes exact up to what the discretisation allows.
