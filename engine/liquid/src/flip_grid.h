@@ -36,6 +36,9 @@ FlipGrid model_grid(const LiquidModel& m);
 // Small grids run single-threaded: an OpenMP region costs more than it saves
 // there (and much more on a loaded machine).
 inline bool worth_threads(long long work) { return work > 16384; }
+// Loops doing a few flops per element are memory-bound: a second thread buys
+// little and a barrier costs much on a shared machine; thread only huge ones.
+inline bool worth_threads_light(long long work) { return work > (1 << 20); }
 
 // Per-substep scratch, reused between substeps (no allocation in the loop once warm).
 struct FlipWorkspace {

@@ -73,7 +73,7 @@ void build_solids(const FlipGrid& g, const LiquidModel& m, FlipWorkspace& w, dou
     w.open[c].resize(g.faces(c));
     w.solid_vel[c].resize(g.faces(c));
     int lo[3] = {0, 0, 0}, hi[3] = {d[0] - 1, d[1] - 1, d[2] - 1};
-#pragma omp parallel for collapse(2) schedule(static) if (worth_threads(g.cells()))
+#pragma omp parallel for collapse(2) schedule(static) if (worth_threads_light(g.cells()))
     for (int k = 0; k < d[2]; ++k)
       for (int j = 0; j < d[1]; ++j)
         for (int i = 0; i < d[0]; ++i) {
@@ -114,7 +114,7 @@ void build_solids(const FlipGrid& g, const LiquidModel& m, FlipWorkspace& w, dou
                 float(m.target.shape.wall_sdf(m.target.pose.to_local(g.cell_pos(i, j, k)), g.dim));
   }
   w.solid_cell.resize(g.cells());
-#pragma omp parallel for collapse(2) schedule(static) if (worth_threads(g.cells()))
+#pragma omp parallel for collapse(2) schedule(static) if (worth_threads_light(g.cells()))
   for (int k = 0; k < g.nz; ++k)
     for (int j = 0; j < g.ny; ++j)
       for (int i = 0; i < g.nx; ++i) {
@@ -131,7 +131,7 @@ void build_solids(const FlipGrid& g, const LiquidModel& m, FlipWorkspace& w, dou
   const int dims[3] = {g.nx, g.ny, g.nz};
   for (int c = 0; c < g.dim; ++c) {
     const auto d = g.face_dims(c);
-#pragma omp parallel for collapse(2) schedule(static) if (worth_threads(g.cells()))
+#pragma omp parallel for collapse(2) schedule(static) if (worth_threads_light(g.cells()))
     for (int k = 0; k < d[2]; ++k)
       for (int j = 0; j < d[1]; ++j)
         for (int i = 0; i < d[0]; ++i) {
@@ -238,11 +238,11 @@ void particles_to_grid(const FlipGrid& g, const LiquidState& s, FlipWorkspace& w
     }
   }
   const int nc = g.cells();
-#pragma omp parallel for schedule(static) if (worth_threads(g.cells()))
+#pragma omp parallel for schedule(static) if (worth_threads_light(g.cells()))
   for (int ci = 0; ci < nc; ++ci) w.phi_liquid[ci] = std::sqrt(w.phi_liquid[ci]) - R;
   for (int c = 0; c < g.dim; ++c) {
     const int n = g.faces(c);
-#pragma omp parallel for schedule(static) if (worth_threads(g.cells()))
+#pragma omp parallel for schedule(static) if (worth_threads_light(g.cells()))
     for (int f = 0; f < n; ++f) {
       const float wt = w.weight[c][f];
       w.valid[c][f] = wt > 1e-6f;
@@ -254,7 +254,7 @@ void particles_to_grid(const FlipGrid& g, const LiquidState& s, FlipWorkspace& w
 void set_solid_faces(const FlipGrid& g, FlipWorkspace& w) {
   for (int c = 0; c < g.dim; ++c) {
     const int n = g.faces(c);
-#pragma omp parallel for schedule(static) if (worth_threads(g.cells()))
+#pragma omp parallel for schedule(static) if (worth_threads_light(g.cells()))
     for (int f = 0; f < n; ++f)
       if (w.open[c][f] <= 0) w.vel[c][f] = w.solid_vel[c][f];
   }
@@ -388,7 +388,7 @@ void liquid_substep(const LiquidModel& m, LiquidState& s, double dt, StepStats* 
   for (int c = 0; c < g.dim; ++c) {
     const float dv = float(m.gravity_m_per_s2[c] * dt);
     const int n = g.faces(c);
-#pragma omp parallel for schedule(static) if (worth_threads(g.cells()))
+#pragma omp parallel for schedule(static) if (worth_threads_light(g.cells()))
     for (int f = 0; f < n; ++f)
       if (w.open[c][f] > 0) w.vel[c][f] += dv;
   }
@@ -442,7 +442,7 @@ void liquid_step(const LiquidModel& m, LiquidState& s, StepStats* stats) {
   while (t_end - s.time_s > 1e-9) {
     double vmax = 0;
     const int np = int(s.count());
-#pragma omp parallel for schedule(static) reduction(max : vmax) if (worth_threads(8LL * np))
+#pragma omp parallel for schedule(static) reduction(max : vmax) if (worth_threads_light(8LL * np))
     for (int p = 0; p < np; ++p) {
       double sp = 0;
       for (int c = 0; c < 3; ++c) sp += double(s.v[3 * p + c]) * s.v[3 * p + c];

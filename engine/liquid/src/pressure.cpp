@@ -166,7 +166,7 @@ int project_pressure(const FlipGrid& g, const LiquidModel& m, FlipWorkspace& w, 
   // Velocity update on faces touching a fluid cell; mark them valid.
   for (int c = 0; c < g.dim; ++c) {
     const auto d = g.face_dims(c);
-#pragma omp parallel for collapse(2) schedule(static) if (worth_threads(g.cells()))
+#pragma omp parallel for collapse(2) schedule(static) if (worth_threads_light(g.cells()))
     for (int k = 0; k < d[2]; ++k)
       for (int j = 0; j < d[1]; ++j)
         for (int i = 0; i < d[0]; ++i) {
