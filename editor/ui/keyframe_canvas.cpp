@@ -354,6 +354,7 @@ void draw_keyframe_canvas(App& app) {
 
   ImDrawList* dl = ImGui::GetWindowDrawList();
   if (app.has_gl()) {
+    refresh_canvas_cache(app);  // a stroke committed above changed the document
     const std::array<uint64_t, 3> key{app.doc.revision(), uint64_t(int64_t(s.slot)), uint64_t(s.onion)};
     if (s.stroking || key != s.texture_key || !s.texture) {
       upload_composite(s, s.stroking ? s.working : s.grid);

@@ -98,7 +98,7 @@ void draw_smoke_solve_panel(App& app) {
     ImGui::PopID();
     return;
   }
-  const json& c = scene["control"];
+  const json c = scene["control"];  // a copy: the edits below replace the scene
   // Resolution and frames.
   auto res = smoke_resolution(scene);
   if (res[0] > 0) {
@@ -106,41 +106,47 @@ void draw_smoke_solve_panel(App& app) {
     ImGui::SetNextItemWidth(120);
     if (ImGui::InputInt2("resolution", r2, ImGuiInputTextFlags_EnterReturnsTrue) && r2[0] >= 4 && r2[1] >= 4)
       app.doc.set("/grid/resolution", {r2[0], r2[1]});
-    ui_mark_field("solve_resolution");
+    // The two input boxes only (not the label): scripts click at 0.25 and 0.75.
+    ui_mark_rect("solve_resolution", ImGui::GetItemRectMin().x, ImGui::GetItemRectMin().y,
+                 ImGui::GetItemRectMin().x + 120, ImGui::GetItemRectMax().y);
     if (ImGui::IsItemHovered())
       ImGui::SetTooltip("cells along x and y; painted keyframes are resampled, so you can sketch coarse\n"
                         "and solve fine (the cell size stays: the domain grows or shrinks)");
   }
   int frames = smoke_frames(scene);
   ImGui::SetNextItemWidth(80);
-  if (ImGui::InputInt("frames", &frames, 1, 10, ImGuiInputTextFlags_EnterReturnsTrue) && frames >= 1)
+  if (ImGui::InputInt("frames", &frames, 0, 0, ImGuiInputTextFlags_EnterReturnsTrue) && frames >= 1)
     app.doc.set("/time/frames", frames);
-  ui_mark_field("solve_frames");
+  ui_mark_rect("solve_frames", ImGui::GetItemRectMin().x, ImGui::GetItemRectMin().y,
+               ImGui::GetItemRectMin().x + 80, ImGui::GetItemRectMax().y);
   // r: logarithmic slider on the exponent.
   float lr = float(std::log10(std::max(1e-12, c.value("r", 1e-5))));
   ImGui::SetNextItemWidth(120);
   if (ImGui::SliderFloat("log10 r", &lr, -9.0f, 1.0f, "%.1f"))
     app.doc.set("/control/r", std::pow(10.0, std::round(lr * 10.0) / 10.0), merge_key("/control/r"));
-  ui_mark_field("solve_r");
+  ui_mark_rect("solve_r", ImGui::GetItemRectMin().x, ImGui::GetItemRectMin().y,
+               ImGui::GetItemRectMin().x + 120, ImGui::GetItemRectMax().y);
   if (ImGui::IsItemHovered())
     ImGui::SetTooltip("r weighs the control forces against matching the keyframes.\n"
                       "Small r: the smoke snaps to the keyframes (sharp shapes, strong, busy forces).\n"
                       "Large r: gentle forces and softer, more natural motion that only approaches the shapes.");
   ImGui::SameLine();
   const std::string method = c.value("method", std::string("admm"));
-  int mi = method == "lbfgs" ? 1 : 0;
-  ImGui::SetNextItemWidth(90);
-  if (ImGui::Combo("method", &mi, "ADMM\0L-BFGS\0")) app.doc.set("/control/method", mi == 1 ? "lbfgs" : "admm");
-  ui_mark_field("solve_method");
+  if (ImGui::RadioButton("ADMM", method != "lbfgs") && method == "lbfgs") app.doc.set("/control/method", "admm");
+  ui_mark("method_admm");
+  ImGui::SameLine();
+  if (ImGui::RadioButton("L-BFGS", method == "lbfgs") && method != "lbfgs") app.doc.set("/control/method", "lbfgs");
+  ui_mark("method_lbfgs");
   if (ImGui::IsItemHovered())
     ImGui::SetTooltip("ADMM: the paper's solver with a spacetime multigrid (coarse previews first).\n"
                       "L-BFGS: the discrete-adjoint baseline.");
   ImGui::SameLine();
   int iters = c.value("max_iterations", 50);
   ImGui::SetNextItemWidth(80);
-  if (ImGui::InputInt("iterations", &iters, 1, 10, ImGuiInputTextFlags_EnterReturnsTrue) && iters >= 1)
+  if (ImGui::InputInt("iterations", &iters, 0, 0, ImGuiInputTextFlags_EnterReturnsTrue) && iters >= 1)
     app.doc.set("/control/max_iterations", iters);
-  ui_mark_field("solve_iterations");
+  ui_mark_rect("solve_iterations", ImGui::GetItemRectMin().x, ImGui::GetItemRectMin().y,
+               ImGui::GetItemRectMin().x + 80, ImGui::GetItemRectMax().y);
 
   // Solve / Cancel / Resume.
   JobProcess* job = app.newest_job();
