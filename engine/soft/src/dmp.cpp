@@ -26,14 +26,20 @@ Eigen::VectorXd dmp_forcing(const DmpSpec& spec, const Eigen::VectorXd& theta, d
 
 const Eigen::VectorXd& dmp_step(const DmpSpec& spec, const Eigen::VectorXd& theta, double dt, DmpState& s) {
   const double tau = spec.period_s / (2 * M_PI), beta = spec.alpha / 4;
-  const Eigen::VectorXd f = dmp_forcing(spec, theta, s.phase);
-  for (int k = 0; k < spec.modes; ++k) {
-    const double g = theta[k * (spec.kernels + 1) + spec.kernels];
-    // The forcing is scaled by alpha beta so w reads as an amplitude (metres).
-    s.z[k] += dt / tau * (spec.alpha * (beta * (g - s.y[k]) - s.z[k]) + spec.alpha * beta * f[k]);
-    s.y[k] += dt / tau * s.z[k];
+  // Substeps keep the explicit transformation system stable (alpha h / tau <= 0.25);
+  // a simulation frame is often longer than the DMP's time constant.
+  const int sub = std::max(1, int(std::ceil(spec.alpha * dt / tau / 0.25)));
+  const double h = dt / sub;
+  for (int i = 0; i < sub; ++i) {
+    const Eigen::VectorXd f = dmp_forcing(spec, theta, s.phase);
+    for (int k = 0; k < spec.modes; ++k) {
+      const double g = theta[k * (spec.kernels + 1) + spec.kernels];
+      // The forcing is scaled by alpha beta so w reads as an amplitude (metres).
+      s.z[k] += h / tau * (spec.alpha * (beta * (g - s.y[k]) - s.z[k]) + spec.alpha * beta * f[k]);
+      s.y[k] += h / tau * s.z[k];
+    }
+    s.phase = std::fmod(s.phase + h / tau, 2 * M_PI);
   }
-  s.phase = std::fmod(s.phase + dt / tau, 2 * M_PI);
   return s.y;
 }
 

@@ -6,20 +6,19 @@
 
 namespace pliant::soft {
 
-Eigen::VectorXd control_force(const Character& ch, const Eigen::VectorXd& y) {
+Eigen::VectorXd control_force(const Character& ch, const Eigen::VectorXd& y, double a_max) {
   Eigen::VectorXd u = Eigen::VectorXd::Zero(ch.basis.r());
   // Saturated activation (muscles have bounded strength): |y| <= a_max.
-  const double a_max = max_activation_m(ch);
   for (int k = 0; k < std::min<int>(int(y.size()), ch.basis.r()); ++k)
     u[k] = ch.basis.omega2[k] * a_max * std::tanh(y[k] / a_max) / ch.mode_scale[k];
   return u;
 }
 
-double max_activation_m(const Character& ch) {
+double max_activation_m(const Character& ch, const DmpSpec& spec) {
   const auto& X = ch.rest_local;
   double size = 0;
   for (int j = 0; j < ch.lattice.nodes(); ++j) size = std::max(size, X.segment<3>(3 * j).norm());
-  return 0.15 * 2 * size;
+  return spec.max_activation_rel * size;
 }
 
 SoftState simulate(const Problem& p, const Eigen::VectorXd& theta, int n,
@@ -27,10 +26,11 @@ SoftState simulate(const Problem& p, const Eigen::VectorXd& theta, int n,
   const Character& ch = *p.character;
   SoftState s = initial_state(ch, p.start_offset_m, Eigen::Vector3d::Zero(), p.sim.dt_s);
   DmpState d = dmp_init(p.dmp);
+  const double a_max = max_activation_m(ch, p.dmp);
   StepStats st;
   for (int f = 0; f < n; ++f) {
     const Eigen::VectorXd& y = dmp_step(p.dmp, theta, p.sim.dt_s, d);
-    reduced_step(ch, p.env, p.sim, control_force(ch, y), s, &st);
+    reduced_step(ch, p.env, p.sim, control_force(ch, y, a_max), s, &st);
     if (!st.converged && unconverged) ++*unconverged;
     if (on_frame) on_frame(s);
   }
@@ -120,7 +120,7 @@ Eigen::VectorXd initial_theta(const Problem& p) {
   // Small fixed pseudo-random weights: theta = 0 is a symmetric rest state where the
   // objective has a kink (static friction), so optimizers start next to it.
   Eigen::VectorXd th(p.dmp.parameters());
-  const double a = 0.02 * max_activation_m(*p.character);
+  const double a = 0.02 * max_activation_m(*p.character, p.dmp);
   unsigned v = 12345;
   for (int i = 0; i < th.size(); ++i) {
     v = v * 1103515245u + 12345u;

@@ -122,6 +122,7 @@ SoftModel soft_compile(const Scene& scene) {
     p.dmp.modes = int(c->integer("modes", p.dmp.modes, 0, m.character.basis.r()));
     p.dmp.kernels = int(c->integer("kernels", p.dmp.kernels, 1, 64));
     p.dmp.period_s = c->number("period_s", p.dmp.period_s, 1e-3, 1e3);
+    p.dmp.max_activation_rel = c->number("max_activation_rel", p.dmp.max_activation_rel, 1e-3, 10);
     c->finish();
   }
 

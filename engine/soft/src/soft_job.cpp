@@ -126,7 +126,7 @@ nlohmann::json soft_run_job(JobContext& ctx) {
   for (int f = 1; f < m.frames; ++f) {
     const auto ts = std::chrono::steady_clock::now();
     const Eigen::VectorXd& y = dmp_step(p.dmp, st.theta, p.sim.dt_s, d);
-    reduced_step(m.character, p.env, p.sim, control_force(m.character, y), s);
+    reduced_step(m.character, p.env, p.sim, control_force(m.character, y, max_activation_m(m.character, p.dmp)), s);
     sim_s += seconds_since(ts);
     max_gain = std::max(max_gain, centre_of_mass(m.character, s)[1] - com0[1]);
     ctx.take.append(soft_frame_record(m, s, f, false));

@@ -42,3 +42,19 @@ TEST(Dmp, OutputIsPeriodic) {
   EXPECT_GT(amp, 0.01);
   EXPECT_LT(diff, 1e-3 * amp);
 }
+
+TEST(Dmp, LargeFrameStepsStayBounded) {
+  // A 30 fps frame is longer than the DMP time constant (alpha dt / tau ~ 8): the
+  // substeps keep y bounded by the forcing amplitude.
+  DmpSpec spec;
+  spec.modes = 1;
+  spec.kernels = 4;
+  spec.period_s = 0.5;
+  Eigen::VectorXd th(5);
+  th << 0.1, -0.1, 0.1, -0.1, 0.0;
+  DmpState s = dmp_init(spec);
+  double mx = 0;
+  for (int i = 0; i < 300; ++i) mx = std::max(mx, std::abs(dmp_step(spec, th, 1.0 / 30, s)[0]));
+  EXPECT_LT(mx, 0.2);
+  EXPECT_GT(mx, 0.01);
+}

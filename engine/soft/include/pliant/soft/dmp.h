@@ -19,6 +19,7 @@ struct DmpSpec {
   double period_s = 1.0;
   double alpha = 25;
   double kernel_width = 2.5;  // h
+  double max_activation_rel = 0.3;  // activation bound, times the body's radius
   int parameters() const { return modes * (kernels + 1); }
 };
 

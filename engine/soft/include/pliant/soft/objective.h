@@ -57,8 +57,8 @@ struct Problem {
 };
 
 // Modal control force for DMP activations y (controlled modes; others zero):
-// u_k = omega_k^2 a tanh(y_k / a) / s_k with a = max_activation_m.
-Eigen::VectorXd control_force(const Character& ch, const Eigen::VectorXd& y);
+// u_k = omega_k^2 a tanh(y_k / a) / s_k with a = a_max.
+Eigen::VectorXd control_force(const Character& ch, const Eigen::VectorXd& y, double a_max);
 
 // Forward simulation of n frames under theta; calls on_frame(state) after every
 // step (frame 1..n) when given. Returns the final state.
@@ -66,8 +66,8 @@ Eigen::VectorXd control_force(const Character& ch, const Eigen::VectorXd& y);
 SoftState simulate(const Problem& p, const Eigen::VectorXd& theta, int n,
                    const std::function<void(const SoftState&)>& on_frame = {}, int* unconverged = nullptr);
 
-// Activations saturate at +-max_activation_m (0.3 x the body's radius) through tanh.
-double max_activation_m(const Character& ch);
+// Activations saturate at +-a_max = max_activation_rel x the body's radius (tanh).
+double max_activation_m(const Character& ch, const DmpSpec& spec);
 
 // Residual vector (fixed size for a given problem).
 Eigen::VectorXd residuals(const Problem& p, const Eigen::VectorXd& theta);
