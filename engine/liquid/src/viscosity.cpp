@@ -83,7 +83,7 @@ int apply_viscosity(const FlipGrid& g, const LiquidModel& m, FlipWorkspace& w, d
       r0 = std::max(r0, std::abs(r[f]));
     }
     const double scale = std::max(1e-6, r0);
-    for (int it = 0; it < 100 && r0 > 1e-7 * scale; ++it, ++total) {
+    for (int it = 0; it < 500 && r0 > 1e-7 * scale; ++it, ++total) {
       matvec(s, q);
       double sq = 0;
       for (int f = 0; f < n; ++f) sq += s[f] * q[f];
