@@ -99,6 +99,32 @@ TEST(Sim, LevenbergMarquardtReachesStationarity) {
   EXPECT_LT(info.energy_residual, 1e-6);
 }
 
+VecX run_chain(const Model& m, Integrator integ, double dt, double duration) {
+  SimOptions o;
+  o.integrator = integ;
+  o.dt = dt;
+  o.lm_tolerance = 1e-12;
+  State s = state_init(m);
+  SimWorkspace ws;
+  const int n = static_cast<int>(std::llround(duration / dt));
+  for (int i = 0; i < n; ++i) EXPECT_TRUE(sim_step(m, o, s, ws));
+  return s.qpos;
+}
+
+TEST(Sim, Pbad3IsSecondOrderPbad2FirstOrder) {
+  // Global error against an RK4 reference: halving dt divides it by ~4 (pbad3), ~2 (pbad2).
+  const Model m = model_from_mjcf(chain_mjcf(3), "chain.xml");
+  const VecX ref = run_chain(m, Integrator::Rk4, 1e-4, 0.2);
+  const double e3a = (run_chain(m, Integrator::Pbad3, 0.004, 0.2) - ref).norm();
+  const double e3b = (run_chain(m, Integrator::Pbad3, 0.002, 0.2) - ref).norm();
+  const double e2a = (run_chain(m, Integrator::Pbad2, 0.004, 0.2) - ref).norm();
+  const double e2b = (run_chain(m, Integrator::Pbad2, 0.002, 0.2) - ref).norm();
+  EXPECT_GT(e3a / e3b, 3.3);
+  EXPECT_LT(e3a / e3b, 4.8);
+  EXPECT_GT(e2a / e2b, 1.6);
+  EXPECT_LT(e2a / e2b, 2.5);
+}
+
 TEST(Sim, LbfgsSolverReachesTheLevenbergMarquardtSolution) {
   const Model m = model_from_mjcf(chain_mjcf(8), "chain.xml");
   SimOptions lm, lb;
