@@ -1,0 +1,111 @@
+// Pliant plugin: exporter "vdb" writes OUT/frame_NNNNN.vdb (NNNNN = the frame
+// index) from each frame's "density" field as an OpenVDB FloatGrid named
+// "density", for renderers and compositors (Houdini, Blender) to read.
+//
+//   3D density [nz, ny, nx] -> voxel (i, j, k) = cell (x = i, y = j, z = k);
+//   2D density [ny, nx]     -> one slice at k = 0.
+//   The voxel size is 1/max(nx, ny, nz), so the domain spans [0, 1] along its
+//   longest side (a take carries no cell size in its frames). Cells below 1e-4
+//   are the background (0) and stay inactive: the grid is sparse. NaN -> 0.
+//
+// Only the C ABI header is used from Pliant; OpenVDB is linked by this plugin alone.
+#include <openvdb/openvdb.h>
+
+#include <cmath>
+#include <cstdarg>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+#include <system_error>
+
+#include "pliant/plugin.h"
+
+#define PLIANT_EXPORT extern "C" __attribute__((visibility("default")))
+
+PLIANT_EXPORT const uint32_t pliant_plugin_api_version = PLIANT_PLUGIN_API_VERSION;
+
+namespace {
+
+constexpr float kBackgroundBelow = 1e-4f;
+
+std::filesystem::path g_out_dir;
+
+int fail(char* err, size_t err_size, const char* fmt, ...) {
+  if (err && err_size) {
+    va_list args;
+    va_start(args, fmt);
+    std::vsnprintf(err, err_size, fmt, args);
+    va_end(args);
+  }
+  return 1;
+}
+
+int vdb_begin(void*, const char* out_dir, const char*, uint32_t, char* err, size_t err_size) {
+  openvdb::initialize();
+  g_out_dir = out_dir;
+  std::error_code ec;
+  std::filesystem::create_directories(g_out_dir, ec);
+  if (ec || !std::filesystem::is_directory(g_out_dir))
+    return fail(err, err_size, "cannot create directory %s: %s", out_dir,
+                ec ? ec.message().c_str() : "a file of that name exists");
+  return 0;
+}
+
+int vdb_frame(void*, const PliantFrame* frame, char* err, size_t err_size) {
+  const PliantField* density = nullptr;
+  for (uint32_t i = 0; i < frame->field_count; ++i)
+    if (std::string(frame->fields[i].name) == "density") density = &frame->fields[i];
+  if (!density) return fail(err, err_size, "frame %d has no \"density\" field", int(frame->index));
+  int nx = 0, ny = 0, nz = 1;
+  if (density->ndim == 3) {
+    nz = int(density->shape[0]), ny = int(density->shape[1]), nx = int(density->shape[2]);
+  } else if (density->ndim == 2) {
+    ny = int(density->shape[0]), nx = int(density->shape[1]);
+  } else {
+    return fail(err, err_size, "frame %d: density has %u dimensions (expected 2 or 3)", int(frame->index),
+                unsigned(density->ndim));
+  }
+  try {
+    openvdb::FloatGrid::Ptr grid = openvdb::FloatGrid::create(0.0f);
+    grid->setName("density");
+    grid->setGridClass(openvdb::GRID_FOG_VOLUME);
+    const double voxel = 1.0 / std::max(nx, std::max(ny, nz));
+    grid->setTransform(openvdb::math::Transform::createLinearTransform(voxel));
+    openvdb::FloatGrid::Accessor acc = grid->getAccessor();
+    const float* d = density->data;
+    for (int k = 0; k < nz; ++k)
+      for (int j = 0; j < ny; ++j)
+        for (int i = 0; i < nx; ++i) {
+          const float v = d[(size_t(k) * ny + j) * nx + i];
+          if (std::isfinite(v) && v >= kBackgroundBelow) acc.setValue(openvdb::Coord(i, j, k), v);
+        }
+    grid->insertMeta("pliant_frame", openvdb::Int32Metadata(frame->index));
+    grid->insertMeta("pliant_time_s", openvdb::DoubleMetadata(frame->time_s));
+    char name[64];
+    std::snprintf(name, sizeof name, "frame_%05d.vdb", int(frame->index));
+    openvdb::io::File file((g_out_dir / name).string());
+    openvdb::GridPtrVec grids{grid};
+    file.write(grids);
+    file.close();
+  } catch (const std::exception& e) {
+    return fail(err, err_size, "frame %d: OpenVDB: %s", int(frame->index), e.what());
+  }
+  return 0;
+}
+
+int vdb_end(void*, char*, size_t) { return 0; }
+
+}  // namespace
+
+PLIANT_EXPORT int pliant_plugin_load(const PliantHost* host, PliantRegistry* registry) {
+  (void)host;
+  PliantExporter e{};
+  e.name = "vdb";
+  e.description = "density frames as OpenVDB FloatGrids (frame_NNNNN.vdb, grid \"density\")";
+  e.extension = ".vdb";
+  e.user = nullptr;
+  e.begin = vdb_begin;
+  e.frame = vdb_frame;
+  e.end = vdb_end;
+  return registry->register_exporter(registry->host_data, &e);
+}
