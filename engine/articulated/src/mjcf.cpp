@@ -246,6 +246,10 @@ Model model_from_mjcf(const std::string& text, const std::string& file) {
           act.ctrl_min = r[0];
           act.ctrl_max = r[1];
         }
+        if (ch.attr("ctrllimited") && *ch.attr("ctrllimited") == "false") {
+          act.ctrl_min = -1e300;
+          act.ctrl_max = 1e300;
+        }
         c.m.actuators.push_back(act);
       }
     } else if (e.name == "visual" || e.name == "asset" || e.name == "statistic" || e.name == "size") {

@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <random>
+
 #include "pliant/articulated/io.h"
 #include "pliant/articulated/mpc.h"
 
@@ -36,6 +38,24 @@ TEST(Environment, ResetStepObservationReward) {
   env.reset();
   ASSERT_TRUE(env.step(VecX::Constant(3, 1.0)));
   EXPECT_GT((env.observation() - after).norm(), 1e-6);
+}
+
+TEST(Environment, WalkerStandsAndStepsWithRandomActions) {
+  const Model m = model_load_file(std::string(PLIANT_ASSETS_DIR) + "/models/walker3d.xml", "walker3d.xml");
+  ASSERT_EQ(m.actuators.size(), 12u);
+  ASSERT_EQ(m.nq, 7 + 12);
+  Environment env(m, hopper_options(), state_init(m));
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (int i = 0; i < 25; ++i) {
+    VecX a(12);
+    for (int k = 0; k < 12; ++k) a[k] = u(rng);
+    ASSERT_TRUE(env.step(a)) << i;
+  }
+  // Landed on its legs: torso above the ground, below its start height, finite.
+  EXPECT_TRUE(env.observation().allFinite());
+  EXPECT_GT(env.state().qpos[2], 0.1);
+  EXPECT_LT(env.state().qpos[2], 0.45);
 }
 
 TEST(Mpc, CemMovesTheHopperForward) {

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
 #include "pliant/articulated/dynamics.h"
 #include "pliant/articulated/io.h"
@@ -55,6 +56,18 @@ TEST(MujocoReference, MixedGeomsMatch) {
         <geom type="capsule" fromto="0 0 0 0.1 0.2 -0.1" size="0.03"/>
       </body>
     </body></worldbody></mujoco>)");
+}
+
+std::string asset(const std::string& rel) {
+  std::ifstream in(std::string(PLIANT_ASSETS_DIR) + "/" + rel);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+TEST(MujocoReference, HopperAndWalkerModelsMatch) {
+  expect_same_mass_properties(asset("models/hopper2d.xml"));
+  expect_same_mass_properties(asset("models/walker3d.xml"));
 }
 
 TEST(MujocoReference, MassMatrixMatches) {
