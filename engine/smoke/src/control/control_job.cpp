@@ -94,7 +94,13 @@ nlohmann::json smoke_control_run_job(JobContext& ctx) {
     TakeReader reader(ctx.take.dir());
     Record r;
     if (reader.latest(RecordKind::Checkpoint, &r)) {
-      ControlState c = state_from_record(r);
+      ControlState c;
+      try {
+        c = state_from_record(r);
+      } catch (const std::runtime_error& e) {  // an older checkpoint format, or damage
+        throw InputError(ctx.scene.file, "/control",
+                         std::string(e.what()) + "; the take cannot be resumed, run without --resume");
+      }
       if (int(c.force.size()) != T || c.force[0].size() != s.force[0].size())
         throw InputError(ctx.scene.file, "/control",
                          "the take's checkpoint was made for a different grid or frame count; run without --resume");
