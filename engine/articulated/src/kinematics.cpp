@@ -38,7 +38,7 @@ Vec6 twist(const Vec3& axis, const Vec3& anchor) {
 
 }  // namespace
 
-void kinematics(const Model& m, const VecX& qpos, Kinematics* k) {
+void kinematics(const Model& m, const VecX& qpos, Kinematics* k, bool poses_only) {
   const size_t nb = m.bodies.size();
   k->xpos.resize(nb);
   k->xquat.resize(nb);
@@ -80,9 +80,11 @@ void kinematics(const Model& m, const VecX& qpos, Kinematics* k) {
         case JointType::Hinge: {
           const Vec3 anchor = x + r * j.pos;
           const Vec3 axis = r * j.axis;
-          r = (r * Quat(Eigen::AngleAxisd(qpos[j.qadr], j.axis))).normalized();
+          const double half = 0.5 * qpos[j.qadr];
+          const Vec3 sv = std::sin(half) * j.axis;
+          r = r * Quat(std::cos(half), sv.x(), sv.y(), sv.z());
           x = anchor - r * j.pos;
-          k->cdof[j.vadr] = twist(axis, anchor);
+          if (!poses_only) k->cdof[j.vadr] = twist(axis, anchor);
           break;
         }
         case JointType::Slide: {
@@ -93,12 +95,14 @@ void kinematics(const Model& m, const VecX& qpos, Kinematics* k) {
         }
       }
     }
+    r.normalize();
     k->xpos[b] = x;
     k->xquat[b] = r;
     k->xmat[b] = r.toRotationMatrix();
     k->xcom[b] = x + k->xmat[b] * body.com;
-    k->cinert[b] = spatial_inertia(body.mass, k->xcom[b],
-                                   k->xmat[b] * body.inertia * k->xmat[b].transpose());
+    if (!poses_only)
+      k->cinert[b] = spatial_inertia(body.mass, k->xcom[b],
+                                     k->xmat[b] * body.inertia * k->xmat[b].transpose());
   }
 }
 

@@ -27,7 +27,7 @@ void actuator_forces(const Model& m, const State& s, VecX* tau) {
 double pbad_energy(const Model& m, const SimOptions& o, const State& s, const PbadStep& p,
                    const VecX& q, SimWorkspace& ws, bool derivs) {
   Kinematics& k = ws.kin;
-  kinematics(m, q, &k);
+  kinematics(m, q, &k, !derivs);
   const int nb = static_cast<int>(m.bodies.size());
   const double c = p.weight / (o.dt * o.dt);
   double e = 0;

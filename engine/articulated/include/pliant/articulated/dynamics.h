@@ -20,8 +20,9 @@ struct Kinematics {
   std::vector<Mat6> cinert;  // spatial inertia of each body about the world origin
 };
 
-// Forward kinematics (MuJoCo's order: body offset, then joints in order).
-void kinematics(const Model& m, const VecX& qpos, Kinematics* k);
+// Forward kinematics (MuJoCo's order: body offset, then joints in order). With
+// poses_only, cdof and cinert are left stale (PBAD's energy-only evaluations).
+void kinematics(const Model& m, const VecX& qpos, Kinematics* k, bool poses_only = false);
 
 // qpos <- qpos (+) scale * dv: hinge/slide add, quaternions rotate by exp(dv) in the
 // local frame (free-joint position adds in the world frame). Quaternions renormalised.
