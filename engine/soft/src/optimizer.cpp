@@ -42,7 +42,6 @@ void optimize(const ResidualFn& rf, const OptimizerSettings& s, OptimizerState& 
   // L-BFGS memory.
   std::deque<Eigen::VectorXd> S, Y;
   Eigen::VectorXd g_prev, theta_prev;
-  const bool use_lm = s.kind != OptimizerKind::LBFGS;
   bool lbfgs = s.kind == OptimizerKind::LBFGS || (s.kind == OptimizerKind::Hybrid && st.in_lbfgs);
   while (st.iteration < s.max_iterations) {
     if (st.objective <= s.tolerance * f_initial || (s.target >= 0 && st.objective <= s.target)) break;
@@ -125,7 +124,6 @@ void optimize(const ResidualFn& rf, const OptimizerSettings& s, OptimizerState& 
     st.step_kinds.push_back(accepted ? kind : kind + "-rejected");
     if (on_iteration && !on_iteration(st)) break;
     if (!accepted && s.kind != OptimizerKind::Hybrid) break;
-    (void)use_lm;
   }
 }
 

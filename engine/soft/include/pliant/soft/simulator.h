@@ -77,8 +77,9 @@ Eigen::Vector3d centre_of_mass(const Character& ch, const SoftState& s);
 void reduced_step(const Character& ch, const Environment& env, const SimParams& sp, const Eigen::VectorXd& u,
                   SoftState& s, StepStats* stats = nullptr, const Eigen::VectorXd* nodal_force = nullptr);
 
-// Full-space step: positions x (3N), previous x_prev; nodal control force f (3N,
-// may be empty). Same energy with every node free.
+// Full-space step: positions x (3N), previous x_prev; nodal force f (3N, may be
+// empty). Same energy with every node free, except the modal damping term (it is
+// defined on modal coordinates); validation runs set modal_damping_s = 0.
 void full_step(const Character& ch, const Environment& env, const SimParams& sp, const Eigen::VectorXd& f,
                Eigen::VectorXd& x, Eigen::VectorXd& x_prev, StepStats* stats = nullptr);
 
