@@ -84,6 +84,8 @@ ArticulatedScene articulated_compile(const Scene& scene) {
     c.noise = mp->number("noise", c.noise, 0, 10);
     c.seed = static_cast<unsigned>(mp->integer("seed", 1, 0, 1LL << 31));
     c.ctrl_cost = mp->number("ctrl_cost", c.ctrl_cost, 0);
+    c.upright_weight = mp->number("upright_weight", c.upright_weight, 0);
+    c.height_weight = mp->number("height_weight", c.height_weight, 0);
     mp->finish();
     a.mpc = c;
   }

@@ -59,6 +59,10 @@ MpcResult run_cem_mpc(const Model& m, const SimOptions& o, const State& initial,
   State s = initial;
   Environment env(m, o, initial, c.substeps, c.ctrl_cost);
   const double x_start = env.forward_position();
+  Kinematics k0;
+  kinematics(m, initial.qpos, &k0, true);
+  const double z0 = k0.xcom[1].z();
+  const Vec3 up0 = k0.xmat[1].col(2);
   const int control_steps = static_cast<int>(std::llround(c.duration_s / (o.dt * c.substeps)));
   int sim_index = 0;
   std::vector<Eigen::MatrixXd> plans(c.samples);
@@ -85,10 +89,12 @@ MpcResult run_cem_mpc(const Model& m, const SimOptions& o, const State& initial,
           }
           total += e.reward();
         }
-        // Stay upright: penalise a low torso (body 1 centre).
+        // Stay upright: penalise a torso (body 1) lower than 80% of its start height
+        // and tilted away from its start orientation.
         Kinematics kk;
-        kinematics(m, e.state().qpos, &kk);
-        score[k] = total - 10.0 * std::max(0.0, 0.9 - kk.xcom[1].z());
+        kinematics(m, e.state().qpos, &kk, true);
+        const double tilt = 1 - kk.xmat[1].col(2).dot(up0);
+        score[k] = total - c.height_weight * std::max(0.0, 0.8 * z0 - kk.xcom[1].z()) - c.upright_weight * tilt;
       }
       std::vector<int> order(c.samples);
       std::iota(order.begin(), order.end(), 0);

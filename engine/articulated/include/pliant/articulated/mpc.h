@@ -52,6 +52,8 @@ struct MpcOptions {
   double noise = 0.6;      // initial std of the action distribution (fraction of range)
   unsigned seed = 1;
   double ctrl_cost = 1e-3;
+  double upright_weight = 5;  // score penalty per unit (1 - cos tilt) of the torso
+  double height_weight = 10;  // per metre of torso centre below 80% of its start height
 };
 
 struct MpcResult {
