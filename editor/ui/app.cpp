@@ -118,6 +118,7 @@ void App::shutdown(bool clean) {
     if (viewport.depth_rb) glDeleteRenderbuffers(1, &viewport.depth_rb);
     viewport.fbo = viewport.color_tex = viewport.depth_rb = 0;
     release_canvas_gl(canvas);
+    compare.release_gl();
     if (renderer_ok_) renderer.shutdown();
     if (gl_backend_) ImGui_ImplOpenGL3_Shutdown();
   }

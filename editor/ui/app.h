@@ -25,6 +25,7 @@
 #include "render/renderer.h"
 #include "ui/injected_input.h"
 #include "ui/keyframe_canvas.h"
+#include "ui/take_compare.h"
 #include "ui/take_view.h"
 #include "ui/ui_mark.h"
 
@@ -143,6 +144,7 @@ class App {
   InjectedInput input;
   Renderer renderer;
   KeyframeCanvasState canvas;  // smoke keyframe painting (keyframe_canvas.h)
+  TakeCompare compare;         // A/B: a second take beside the shown one
   std::unique_ptr<ExportRun> export_run;  // the newest export (app_export.cpp)
   // Scripts hook here: before_frame runs after platform.new_frame (to inject
   // input), after_render after the frame is drawn (screenshots).

@@ -130,7 +130,6 @@ void draw_smoke_solve_panel(App& app) {
     ImGui::SetTooltip("r weighs the control forces against matching the keyframes.\n"
                       "Small r: the smoke snaps to the keyframes (sharp shapes, strong, busy forces).\n"
                       "Large r: gentle forces and softer, more natural motion that only approaches the shapes.");
-  ImGui::SameLine();
   const std::string method = c.value("method", std::string("admm"));
   if (ImGui::RadioButton("ADMM", method != "lbfgs") && method == "lbfgs") app.doc.set("/control/method", "admm");
   ui_mark("method_admm");

@@ -185,7 +185,6 @@ void draw_viewport_panel(App& app, const PanelRect& r) {
   ImGui::SetNextItemWidth(120);
   ImGui::SliderFloat("density", &v.settings.density_scale, 0.05f, 10.0f, "%.2f",
                      ImGuiSliderFlags_Logarithmic);
-  ImGui::SameLine();
   ImGui::Checkbox("grid", &v.settings.show_grid);
   ImGui::SameLine();
   ImGui::Checkbox("velocity", &v.settings.show_velocity);
@@ -195,12 +194,28 @@ void draw_viewport_panel(App& app, const PanelRect& r) {
     ImGui::SameLine();
     ImGui::Checkbox("outlines", &v.show_outlines);
   }
+  ImGui::SameLine();
+  if (ImGui::Checkbox("A/B", &app.compare.enabled) && app.compare.enabled)
+    app.compare.open(default_compare_take(app));
+  ui_mark("ab_compare");
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("compare the shown take (A, left) with another (B, right)");
+  if (app.compare.enabled) {
+    ImGui::SameLine();
+    if (ImGui::SmallButton("Swap") && !app.compare.dir.empty()) {
+      fs::path a = app.take.dir();
+      app.cmd_open_take(app.compare.dir);
+      app.compare.open(a);
+    }
+    ui_mark("ab_swap");
+  }
 
   ImVec2 avail = ImGui::GetContentRegionAvail();
-  int w = std::max(16, static_cast<int>(avail.x));
+  const int full_w = std::max(16, static_cast<int>(avail.x));
+  // A/B: A takes the left half, B the right half, same camera.
+  int w = app.compare.enabled ? std::max(16, full_w / 2) : full_w;
   int h = std::max(16, static_cast<int>(avail.y));
   ImVec2 pos = ImGui::GetCursorScreenPos();
-  ImGui::InvisibleButton("viewport_canvas", ImVec2(static_cast<float>(w), static_cast<float>(h)),
+  ImGui::InvisibleButton("viewport_canvas", ImVec2(static_cast<float>(full_w), static_cast<float>(h)),
                          ImGuiButtonFlags_MouseButtonLeft | ImGuiButtonFlags_MouseButtonRight |
                              ImGuiButtonFlags_MouseButtonMiddle);
   ui_mark("viewport");
@@ -242,6 +257,7 @@ void draw_viewport_panel(App& app, const PanelRect& r) {
         reinterpret_cast<ImTextureID>(static_cast<intptr_t>(v.color_tex)), pos,
         ImVec2(pos.x + w, pos.y + h), ImVec2(0, 1), ImVec2(1, 0));
     if (app.renderer.has_frame()) draw_keyframe_outline(app, pos, w, h);
+    if (app.compare.enabled) app.compare.draw(app, pos.x + w, pos.y, full_w - w, h);
     if (v.showing_preview)
       ImGui::GetWindowDrawList()->AddText(ImVec2(pos.x + 12, pos.y + 12), IM_COL32(255, 210, 120, 255),
                                           v.preview_label.c_str());
