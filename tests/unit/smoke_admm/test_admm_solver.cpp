@@ -177,6 +177,14 @@ TEST(Admm, EveryCheckpointResumesToTheUninterruptedResult) {
   EXPECT_TRUE(resumed_admm && resumed_polish);
 }
 
+TEST(Admm, StopsWhenTheObjectiveStalls) {
+  EXPECT_FALSE(admm_stalled({10, 9, 8, 7, 6}));           // too short to judge
+  EXPECT_FALSE(admm_stalled({10, 9, 8, 7, 6, 5.9}));      // still improving
+  EXPECT_TRUE(admm_stalled({10, 9, 8, 7, 7.5, 7.2, 7.1}));     // last 3 not below 7
+  EXPECT_TRUE(admm_stalled({10, 9, 8, 7, 7, 6.9999, 7}));      // under 0.1% better
+  EXPECT_FALSE(admm_stalled({10, 12, 13, 14, 9.9, 20}));  // a new best among the last 3
+}
+
 TEST(Admm, ResumesFromItsStateAndCallsBack) {
   ControlModel m = circle_to_square();
   m.progressive_preview = false;

@@ -4,7 +4,8 @@
 //   NSO:  z <- argmin r ||f(z)||^2 + beta/2 ||z - (u + lambda)||^2, div z = 0  (nso_solver.h)
 //   dual: lambda += u - z
 // Residuals (relative): primal ||u - z|| / max(||u||, ||z||), dual ||z - z_prev|| / ||lambda||
-// (Boyd et al. 2011, Sec. 3.3); stop when both stored residuals are below tolerance.
+// (Boyd et al. 2011, Sec. 3.3); stop when both stored residuals are below tolerance, or
+// when the re-simulated objective has stalled (admm_stalled).
 // The state's forces are those of the best re-simulated objective so far (ADMM is not
 // monotone in E). control_solve_admm then runs ControlModel::polish_iterations of the
 // L-BFGS baseline from those forces (ControlState::phase 1).
@@ -37,6 +38,10 @@ struct AdmmIterationStats {
 // `stats` (optional) receives one entry per iteration.
 void admm_run(const ControlModel& m, ControlState& s, Progress& progress, const ControlCallbacks& cb,
               std::vector<AdmmIterationStats>* stats);
+
+// True when the objective history shows no progress over its last 3 iterations (0.1%):
+// admm_run then stops (a function of the stored history, so resume decides the same).
+bool admm_stalled(const std::vector<double>& objective_history);
 
 // Penalty continuation: beta_k = admm_penalty * min(1, 0.05 * 1.3^k) (deterministic in
 // k, so a resumed run knows which beta its stored scaled dual belongs to).
