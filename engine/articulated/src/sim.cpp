@@ -254,7 +254,7 @@ void pbad_begin(const Model& m, const SimOptions& o, State& s, PbadStep& p, SimW
   for (const Joint& j : m.joints) p.any_damping = p.any_damping || j.damping > 0;
   p.q = s.qpos;
   qpos_integrate(m, p.q, 2 * qpos_difference(m, s.qpos, q1) - qpos_difference(m, q1, q2), 1.0);
-  p.lambda = 1e-6;
+  p.lambda = std::clamp(p.lambda, 1e-6, 1e-2);  // warm start from the previous step
   // Generalized-force tolerance: lm_tolerance times the model's weight times 1 m.
   double weight = 0;
   for (const Body& b : m.bodies) weight += b.mass;
