@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <ctime>
 #include <fstream>
 #include <string>
 #include <thread>
@@ -59,12 +60,14 @@ nlohmann::json run_sim(const std::string& name, const LiquidModel& m, int thread
   const int frames = std::max(1, int(sim_s / m.dt_s + 0.5));
   long long particle_steps = 0;
   const double t0 = omp_get_wtime();
+  const std::clock_t c0 = std::clock();  // process CPU time, all threads
   for (int f = 0; f < frames; ++f) {
     const int before = st.substeps;
     liquid_step(m, s, &st);
     particle_steps += (long long)(st.substeps - before) * (long long)s.count();
   }
   const double wall = omp_get_wtime() - t0;
+  const double cpu = double(std::clock() - c0) / CLOCKS_PER_SEC;
   nlohmann::json j = {{"case", name},
                       {"dim", m.dim},
                       {"particles", s.count()},
@@ -74,6 +77,10 @@ nlohmann::json run_sim(const std::string& name, const LiquidModel& m, int thread
                       {"substeps", st.substeps},
                       {"wall_s", wall},
                       {"particle_steps_per_s", particle_steps / wall},
+                      // Load-independent-ish: what the run cost in CPU seconds
+                      // (on a shared machine wall time includes waiting for a core).
+                      {"cpu_s", cpu},
+                      {"particle_steps_per_cpu_s", particle_steps / std::max(1e-9, cpu)},
                       {"wall_per_sim_s", wall / (frames * m.dt_s)},
                       {"pressure_iterations_per_substep", double(st.pressure_iterations) / st.substeps},
                       {"phase_s",
@@ -100,6 +107,11 @@ int main(int argc, char** argv) {
   nlohmann::json all = nlohmann::json::array();
   auto emit = [&](nlohmann::json j) {
     j["machine"] = mach;
+    // Other processes on a shared machine distort the figures: record the load.
+    std::ifstream load("/proc/loadavg");
+    double l1 = -1;
+    load >> l1;
+    j["load_average_1min"] = l1;
     j["mode"] = quick ? "quick" : "full";
     std::printf("%s\n", j.dump().c_str());
     std::fflush(stdout);
