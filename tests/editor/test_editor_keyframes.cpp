@@ -110,6 +110,28 @@ TEST(EditorKeyframes, PaintTypeSolveScrubMatchGoldensAndExport) {
   }
   EXPECT_EQ(files, 41);
 
+  // A/B: the same take as B draws the same smoke in the right half of the viewport.
+  ASSERT_EQ(h.run("click_item ab_compare\nwait 2\n"), "");
+  ASSERT_TRUE(h.app->compare.enabled);
+  h.app->compare.open(h.app->take.dir());
+  ASSERT_EQ(h.run("wait 3\nscreenshot $TMP/ab.png\n"), "");
+  {
+    const UiRect* vr = h.app->marks.find("viewport");
+    ASSERT_NE(vr, nullptr);
+    std::string err;
+    Image ab = read_png((h.dir / "ab.png").string(), &err);
+    ASSERT_FALSE(ab.empty()) << err;
+    int bright[2] = {0, 0};
+    const int xm = int(0.5f * (vr->x0 + vr->x1));
+    for (int y = int(vr->y0); y < int(vr->y1); ++y)
+      for (int x = int(vr->x0); x < int(vr->x1); ++x)
+        if (ab.pixel(x, y)[0] > 120 && ab.pixel(x, y)[2] > 120) ++bright[x < xm ? 0 : 1];
+    EXPECT_GT(bright[0], 200);
+    EXPECT_GT(bright[1], 200);
+    EXPECT_NEAR(double(bright[1]) / bright[0], 1.0, 0.35);
+  }
+  ASSERT_EQ(h.run("click_item ab_compare\nwait 2\n"), "");
+
   if (find_ffmpeg().empty()) {
     GTEST_SKIP() << "ffmpeg is not installed: MP4 export not checked";
   }
@@ -253,6 +275,19 @@ TEST(EditorKeyframes, CancellingASolveLeavesACancelledTakeAndAResponsiveEditor) 
   EXPECT_GE(h.app->frame_count(), before + 30);
   EXPECT_LT(s, 10.0);
   EXPECT_EQ(h.app->take.status(), "cancelled");
+
+  // Resume continues the same take with `pliant run --resume`; cancel it again.
+  const fs::path take_dir = h.app->take.dir();
+  ASSERT_EQ(h.run("click_item slot_initial\nwait 2\nclick_item Resume\nwait 3\nexpect \"Job 2 started\"\n"), "");
+  JobProcess* j2 = h.app->newest_job();
+  EXPECT_TRUE(j2->spec().resume);
+  EXPECT_EQ(j2->spec().take, take_dir);
+  for (int k = 0; k < 400 && j2->snapshot().iter == 0 && !j2->snapshot().ended(); ++k) {
+    ASSERT_EQ(h.run("wait 5\n"), "");
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  ASSERT_EQ(h.run("click_item \"Cancel solve\"\nwait_job 30\nexpect \"Job 2: cancelled\"\n"), "");
+  EXPECT_EQ(TakeReader(take_dir).manifest().status, "cancelled");
 }
 
 }  // namespace pliant::editor::test
