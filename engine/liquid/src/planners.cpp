@@ -188,6 +188,8 @@ Trajectory plan_correction(const LiquidModel& m, Progress& progress, nlohmann::j
   const double inner = m.target.shape.opening_radius() - 0.3 * m.target.shape.wall_m;
   Trajectory best = cur.source_path;
   double best_transfer = -1;
+  std::vector<double> direction;  // correction of the best plan, per key (m)
+  double tilt_direction = 0, step = 0.7;
   nlohmann::json history = nlohmann::json::array();
   progress.stage("correction", iters);
   for (int it = 1; it <= iters; ++it) {
@@ -204,47 +206,54 @@ Trajectory plan_correction(const LiquidModel& m, Progress& progress, nlohmann::j
     const double cobj = tracks.objective(0.25 * m.cell_size_m, &useful);
     history.push_back({{"iteration", it}, {"in_target", fr[0]}, {"spilled", fr[1]}, {"in_source", fr[2]},
                        {"c_obj", cobj}});
-    if (fr[0] > best_transfer) best_transfer = fr[0], best = cur.source_path;
     progress.report(it, fr[1]);
-    if (it == iters) break;
-    // Q_{k+1}: per key interval, the rigid displacement d_k that moves the
-    // landing points of the particles leaving then onto the opening (least
-    // squares: minus the mean miss of those that miss), damped and bounded.
-    auto& keys = cur.source_path.keys;
-    const int K = int(keys.size());
-    std::vector<double> miss(K, 0.0);
-    std::vector<int> count(K, 0), total(K, 0);
-    // A particle counts as a miss when it lands outside the opening, or lands
-    // inside but ends up spilled (splashed over the far wall): either way its
-    // landing offset says which way to move.
-    const Pose end_pose = source_pose_at(cur, s.time_s);
-    for (size_t p = 0; p < tracks.tracks().size(); ++p) {
-      const auto& t = tracks.tracks()[p];
-      if (t.leave_time < 0 || !t.landed) continue;
-      int k = 1;
-      while (k < K - 1 && t.leave_time > keys[k].time_s) ++k;
-      ++total[k];
-      const Vec3 x{s.x[3 * p], s.x[3 * p + 1], s.x[3 * p + 2]};
-      const bool spilled = !m.target.shape.in_cavity(m.target.pose.to_local(x), m.dim) &&
-                           !m.source.shape.in_cavity(end_pose.to_local(x), m.dim);
-      const double dx = t.landing[0] - c[0];
-      if (std::abs(dx) > inner || spilled) miss[k] += dx, ++count[k];
+    const bool improved = fr[0] > best_transfer;
+    if (improved) {
+      best_transfer = fr[0], best = cur.source_path;
+      // Q_{k+1} direction from the best P_k: per key interval, the rigid
+      // displacement d_k that moves the landing points of the particles
+      // leaving then onto the opening (least squares: minus the mean miss of
+      // those that miss), and more tilt at the end if liquid stays behind.
+      const auto& keys = best.keys;
+      const int K = int(keys.size());
+      std::vector<double> miss(K, 0.0);
+      std::vector<int> count(K, 0), total(K, 0);
+      // A particle counts as a miss when it lands outside the opening, or lands
+      // inside but ends up spilled (splashed over the far wall): either way its
+      // landing offset says which way to move.
+      const Pose end_pose = source_pose_at(cur, s.time_s);
+      for (size_t p = 0; p < tracks.tracks().size(); ++p) {
+        const auto& t = tracks.tracks()[p];
+        if (t.leave_time < 0 || !t.landed) continue;
+        int k = 1;
+        while (k < K - 1 && t.leave_time > keys[k].time_s) ++k;
+        ++total[k];
+        const Vec3 x{s.x[3 * p], s.x[3 * p + 1], s.x[3 * p + 2]};
+        const bool spilled = !m.target.shape.in_cavity(m.target.pose.to_local(x), m.dim) &&
+                             !m.source.shape.in_cavity(end_pose.to_local(x), m.dim);
+        const double dx = t.landing[0] - c[0];
+        if (std::abs(dx) > inner || spilled) miss[k] += dx, ++count[k];
+      }
+      direction.assign(K, 0.0);
+      for (int k = 1; k < K; ++k)
+        if (count[k] > 0 && count[k] >= 0.01 * std::max(1, total[k])) direction[k] = -miss[k] / count[k];
+      tilt_direction = fr[2] > 0.02 ? 0.2 : 0.0;
+      step = 0.7;
+    } else {
+      step *= 0.5;  // the trial was worse: back to the best plan, shorter step
     }
+    if (it == iters) break;
+    Trajectory next = best;
     double change = 0;
-    Trajectory next = cur.source_path;
-    for (int k = 1; k < K; ++k) {
-      if (count[k] == 0 || count[k] < 0.01 * std::max(1, total[k])) continue;
-      const double d = std::clamp(-0.7 * miss[k] / count[k], -0.05, 0.05);
+    for (size_t k = 1; k < next.keys.size() && k < direction.size(); ++k) {
+      const double d = std::clamp(step * direction[k], -0.05, 0.05);
       next.keys[k].pose.position_m[0] += d;
       change = std::max(change, std::abs(d));
     }
-    // Liquid left in the source: tilt the last key further.
-    if (fr[2] > 0.02) {
-      auto& last = next.keys.back().pose.tilt_rad;
-      const double nt = std::min(m.planner.max_tilt_rad, last + 0.15);
-      change = std::max(change, nt - last);
-      last = nt;
-    }
+    auto& last = next.keys.back().pose.tilt_rad;
+    const double nt = std::min(m.planner.max_tilt_rad, last + step * tilt_direction);
+    change = std::max(change, nt - last);
+    last = nt;
     cur.source_path = next;
     if (change < 1e-3) break;  // ||Q_{k+1} - Q_k||_inf small
   }
