@@ -105,9 +105,15 @@ json with_keyframe_added(const json& scene, int frame, int* index) {
   }
   json& ks = control_of(s)["keyframes"];
   const auto res = smoke_resolution(s);
-  geom::PaintedGrid g = make_painted_grid(std::max(1, res[0]), std::max(1, res[1]));
-  ks.push_back({{"frame", frame},
-                {"target", {{"type", "painted"}, {"size", {g.n[0], g.n[1]}}, {"data", geom::encode_painted(g)}}}});
+  if (res[0] > 0) {
+    geom::PaintedGrid g = make_painted_grid(res[0], res[1]);
+    ks.push_back({{"frame", frame},
+                  {"target", {{"type", "painted"}, {"size", {g.n[0], g.n[1]}}, {"data", geom::encode_painted(g)}}}});
+  } else {
+    // 3D: no painting; a sphere to replace by a mesh or edit in the scene.
+    ks.push_back({{"frame", frame},
+                  {"target", {{"type", "sphere"}, {"center", {0.5, 0.5, 0.5}}, {"radius", 0.2}}}});
+  }
   int where = sort_keyframes(ks, int(ks.size()) - 1);
   if (index) *index = where;
   return s;
@@ -185,28 +191,35 @@ geom::PaintedGrid rasterize_slot(const json& scene, const std::filesystem::path&
       return make_painted_grid(res[0], res[1]);
     }
   }
-  // Anything else: compile a copy whose only keyframe (frame 1) and initial
-  // density are this slot's, so other broken keyframes do not matter.
+  std::array<int, 3> dims{};
+  std::vector<float> d = rasterize_slot_density(scene, scene_dir, slot, &dims, error);
+  if (d.empty()) return make_painted_grid(res[0], res[1]);
+  return painted_from_density(d, res[0], res[1]);
+}
+
+std::vector<float> rasterize_slot_density(const json& scene, const std::filesystem::path& scene_dir, int slot,
+                                          std::array<int, 3>* dims, std::string* error) {
+  // Compile a copy whose only keyframe (frame 1) and initial density are this
+  // slot's, so other broken keyframes do not matter.
   try {
+    if (!has_control(scene)) throw std::runtime_error("the scene has no control section");
     json s = scene;
     json& c = s["control"];
     json init = c.value("initial_density", json::array());
+    const json target = slot_target(scene, slot);
     json kt = slot == kInitialDensitySlot ? (init.is_array() && !init.empty() ? init[0] : json()) : target;
-    if (kt.is_null()) {
-      if (error) error->clear();
-      return make_painted_grid(res[0], res[1]);
-    }
+    if (kt.is_null()) throw std::runtime_error("the slot has no target");
     c["keyframes"] = json::array({{{"frame", 1}, {"target", kt}}});
     c.erase("sequence");
     if (slot != kInitialDensitySlot || init.size() <= 1) c["initial_density"] = json::array({kt});
     Scene sc = parse_scene(s.dump(), "scene", scene_dir.empty() ? std::filesystem::path(".") : scene_dir);
     smoke::ControlModel m = smoke::control_compile(sc);
     if (error) error->clear();
-    const std::vector<float>& d = slot == kInitialDensitySlot ? m.initial_density : m.keyframes.at(0).density;
-    return painted_from_density(d, res[0], res[1]);
+    if (dims) *dims = {m.sim.n[0], m.sim.n[1], m.sim.dim == 3 ? m.sim.n[2] : 1};
+    return slot == kInitialDensitySlot ? m.initial_density : m.keyframes.at(0).density;
   } catch (const std::exception& e) {
     if (error) *error = e.what();
-    return make_painted_grid(res[0], res[1]);
+    return {};
   }
 }
 

@@ -35,7 +35,7 @@ int keyframe_at_frame(const nlohmann::json& scene, int frame);
 // A control section with the defaults the solve panel shows (ADMM, r 1e-5, a
 // circle of initial density) when the scene has none.
 nlohmann::json default_control_section();
-// Adds an empty painted keyframe at `frame` (clamped to 1..T; a keyframe already
+// Adds an empty painted keyframe (3D scenes: a sphere target) at `frame` (clamped to 1..T; a keyframe already
 // there is kept); *index gets its position. Keyframes stay sorted by frame.
 nlohmann::json with_keyframe_added(const nlohmann::json& scene, int frame, int* index);
 nlohmann::json with_keyframe_removed(const nlohmann::json& scene, int index);
@@ -55,5 +55,10 @@ nlohmann::json slot_target(const nlohmann::json& scene, int slot);
 // On failure returns an empty grid and sets *error.
 geom::PaintedGrid rasterize_slot(const nlohmann::json& scene, const std::filesystem::path& scene_dir,
                                  int slot, std::string* error);
+
+// Any-dimensional raster of a slot through control_compile (3D scenes: the slice
+// view). dims gets {nx, ny, nz} (nz = 1 in 2D). Empty + *error on failure.
+std::vector<float> rasterize_slot_density(const nlohmann::json& scene, const std::filesystem::path& scene_dir,
+                                          int slot, std::array<int, 3>* dims, std::string* error);
 
 }  // namespace pliant::editor

@@ -40,6 +40,11 @@ struct KeyframeCanvasState {
   geom::PaintedGrid working;
   double last_x = 0, last_y = 0, start_x = 0, start_y = 0;
   unsigned texture = 0;  // GL texture of the composite
+  // 3D scenes: the slot's volume and the z slice shown (keyframe_slices.cpp).
+  std::vector<float> volume;
+  std::array<int, 3> volume_dims{0, 0, 0};
+  uint64_t volume_revision = ~uint64_t(0);
+  int volume_slot = -99, slice = -1, shown_slice = -2;
   std::array<uint64_t, 3> texture_key{~0ull, 0, 0};  // (revision, slot, onion) it shows
 };
 
@@ -59,5 +64,8 @@ bool import_mesh_keyframe(App& app, const std::string& path);
 // The frame the keyframe tools act on: the take's frame when it has frames.
 int canvas_current_frame(App& app);
 void release_canvas_gl(KeyframeCanvasState& s);
+// 3D smoke: the selected keyframe as z slices (read-only), a slice slider and the
+// keyframe list; meshes are added by dropping them on the window.
+void draw_keyframe_slices(App& app);
 
 }  // namespace pliant::editor

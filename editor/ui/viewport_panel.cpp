@@ -166,7 +166,8 @@ void draw_viewport_panel(App& app, const PanelRect& r) {
   // Smoke 2D scenes: the result or the keyframe canvas. Other kinds add their
   // editors beside this switch.
   const bool paintable = is_smoke_2d(app.doc.scene());
-  if (paintable) {
+  const bool slices = !paintable && has_control(app.doc.scene());  // 3D keyframes
+  if (paintable || slices) {
     if (ImGui::RadioButton("Result", !v.show_canvas)) v.show_canvas = false;
     ui_mark("view_result");
     ImGui::SameLine();
@@ -174,8 +175,9 @@ void draw_viewport_panel(App& app, const PanelRect& r) {
     ui_mark("view_keyframes");
     ImGui::SameLine();
   }
-  if (paintable && v.show_canvas) {
-    draw_keyframe_canvas(app);
+  if ((paintable || slices) && v.show_canvas) {
+    if (paintable) draw_keyframe_canvas(app);
+    else draw_keyframe_slices(app);
     ImGui::End();
     return;
   }

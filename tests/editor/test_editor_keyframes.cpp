@@ -5,6 +5,7 @@
 // for bit; dropped images and meshes become keyframes; cancelling a solve.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <chrono>
 #include <cstdlib>
 #include <fstream>
@@ -244,6 +245,18 @@ TEST(EditorKeyframes, DroppedImageAndMeshBecomeKeyframes) {
   EXPECT_EQ(ks[0].frame, 1);
   EXPECT_EQ(ks[0].type, "mesh");
   EXPECT_EQ(h.app->doc.scene()["control"]["keyframes"][0]["target"]["file"], "cube.obj");
+  EXPECT_EQ(h.app->scene_error(), "");
+  // The slice view shows the voxelised cube: half the size of the 16^3 domain.
+  ASSERT_EQ(h.run("click_item view_keyframes\nwait 3\n", "slices.txt"), "");
+  EXPECT_EQ(h.app->canvas.volume_dims, (std::array<int, 3>{16, 16, 16}));
+  double filled = 0;
+  for (float v : h.app->canvas.volume) filled += v;
+  EXPECT_NEAR(filled, 8 * 8 * 8, 8 * 8 * 8 * 0.15);
+  // + Key on a 3D scene adds a sphere keyframe that compiles.
+  ASSERT_EQ(h.run("click_item_at keyframe_strip " + strip_x(5, 10) + " 0.5\nwait 2\nclick_item add_key\nwait 2\n",
+                  "addkey3d.txt"),
+            "");
+  EXPECT_EQ(list_keyframes(h.app->doc.scene()).size(), 3u);
   EXPECT_EQ(h.app->scene_error(), "");
 }
 
