@@ -112,4 +112,62 @@ ModalBasis linear_modes(const Lattice& lat, const Lame& lame, int r) {
   return out;
 }
 
+ModalBasis with_modal_derivatives(const Lattice& lat, const Lame& lame, const ModalBasis& b, int k) {
+  k = std::min(k, b.r());
+  if (k <= 0) return b;
+  const int n3 = 3 * lat.nodes();
+  Eigen::VectorXd x(n3), m(n3);
+  for (int i = 0; i < lat.nodes(); ++i) {
+    x.segment<3>(3 * i) = lat.rest[i];
+    m.segment<3>(3 * i).setConstant(lat.node_mass_kg[i]);
+  }
+  Eigen::SparseMatrix<double> K;
+  elastic_energy(lat, lame, x, CellWeights{}, nullptr, &K);
+  const double sigma = 1e-6 * (K.diagonal().array() / m.array()).mean();
+  Eigen::SparseMatrix<double> A = K;
+  for (int i = 0; i < n3; ++i) A.coeffRef(i, i) += sigma * m[i];
+  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> llt(A);
+  if (llt.info() != Eigen::Success) throw std::runtime_error("modal derivatives: CHOLMOD factorization failed");
+  const Eigen::MatrixXd rigid = rigid_modes(lat);
+  std::vector<Eigen::VectorXd> extra;
+  for (int i = 0; i < k; ++i) {
+    const Eigen::VectorXd phi = b.U.col(i);
+    double mx = 0;
+    for (int j = 0; j < lat.nodes(); ++j) mx = std::max(mx, phi.segment<3>(3 * j).norm());
+    const double eps = 1e-4 * lat.cell_size_m / mx;
+    Eigen::SparseMatrix<double> Kp, Km;
+    elastic_energy(lat, lame, x + eps * phi, CellWeights{}, nullptr, &Kp);
+    elastic_energy(lat, lame, x - eps * phi, CellWeights{}, nullptr, &Km);
+    const Eigen::SparseMatrix<double> dK = (Kp - Km) / (2 * eps);
+    for (int j = i; j < k; ++j) {
+      Eigen::MatrixXd rhs = -(dK * b.U.col(j));
+      rhs -= m.asDiagonal() * rigid * (rigid.transpose() * rhs);  // self-equilibrated load
+      Eigen::MatrixXd psi = llt.solve(rhs);
+      deflate(psi, rigid, m);
+      extra.push_back(psi.col(0));
+    }
+  }
+  // M-Gram-Schmidt (twice), skipping vectors already in the span.
+  std::vector<Eigen::VectorXd> cols;
+  for (int c = 0; c < b.r(); ++c) cols.push_back(b.U.col(c));
+  for (auto& e : extra) cols.push_back(e);
+  std::vector<Eigen::VectorXd> basis;
+  for (auto v : cols) {
+    const double n0 = std::sqrt(v.dot(m.asDiagonal() * v));
+    for (int pass = 0; pass < 2; ++pass)
+      for (const auto& u : basis) v -= u * u.dot(m.asDiagonal() * v);
+    const double n1 = std::sqrt(v.dot(m.asDiagonal() * v));
+    if (n1 > 1e-8 * n0 && n1 > 0) basis.push_back(v / n1);
+  }
+  Eigen::MatrixXd Bk(n3, basis.size());
+  for (size_t c = 0; c < basis.size(); ++c) Bk.col(c) = basis[c];
+  Eigen::MatrixXd Kr = Bk.transpose() * (K * Bk);
+  Kr = 0.5 * (Kr + Kr.transpose()).eval();
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(Kr);
+  ModalBasis out;
+  out.U = Bk * es.eigenvectors();
+  out.omega2 = es.eigenvalues();
+  return out;
+}
+
 }  // namespace pliant::soft

@@ -79,7 +79,8 @@ bool touches(const Environment& env, const StepTargets& t, int j, const Vector3d
 
 }  // namespace
 
-Character make_character(SurfaceMesh surface, Lattice lattice, const Material& mat, int modes) {
+Character make_character(SurfaceMesh surface, Lattice lattice, const Material& mat, int modes,
+                         int derivative_modes) {
   Character ch;
   ch.surface = std::move(surface);
   ch.lattice = std::move(lattice);
@@ -97,6 +98,7 @@ Character make_character(SurfaceMesh surface, Lattice lattice, const Material& m
   ch.rest_local = ch.rest;
   for (int j = 0; j < n; ++j) ch.rest_local.segment<3>(3 * j) -= ch.rest_com;
   ch.basis = linear_modes(ch.lattice, ch.lame, modes);
+  if (derivative_modes > 0) ch.basis = with_modal_derivatives(ch.lattice, ch.lame, ch.basis, derivative_modes);
   ch.mode_scale.resize(ch.basis.r());
   for (int k = 0; k < ch.basis.r(); ++k) {
     double mx = 0;

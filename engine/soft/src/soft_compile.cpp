@@ -39,6 +39,7 @@ SoftModel soft_compile(const Scene& scene) {
   const double scale = ch->number("scale", 1.0, 1e-12, 1e12);
   const int resolution = int(ch->integer("resolution", 8, 2, 64));
   const int modes = int(ch->integer("modes", 10, 1, 60));
+  const int derivatives = int(ch->integer("modal_derivatives", 0, 0, 8));
   const bool cub = ch->boolean("cubature", false);
   const double cub_tol = ch->number("cubature_tolerance", 0.02, 1e-6, 0.5);
   const int cub_poses = int(ch->integer("cubature_poses", 16, 1, 200));
@@ -67,7 +68,7 @@ SoftModel soft_compile(const Scene& scene) {
     throw InputError(scene.file, ch->child_pointer("resolution"),
                      "lattice has " + std::to_string(lat.nodes()) + " nodes (at most 20000); lower the resolution");
   ch->finish();
-  m.character = make_character(std::move(surface), std::move(lat), mat, modes);
+  m.character = make_character(std::move(surface), std::move(lat), mat, modes, derivatives);
 
   // Environment.
   Environment& env = p.env;

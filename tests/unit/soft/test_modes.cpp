@@ -54,3 +54,26 @@ TEST(Modes, SubspaceIterationMatchesDense) {
   // Bending of a 3:1 beam: the two lowest modes are a near-degenerate pair.
   EXPECT_NEAR(b.omega2[0], b.omega2[1], 0.05 * b.omega2[0]);
 }
+
+TEST(Modes, ModalDerivativesExtendTheBasis) {
+  const Lattice lat = box_lattice(6);
+  const Lame l = lame_from(Material{});
+  const ModalBasis b = linear_modes(lat, l, 6);
+  const ModalBasis d = with_modal_derivatives(lat, l, b, 3);
+  EXPECT_EQ(d.r(), 6 + 6);  // 3 * 4 / 2 derivatives
+  Eigen::VectorXd m(3 * lat.nodes());
+  for (int j = 0; j < lat.nodes(); ++j) m.segment<3>(3 * j).setConstant(lat.node_mass_kg[j]);
+  const Eigen::MatrixXd UtMU = d.U.transpose() * m.asDiagonal() * d.U;
+  EXPECT_LT((UtMU - Eigen::MatrixXd::Identity(d.r(), d.r())).cwiseAbs().maxCoeff(), 1e-8);
+  EXPECT_LT((rigid_modes(lat).transpose() * m.asDiagonal() * d.U).cwiseAbs().maxCoeff(), 1e-8);
+  // The original modes stay in the span: projecting them loses nothing.
+  const Eigen::MatrixXd P = d.U * (d.U.transpose() * m.asDiagonal() * b.U);
+  EXPECT_LT((P - b.U).norm(), 1e-8 * b.U.norm());
+  // U^T K U is diagonal (omega2) after the Rayleigh-Ritz rotation.
+  Eigen::VectorXd x(3 * lat.nodes());
+  for (int j = 0; j < lat.nodes(); ++j) x.segment<3>(3 * j) = lat.rest[j];
+  Eigen::SparseMatrix<double> K;
+  elastic_energy(lat, l, x, CellWeights{}, nullptr, &K);
+  const Eigen::MatrixXd Kr = d.U.transpose() * (K * d.U);
+  EXPECT_LT((Kr - Eigen::MatrixXd(d.omega2.asDiagonal())).cwiseAbs().maxCoeff(), 1e-6 * d.omega2.maxCoeff());
+}

@@ -25,4 +25,12 @@ Eigen::MatrixXd rigid_modes(const Lattice& lat);
 // r lowest non-rigid modes; r is clamped to 3N - 6.
 ModalBasis linear_modes(const Lattice& lat, const Lame& lame, int r);
 
+// Adds the modal derivatives of the first k modes (Barbic & James 2005): for i <= j < k
+// solve K Psi_ij = -(dK/dphi_i) phi_j (dK/dphi_i by central differences of the
+// assembled Hessian, K regularized by sigma M and factored once with CHOLMOD), then
+// M-orthonormalizes [U, Psi], removes rigid motion and rotates the basis so that
+// U^T K U is diagonal again (omega2 ascending). Captures the quadratic coupling of
+// large bending that linear modes miss.
+ModalBasis with_modal_derivatives(const Lattice& lat, const Lame& lame, const ModalBasis& b, int k);
+
 }  // namespace pliant::soft

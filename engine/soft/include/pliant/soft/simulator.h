@@ -39,8 +39,10 @@ struct Character {
   double mass_kg = 0;
 };
 
-// Builds rest data, modes (r) of a lattice.
-Character make_character(SurfaceMesh surface, Lattice lattice, const Material& mat, int modes);
+// Builds rest data, modes (r) of a lattice, plus the modal derivatives of the first
+// `derivative_modes` modes (k (k + 1) / 2 more basis vectors).
+Character make_character(SurfaceMesh surface, Lattice lattice, const Material& mat, int modes,
+                         int derivative_modes = 0);
 
 struct SimParams {
   double dt_s = 1.0 / 30;
