@@ -1,8 +1,13 @@
 #include "doc/document.h"
 
+#include <atomic>
+
 namespace pliant::editor {
 
-Document::Document() : scene_(nlohmann::json::object()), saved_(scene_) {}
+Document::Document() : scene_(nlohmann::json::object()), saved_(scene_) {
+  static std::atomic<uint64_t> next_id{1};
+  id_ = next_id++;
+}
 
 std::string Document::title() const {
   std::string name = scene_.is_object() ? scene_.value("name", std::string()) : std::string();

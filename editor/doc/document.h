@@ -39,6 +39,9 @@ class Document {
 
   // Edits since open; used by autosave to notice changes cheaply.
   uint64_t revision() const { return revision_; }
+  // Unique per Document object in this process (caches keyed on revision need it:
+  // revisions restart at 0 in every Document).
+  uint64_t id() const { return id_; }
 
   std::filesystem::path take_dir;  // take shown in the viewport/timeline
   std::string selection;           // JSON pointer of the selected item
@@ -48,6 +51,7 @@ class Document {
   std::filesystem::path path_;
   UndoStack history_;
   uint64_t revision_ = 0;
+  uint64_t id_ = 0;
 };
 
 }  // namespace pliant::editor

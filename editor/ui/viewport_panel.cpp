@@ -81,6 +81,7 @@ bool sync_preview(App& app, TakeReader& rd) {
 // Outline of the keyframe at the shown frame over the result (2D), in the panel's
 // screen rectangle; cached per document revision and frame.
 struct OutlineCache {
+  uint64_t doc_id = 0;  // revisions restart per Document (and per App in tests)
   uint64_t revision = ~uint64_t(0);
   int frame = -1;
   int nx = 0, ny = 0;
@@ -94,7 +95,8 @@ void draw_keyframe_outline(App& app, ImVec2 pos, int w, int h) {
   const int frame = app.viewport.showing_preview ? app.viewport.shown_frame : app.take.frame;
   const int slot = keyframe_at_frame(scene, frame);
   if (slot < 0) return;
-  if (cache.revision != app.doc.revision() || cache.frame != frame) {
+  if (cache.doc_id != app.doc.id() || cache.revision != app.doc.revision() || cache.frame != frame) {
+    cache.doc_id = app.doc.id();
     std::string err;
     geom::PaintedGrid g = rasterize_slot(scene, app.doc.has_path() ? app.doc.path().parent_path() : fs::path(),
                                          slot, &err);
