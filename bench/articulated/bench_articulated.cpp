@@ -24,6 +24,7 @@
 #include "pliant/articulated/sim.h"
 #ifdef PLIANT_HAVE_MUJOCO
 #include <mujoco/mujoco.h>
+#include "../bench_machine.h"
 #endif
 
 using namespace pliant::articulated;
@@ -41,16 +42,6 @@ void emit(nlohmann::json j) {
   g_results.push_back(std::move(j));
 }
 
-std::string machine() {
-  std::ifstream in("/proc/cpuinfo");
-  std::string line, model = "unknown CPU";
-  while (std::getline(in, line))
-    if (line.rfind("model name", 0) == 0) {
-      model = line.substr(line.find(':') + 2);
-      break;
-    }
-  return std::to_string(omp_get_num_procs()) + " x " + model;
-}
 
 struct Outcome {
   double drift = 0, wall = 0, sim_time = 0, iterations = 0;
@@ -305,7 +296,7 @@ int main(int argc, char** argv) {
     if (!std::strcmp(argv[i], "--quick")) quick = true;
     else if (!std::strcmp(argv[i], "--out") && i + 1 < argc) out = argv[++i];
   }
-  g_machine = machine();
+  g_machine = pliant::bench::machine_description();
   const double duration = quick ? 2.0 : 10.0;
   const std::vector<int> link_counts = quick ? std::vector<int>{10, 40} : std::vector<int>{10, 40, 100};
   const std::vector<double> dts = quick ? std::vector<double>{0.005, 0.01, 0.05}

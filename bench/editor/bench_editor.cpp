@@ -25,6 +25,7 @@
 
 #include "platform/platform.h"
 #include "ui/app.h"
+#include "../bench_machine.h"
 
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -32,16 +33,6 @@ using Clock = std::chrono::steady_clock;
 
 namespace {
 
-std::string machine() {
-  std::string model;
-  std::ifstream in("/proc/cpuinfo");
-  for (std::string line; std::getline(in, line);)
-    if (line.rfind("model name", 0) == 0) {
-      model = line.substr(line.find(':') + 2);
-      break;
-    }
-  return std::to_string(std::thread::hardware_concurrency()) + " x " + model;
-}
 
 std::string load_average() {
   std::ifstream in("/proc/loadavg");
@@ -136,7 +127,7 @@ json run_case(const Case& c, double window_s, const fs::path& work) {
             {"job_threads", 1},
             {"viewport", "1600x900 window, Mesa/EGL " + app.platform().gl_description()},
             {"method", scene["control"].value("method", "admm")},
-            {"machine", machine()}};
+            {"machine", pliant::bench::machine_description()}};
   if (!ended) app.cmd_cancel(app.jobs.size() - 1);
   app.shutdown(true);
   return j;

@@ -16,21 +16,12 @@
 
 #include "bench_planners.h"
 #include "pliant/liquid/liquid.h"
+#include "../bench_machine.h"
 
 using namespace pliant::liquid;
 
 namespace {
 
-std::string machine() {
-  std::ifstream in("/proc/cpuinfo");
-  std::string line, model = "unknown";
-  while (std::getline(in, line))
-    if (line.rfind("model name", 0) == 0) {
-      model = line.substr(line.find(':') + 2);
-      break;
-    }
-  return std::to_string(std::thread::hardware_concurrency()) + " x " + model;
-}
 
 // A cube of liquid of side `side` (m) in the corner of a box of side 2*side,
 // cells sized so the cube holds about `particles` particles (8 per cell in 3D,
@@ -103,7 +94,7 @@ int main(int argc, char** argv) {
     else if (!std::strcmp(argv[i], "--sim-only")) planners = false;
     else if (!std::strcmp(argv[i], "--planners-only")) sims = false;
   }
-  const std::string mach = machine();
+  const std::string mach = pliant::bench::machine_description();
   nlohmann::json all = nlohmann::json::array();
   auto emit = [&](nlohmann::json j) {
     j["machine"] = mach;

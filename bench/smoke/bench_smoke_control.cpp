@@ -23,6 +23,7 @@
 #include "admm_solver.h"
 #include "pliant/core/scene.h"
 #include "pliant/smoke/control.h"
+#include "../bench_machine.h"
 
 using namespace pliant;
 using namespace pliant::smoke;
@@ -82,16 +83,6 @@ double time_to(const Run& r, double target) {
   return -1;
 }
 
-std::string machine() {
-  std::string model;
-  std::ifstream in("/proc/cpuinfo");
-  for (std::string line; std::getline(in, line);)
-    if (line.rfind("model name", 0) == 0) {
-      model = line.substr(line.find(':') + 2);
-      break;
-    }
-  return std::to_string(std::thread::hardware_concurrency()) + " x " + model;
-}
 
 }  // namespace
 
@@ -172,7 +163,7 @@ int main(int argc, char** argv) {
                         {"admm_forces_s", forces / n},
                         {"fas_vcycle_factor", nvc ? vc / nvc : 0.0},
                         {"peak_mb", peak_mb()},
-                        {"machine", machine()},
+                        {"machine", pliant::bench::machine_description()},
                         {"mode", quick ? "quick" : "full"}};
     std::printf("%s\n", j.dump().c_str());
     std::fflush(stdout);

@@ -23,6 +23,7 @@
 #include "pliant/core/scene.h"
 #include "pliant/geom/triangle_mesh.h"
 #include "pliant/soft/soft.h"
+#include "../bench_machine.h"
 
 using namespace pliant;
 using namespace pliant::soft;
@@ -32,21 +33,11 @@ namespace {
 
 double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
-std::string machine() {
-  std::ifstream in("/proc/cpuinfo");
-  std::string line, model = "unknown";
-  while (std::getline(in, line))
-    if (line.rfind("model name", 0) == 0) {
-      model = line.substr(line.find(':') + 2);
-      break;
-    }
-  return std::to_string(std::thread::hardware_concurrency()) + " x " + model;
-}
 
 std::vector<nlohmann::json> results;
 void emit(nlohmann::json j) {
   j["bench"] = "soft";
-  j["machine"] = machine();
+  j["machine"] = pliant::bench::machine_description();
   std::cout << j.dump() << std::endl;
   results.push_back(j);
 }
