@@ -89,17 +89,23 @@ TEST(PluginHost, LoadsPngPluginFromItsBuildFolder) {
   PluginHost host;
   host.load_folder(fs::path(PNG_PLUGIN_PATH).parent_path());
   ASSERT_TRUE(host.failures().empty()) << host.failures()[0].reason;
-  ASSERT_EQ(host.plugins().size(), 1u);
-  EXPECT_EQ(host.plugins()[0].path.filename(), fs::path(PNG_PLUGIN_PATH).filename());
-  ASSERT_EQ(host.plugins()[0].exporters, std::vector<std::string>{"png"});
+  // The folder holds every plugin of the build (png_sequence, openvdb_export when
+  // OpenVDB is installed); the png one is among them with exactly its exporter.
+  const size_t loaded = host.plugins().size();
+  ASSERT_GE(loaded, 1u);
+  const auto png_plugin =
+      std::find_if(host.plugins().begin(), host.plugins().end(),
+                   [](const auto& p) { return p.path.filename() == fs::path(PNG_PLUGIN_PATH).filename(); });
+  ASSERT_NE(png_plugin, host.plugins().end());
+  ASSERT_EQ(png_plugin->exporters, std::vector<std::string>{"png"});
   const pliant::Exporter* png = host.find_exporter("png");
   ASSERT_NE(png, nullptr);
   EXPECT_EQ(png->extension, ".png");
   EXPECT_FALSE(png->description.empty());
-  EXPECT_EQ(host.find_exporter("vdb"), nullptr);
+  EXPECT_EQ(host.find_exporter("no-such-format"), nullptr);
   // Loading the same library again is a no-op.
   EXPECT_TRUE(host.load_file(PNG_PLUGIN_PATH));
-  EXPECT_EQ(host.plugins().size(), 1u);
+  EXPECT_EQ(host.plugins().size(), loaded);
 }
 
 TEST(PluginHost, RefusesWrongApiVersionNamingFileAndVersions) {
