@@ -245,7 +245,9 @@ TEST(Admm, ProgressivePreviewShowsTheCoarseSolutionFirst) {
   };
   cb.on_iteration = [&](const ControlState&) { ++iterations; };
   control_solve_admm(m, s, progress, cb);
-  EXPECT_EQ(previews, 1);
+  // One 32^2 level of 2 iterations: previews after its iterations 1 and 2 (powers of
+  // two, so the editor sees the first within one coarse iteration) and at its end.
+  EXPECT_EQ(previews, 3);
   EXPECT_EQ(iterations, 2);
   // The fine run starts from the prolonged coarse solution, not from rest.
   const double e0 = control_objective(m, FaceSeries(m.sim.frames, std::vector<float>(s.force[0].size(), 0.0f)), nullptr);

@@ -219,8 +219,8 @@ void control_solve_admm(const ControlModel& m, ControlState& s, Progress& progre
   // Progressive preview: ADMM (and its polish) at a quarter and half resolution first;
   // the fine ADMM starts from the trajectory of the prolonged forces.
   if (m.progressive_preview && s.phase == 0)
-    control_coarse_to_fine(m, s, 3, cb, [&](const ControlModel& cm, ControlState& cs) {
-      control_solve_admm(cm, cs, progress, {});
+    control_coarse_to_fine(m, s, 3, cb, [&](const ControlModel& cm, ControlState& cs, const ControlCallbacks& lcb) {
+      control_solve_admm(cm, cs, progress, lcb);
     });
   if (s.phase == 0) {
     admm_run(m, s, progress, cb, nullptr);

@@ -9,8 +9,25 @@
 
 namespace pliant::smoke {
 
+namespace {
+
+// Re-simulates the level's forces and hands the density to on_preview.
+void emit_preview(const ControlModel& cm, const ControlState& cs, const ControlCallbacks& cb) {
+  control_detail::ForwardOps ops(cm, control_detail::kControlPressureTolerance);
+  control_detail::TrajectoryD tr;
+  control_detail::forward_d(cm, ops, control_detail::to_double(cs.force), tr);
+  GridDims gd;
+  gd.dim = cm.sim.dim;
+  gd.n = cm.sim.n;
+  std::vector<std::vector<float>> dens;
+  for (const auto& r : tr.rho) dens.emplace_back(r.begin(), r.end());
+  cb.on_preview(gd, dens);
+}
+
+}  // namespace
+
 bool control_coarse_to_fine(const ControlModel& m, ControlState& s, int levels, const ControlCallbacks& cb,
-                            const std::function<void(const ControlModel&, ControlState&)>& solve_level) {
+                            const SolveLevelFn& solve_level) {
   if (s.iteration != 0 || !s.objective_history.empty() || !s.split.empty()) return false;
   for (const auto& f : s.force)
     for (float x : f)
@@ -27,18 +44,15 @@ bool control_coarse_to_fine(const ControlModel& m, ControlState& s, int levels, 
     cm.progressive_preview = false;
     ControlState cs = control_init(cm);
     if (!force.empty()) cs.force = force;
-    solve_level(cm, cs);
-    if (cb.on_preview) {
-      control_detail::ForwardOps ops(cm, control_detail::kControlPressureTolerance);
-      control_detail::TrajectoryD tr;
-      control_detail::forward_d(cm, ops, control_detail::to_double(cs.force), tr);
-      GridDims gd;
-      gd.dim = cm.sim.dim;
-      gd.n = cm.sim.n;
-      std::vector<std::vector<float>> dens;
-      for (const auto& r : tr.rho) dens.emplace_back(r.begin(), r.end());
-      cb.on_preview(gd, dens);
-    }
+    ControlCallbacks level_cb;
+    int level_iterations = 0;
+    if (cb.on_preview)
+      level_cb.on_iteration = [&](const ControlState& st) {
+        ++level_iterations;
+        if ((level_iterations & (level_iterations - 1)) == 0) emit_preview(cm, st, cb);  // powers of two
+      };
+    solve_level(cm, cs, level_cb);
+    if (cb.on_preview) emit_preview(cm, cs, cb);
     // Prolong the forces to the next finer level.
     const SpacetimeGrid fg(model_grid(chain[l - 1].sim), 1), cg(model_grid(cm.sim), 1);
     force.assign(T, {});

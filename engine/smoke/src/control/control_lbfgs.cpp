@@ -78,8 +78,8 @@ void control_solve_lbfgs(const ControlModel& m, ControlState& s, Progress& progr
   // Progressive preview: L-BFGS at a quarter and half resolution first, the fine solve
   // starts from the prolonged forces (control_coarse_to_fine.h).
   if (m.progressive_preview)
-    control_coarse_to_fine(m, s, 3, cb, [&](const ControlModel& cm, ControlState& cs) {
-      control_solve_lbfgs(cm, cs, progress, {});
+    control_coarse_to_fine(m, s, 3, cb, [&](const ControlModel& cm, ControlState& cs, const ControlCallbacks& lcb) {
+      control_solve_lbfgs(cm, cs, progress, lcb);
     });
   Eigen::VectorXd x(Eigen::Index(size_t(T) * nf));
   for (int i = 0; i < T; ++i) {
