@@ -32,7 +32,10 @@ const nlohmann::json* find_done(const std::vector<nlohmann::json>& events) {
   return nullptr;
 }
 
-using Control = CliTest;
+class Control : public CliTest {
+ protected:
+  void expect_killed_run_resumes_to_same_objective(const nlohmann::json& doc, const std::string& stage, int kill_at);
+};
 
 TEST_F(Control, RunWritesFramesAndMetrics) {
   const fs::path scene = write_scene("c.json", control_scene(16, 6, 20));
@@ -58,25 +61,25 @@ TEST_F(Control, RunWritesFramesAndMetrics) {
   EXPECT_TRUE(reader.latest(RecordKind::Checkpoint, &cp));
 }
 
-TEST_F(Control, KilledRunResumesToTheSameObjective) {
-  // Long enough (several L-BFGS chunks of 20 iterations, each > 0.1 s) that the
-  // progress events of the "lbfgs" stage are not throttled away.
-  const nlohmann::json doc = control_scene(32, 12, 100, 1e-4);
-  const fs::path scene = write_scene("c.json", doc);
-  // Uninterrupted reference.
-  const ProcessResult full = pliant({"run", scene.string(), "--take", (dir_ / "full").string(), "--threads", "1"});
+// Runs `doc` uninterrupted, then again killed with SIGKILL once the progress of
+// `stage` reports iteration `kill_at` (its checkpoint precedes the report), resumes
+// it with --resume and expects the uninterrupted run's objective.
+void Control::expect_killed_run_resumes_to_same_objective(const nlohmann::json& doc, const std::string& stage,
+                                                          int kill_at) {
+  const fs::path scene = write_scene(stage + ".json", doc);
+  const ProcessResult full =
+      pliant({"run", scene.string(), "--take", (dir_ / "full").string(), "--threads", "1"});
   ASSERT_EQ(full.exit_code, 0) << full.err;
   const auto full_events = parse_json_lines(full.out);
   ASSERT_TRUE(find_done(full_events));
   const double objective = double((*find_done(full_events))["metrics"]["objective"]);
-  // Killed after its first L-BFGS iteration report (a checkpoint precedes each).
   const fs::path take = dir_ / "killed";
   {
     LiveProcess p({kPliant, "run", scene.string(), "--take", take.string(), "--threads", "1"}, dir_ / "err.txt");
     bool seen = false;
     while (auto line = p.read_line(60)) {
       const auto e = nlohmann::json::parse(*line);
-      if (e["event"] == "progress" && e["stage"] == "lbfgs" && int(e["iter"]) >= 1) {
+      if (e["event"] == "progress" && e["stage"] == stage && int(e["iter"]) >= kill_at) {
         seen = true;
         break;
       }
@@ -93,49 +96,23 @@ TEST_F(Control, KilledRunResumesToTheSameObjective) {
   const nlohmann::json* done = find_done(resumed_events);
   ASSERT_TRUE(done);
   const auto& m = (*done)["metrics"];
-  EXPECT_GE(int(m["resumed_from_iteration"]), 1);
+  EXPECT_GE(int(m["resumed_from_iteration"]), kill_at);
   EXPECT_NEAR(double(m["objective"]), objective, 1e-9 * objective);
 }
 
-// The ADMM method (outer loop, then the L-BFGS polish): SIGKILL after its second outer
-// iteration's report (its checkpoint precedes the report), --resume ends at the
-// uninterrupted run's objective (the checkpoint holds all the state the solver carries).
+TEST_F(Control, KilledRunResumesToTheSameObjective) {
+  // Long enough (several L-BFGS chunks of 20 iterations, each > 0.1 s) that the
+  // progress events of the "lbfgs" stage are not throttled away.
+  expect_killed_run_resumes_to_same_objective(control_scene(32, 12, 100, 1e-4), "lbfgs", 1);
+}
+
+// The ADMM method (outer loop, then the L-BFGS polish): killed after its second outer
+// iteration; the checkpoint holds all the state the solver carries.
 TEST_F(Control, KilledAdmmRunResumesToTheSameObjective) {
   nlohmann::json doc = control_scene(32, 12, 10, 1e-4);
   doc["control"]["method"] = "admm";
   doc["control"]["admm"] = {{"nso_vcycles", 2}, {"polish_iterations", 20}};
-  const fs::path scene = write_scene("admm.json", doc);
-  const ProcessResult full = pliant({"run", scene.string(), "--take", (dir_ / "full").string(), "--threads", "1"});
-  ASSERT_EQ(full.exit_code, 0) << full.err;
-  const auto full_events = parse_json_lines(full.out);
-  const nlohmann::json* full_done = find_done(full_events);
-  ASSERT_TRUE(full_done);
-  const double objective = double((*full_done)["metrics"]["objective"]);
-  const fs::path take = dir_ / "killed";
-  {
-    LiveProcess p({kPliant, "run", scene.string(), "--take", take.string(), "--threads", "1"}, dir_ / "err.txt");
-    bool seen = false;
-    while (auto line = p.read_line(60)) {
-      const auto e = nlohmann::json::parse(*line);
-      if (e["event"] == "progress" && e["stage"] == "admm" && int(e["iter"]) >= 2) {
-        seen = true;
-        break;
-      }
-    }
-    ASSERT_TRUE(seen);
-    p.send_signal(SIGKILL);
-  }
-  Record cp;
-  ASSERT_TRUE(TakeReader(take).latest(RecordKind::Checkpoint, &cp));
-  const ProcessResult resumed =
-      pliant({"run", scene.string(), "--take", take.string(), "--threads", "1", "--resume"});
-  ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
-  const auto resumed_events = parse_json_lines(resumed.out);
-  const nlohmann::json* done = find_done(resumed_events);
-  ASSERT_TRUE(done);
-  const auto& m = (*done)["metrics"];
-  EXPECT_GE(int(m["resumed_from_iteration"]), 2);
-  EXPECT_NEAR(double(m["objective"]), objective, 1e-9 * objective);
+  expect_killed_run_resumes_to_same_objective(doc, "admm", 2);
 }
 
 TEST_F(Control, InvalidKeyframesExitTwo) {
