@@ -5,6 +5,7 @@
 #include "pliant/articulated/articulated.h"
 #include "pliant/core/error.h"
 #include "pliant/core/json_reader.h"
+#include "pliant/core/scene.h"
 
 namespace pliant::articulated {
 namespace {
@@ -19,9 +20,7 @@ void read_vector(JsonReader& r, const char* key, int n, VecX* v) {
 
 ArticulatedScene articulated_compile(const Scene& scene) {
   JsonReader r(scene.doc, scene.file);
-  r.accept("pliant");
-  r.accept("kind");
-  r.accept("name");
+  accept_scene_envelope(r);
   r.accept("description");
   ArticulatedScene a;
   if (!r.has("model")) r.fail("model", "an articulated scene needs a \"model\" (object or file path)");

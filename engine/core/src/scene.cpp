@@ -93,4 +93,10 @@ void save_json_atomic(const std::filesystem::path& path, const nlohmann::json& d
   detail::write_file_atomic(path, doc.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
 }
 
+void accept_scene_envelope(JsonReader& root) {
+  root.accept("pliant");
+  root.accept("kind");
+  root.accept("name");
+}
+
 }  // namespace pliant

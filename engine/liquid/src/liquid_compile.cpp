@@ -7,6 +7,7 @@
 
 #include "pliant/core/error.h"
 #include "pliant/core/json_reader.h"
+#include "pliant/core/scene.h"
 #include "pliant/liquid/liquid.h"
 
 namespace pliant::liquid {
@@ -97,9 +98,7 @@ Pose read_pose(JsonReader& r, int dim, bool position_required) {
 LiquidModel liquid_compile(const Scene& scene) {
   LiquidModel m;
   JsonReader root(scene.doc, scene.file);
-  root.accept("pliant");
-  root.accept("kind");
-  root.accept("name");
+  accept_scene_envelope(root);
   root.accept("comment");
   m.dim = int(root.integer("dim", 3, 2, 3));
   auto domain = root.object("domain");

@@ -3,6 +3,7 @@
 #include <string>
 
 #include "pliant/core/json_reader.h"
+#include "pliant/core/scene.h"
 #include "pliant/smoke/control.h"
 #include "pliant/smoke/smoke.h"
 
@@ -49,9 +50,7 @@ double positive(JsonReader& r, std::string_view key, double def) {
 SmokeModel smoke_compile(const Scene& scene) {
   SmokeModel m;
   JsonReader root(scene.doc, scene.file);
-  root.accept("pliant");
-  root.accept("kind");
-  root.accept("name");
+  accept_scene_envelope(root);
 
   auto grid = root.object("grid");
   if (!grid) root.fail("grid", "missing required field; expected an object with \"resolution\"");

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "pliant/core/json_reader.h"
+#include "pliant/core/scene.h"
 #include "pliant/geom/raster_grid.h"
 #include "pliant/soft/soft.h"
 
@@ -25,9 +26,7 @@ Eigen::Vector3d unit3(JsonReader& r, std::string_view key, Eigen::Vector3d def) 
 
 SoftModel soft_compile(const Scene& scene) {
   JsonReader root(scene.doc, scene.file);
-  root.accept("pliant");
-  root.accept("kind");
-  root.accept("name");
+  accept_scene_envelope(root);
   root.accept("editor");
   SoftModel m;
   Problem& p = m.problem;

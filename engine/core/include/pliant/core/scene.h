@@ -9,6 +9,8 @@
 
 namespace pliant {
 
+class JsonReader;
+
 inline constexpr int kSceneSchemaVersion = 1;
 
 struct Scene {
@@ -29,6 +31,10 @@ const std::vector<std::string>& scene_kinds();
 Scene load_scene(const std::filesystem::path& path);
 Scene parse_scene(const std::string& text, const std::string& file_label,
                   const std::filesystem::path& dir = ".");
+
+// Marks the envelope fields load_scene checked ("pliant", "kind", "name") as known
+// on a kind's root reader, so its finish() rejects only the kind's own unknown keys.
+void accept_scene_envelope(JsonReader& root);
 
 // Writes pretty JSON atomically (temp file, fsync, rename).
 void save_json_atomic(const std::filesystem::path& path, const nlohmann::json& doc);
