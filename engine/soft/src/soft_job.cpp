@@ -98,8 +98,7 @@ nlohmann::json soft_run_job(JobContext& ctx) {
   // Checkpoints hold theta in f32: the resumed run continues from the rounded value.
   const auto t_opt = std::chrono::steady_clock::now();
   ctx.progress.stage("optimize", m.optimizer.max_iterations);
-  const ResidualFn rf = [&p](const Eigen::VectorXd& th) { return residuals(p, th); };
-  optimize(rf, m.optimizer, st, [&](const OptimizerState& s) {
+  soft_optimize(m, st, [&](const OptimizerState& s) {
     Record ck;
     ck.kind = RecordKind::Checkpoint;
     ck.index = s.iteration;
@@ -112,21 +111,19 @@ nlohmann::json soft_run_job(JobContext& ctx) {
     ctx.progress.check_cancelled();
     return true;
   });
-  if (st.history.empty()) st.history.push_back(0.5 * residuals(p, st.theta).squaredNorm());
   const double optimize_s = seconds_since(t_opt);
 
   // Re-simulate the whole take under the optimized controller.
   ctx.progress.stage("playback", m.frames);
-  SoftState s = initial_state(m.character, p.start_offset_m, Eigen::Vector3d::Zero(), p.sim.dt_s);
+  SoftPlayback pb = soft_playback_start(m, st.theta);
+  const SoftState& s = pb.state;
   const Eigen::Vector3d com0 = centre_of_mass(m.character, s);
   ctx.take.append(soft_frame_record(m, s, 0, true));
   ctx.events.frame(0);
-  DmpState d = dmp_init(p.dmp);
   double sim_s = 0, max_gain = 0;
   for (int f = 1; f < m.frames; ++f) {
     const auto ts = std::chrono::steady_clock::now();
-    const Eigen::VectorXd& y = dmp_step(p.dmp, st.theta, p.sim.dt_s, d);
-    reduced_step(m.character, p.env, p.sim, control_force(m.character, y, max_activation_m(m.character, p.dmp)), s);
+    soft_playback_step(m, pb);
     sim_s += seconds_since(ts);
     max_gain = std::max(max_gain, centre_of_mass(m.character, s)[1] - com0[1]);
     ctx.take.append(soft_frame_record(m, s, f, false));

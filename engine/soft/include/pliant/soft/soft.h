@@ -12,10 +12,11 @@
 //   control    periodic DMP per controlled mode (dmp.h)
 //   planning   shooting over DMP parameters; LM, L-BFGS or hybrid (objective.h, optimizer.h)
 // Entry points for the CLI and the editor: soft_compile, soft_run_job, soft_job_frames,
-// soft_summary. SoftModel is read-only after compile; SoftState is plain data.
+// soft_summary; editor: soft_mode_shape, soft_optimize, soft_playback_start/step. SoftModel is read-only after compile; SoftState is plain data.
 #pragma once
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "pliant/core/job.h"
 #include "pliant/core/scene.h"
@@ -53,5 +54,43 @@ Record soft_frame_record(const SoftModel& m, const SoftState& s, int index, bool
 nlohmann::json soft_run_job(JobContext& ctx);
 int soft_job_frames(const Scene& scene);
 nlohmann::json soft_summary(const Scene& scene);
+
+// ---- Editor-facing API (compile once, then preview, optimize and play back) ----
+// After soft_compile + soft_bind: lattice cells m.character.lattice (rest nodes,
+// cells, boundary_faces), surface m.character.surface (vertices, triangles), modes
+// m.character.basis (U, omega2), m.character.mode_scale.
+
+// Surface vertices of the body deformed by modal coordinates q (r values, in the
+// rest frame: x = X + U q); lattice node positions (3N) too when nodes is given.
+void soft_mode_shape(const SoftModel& m, const Eigen::VectorXd& q, std::vector<Eigen::Vector3d>& surface,
+                     Eigen::VectorXd* nodes = nullptr);
+// q for slider amplitudes in metres (largest node displacement of each mode):
+// q_k = amplitude_k / mode_scale_k.
+Eigen::VectorXd soft_q_from_amplitudes(const SoftModel& m, const Eigen::VectorXd& amplitude_m);
+
+// Surface vertices of a simulated state (world frame).
+void soft_state_surface(const SoftModel& m, const SoftState& s, std::vector<Eigen::Vector3d>& surface);
+
+// Runs the scene's optimizer from st (st.theta empty: initial_theta); on_iteration
+// as in optimize (return false to stop). Returns the final objective.
+double soft_optimize(const SoftModel& m, OptimizerState& st, const IterationFn& on_iteration = {});
+
+// theta from the latest checkpoint of a take written by the "soft" job; false when
+// there is none or its size does not match the model's controller.
+bool soft_take_theta(const std::string& take_dir, const SoftModel& m, Eigen::VectorXd* theta);
+
+// Realtime playback of a controller: one call per frame (dt = problem.sim.dt_s).
+struct SoftPlayback {
+  Eigen::VectorXd theta;   // DMP parameters
+  SoftState state;         // current body state (frame = state.frame)
+  DmpState dmp;
+  StepStats last;          // Newton statistics of the last step
+  // Optional push for the next step (world force in N on every lattice node,
+  // scaled by node mass / total mass); cleared after each step.
+  Eigen::Vector3d push_n = Eigen::Vector3d::Zero();
+};
+SoftPlayback soft_playback_start(const SoftModel& m, const Eigen::VectorXd& theta);
+// Advances one frame (open loop DMP). Throws std::runtime_error naming the frame on NaN.
+void soft_playback_step(const SoftModel& m, SoftPlayback& pb);
 
 }  // namespace pliant::soft

@@ -1,0 +1,78 @@
+// Editor-facing entry points: mode-shape preview, optimization, checkpoint theta and
+// frame-by-frame playback. The "soft" job uses the same playback step, so what the
+// editor plays is what the take holds.
+#include <stdexcept>
+
+#include "pliant/soft/soft.h"
+
+namespace pliant::soft {
+
+void soft_mode_shape(const SoftModel& m, const Eigen::VectorXd& q, std::vector<Eigen::Vector3d>& surface,
+                     Eigen::VectorXd* nodes) {
+  const Character& ch = m.character;
+  if (q.size() != ch.basis.r()) throw std::invalid_argument("soft_mode_shape: q needs one value per mode");
+  const Eigen::VectorXd x = ch.rest + ch.basis.U * q;
+  embed_surface(ch.lattice, x, surface);
+  if (nodes) *nodes = x;
+}
+
+Eigen::VectorXd soft_q_from_amplitudes(const SoftModel& m, const Eigen::VectorXd& amplitude_m) {
+  return amplitude_m.cwiseQuotient(m.character.mode_scale);
+}
+
+void soft_state_surface(const SoftModel& m, const SoftState& s, std::vector<Eigen::Vector3d>& surface) {
+  Eigen::VectorXd x;
+  node_positions(m.character, s, x);
+  embed_surface(m.character.lattice, x, surface);
+}
+
+double soft_optimize(const SoftModel& m, OptimizerState& st, const IterationFn& on_iteration) {
+  const Problem& p = m.problem;
+  if (st.theta.size() == 0) st.theta = initial_theta(p);
+  const ResidualFn rf = [&p](const Eigen::VectorXd& th) { return residuals(p, th); };
+  optimize(rf, m.optimizer, st, on_iteration);
+  if (st.history.empty()) {
+    st.objective = 0.5 * residuals(p, st.theta).squaredNorm();
+    st.history.push_back(st.objective);
+  }
+  return st.history.back();
+}
+
+bool soft_take_theta(const std::string& take_dir, const SoftModel& m, Eigen::VectorXd* theta) {
+  TakeReader reader(take_dir);
+  Record ck;
+  if (!reader.latest(RecordKind::Checkpoint, &ck)) return false;
+  const Field* th = ck.find("theta");
+  if (!th || int(th->data.size()) != m.problem.dmp.parameters()) return false;
+  theta->resize(th->data.size());
+  for (size_t i = 0; i < th->data.size(); ++i) (*theta)[Eigen::Index(i)] = th->data[i];
+  return true;
+}
+
+SoftPlayback soft_playback_start(const SoftModel& m, const Eigen::VectorXd& theta) {
+  const Problem& p = m.problem;
+  if (theta.size() != p.dmp.parameters()) throw std::invalid_argument("soft_playback_start: theta size mismatch");
+  SoftPlayback pb;
+  pb.theta = theta;
+  pb.state = initial_state(m.character, p.start_offset_m, Eigen::Vector3d::Zero(), p.sim.dt_s);
+  pb.dmp = dmp_init(p.dmp);
+  return pb;
+}
+
+void soft_playback_step(const SoftModel& m, SoftPlayback& pb) {
+  const Problem& p = m.problem;
+  const Character& ch = m.character;
+  const Eigen::VectorXd& y = dmp_step(p.dmp, pb.theta, p.sim.dt_s, pb.dmp);
+  const Eigen::VectorXd u = control_force(ch, y, max_activation_m(ch, p.dmp));
+  if (pb.push_n.squaredNorm() > 0) {
+    const int n = ch.lattice.nodes();
+    Eigen::VectorXd f(3 * n);
+    for (int j = 0; j < n; ++j) f.segment<3>(3 * j) = pb.push_n * (ch.lattice.node_mass_kg[j] / ch.mass_kg);
+    reduced_step(ch, p.env, p.sim, u, pb.state, &pb.last, &f);
+    pb.push_n.setZero();
+  } else {
+    reduced_step(ch, p.env, p.sim, u, pb.state, &pb.last);
+  }
+}
+
+}  // namespace pliant::soft
