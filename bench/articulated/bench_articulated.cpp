@@ -10,6 +10,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <map>
@@ -22,9 +23,9 @@
 #include "pliant/articulated/io.h"
 #include "pliant/articulated/mpc.h"
 #include "pliant/articulated/sim.h"
+#include "../bench_machine.h"
 #ifdef PLIANT_HAVE_MUJOCO
 #include <mujoco/mujoco.h>
-#include "../bench_machine.h"
 #endif
 
 using namespace pliant::articulated;
@@ -290,21 +291,51 @@ void batched_case(bool quick) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  bool quick = false;
+  bool quick = false, chains_only = false, filtered = false;
   std::string out = std::string(PLIANT_RESULTS_DIR) + "/articulated.json";
+  std::vector<int> only_links;
+  std::vector<double> only_dts;
+  std::string only_case;
+  auto parse_list = [](const char* text) {
+    std::vector<double> v;
+    for (const char* c = text; *c;) {
+      char* end = nullptr;
+      v.push_back(std::strtod(c, &end));
+      if (end == c) break;
+      c = *end == ',' ? end + 1 : end;
+    }
+    return v;
+  };
+  // Filters for exploring one corner (--links 10,40 --dt 0.05 --case chain_tilt
+  // --chains-only); a filtered run writes a results file only with an explicit --out.
+  bool explicit_out = false;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--quick")) quick = true;
-    else if (!std::strcmp(argv[i], "--out") && i + 1 < argc) out = argv[++i];
+    else if (!std::strcmp(argv[i], "--chains-only")) chains_only = filtered = true;
+    else if (!std::strcmp(argv[i], "--out") && i + 1 < argc) out = argv[++i], explicit_out = true;
+    else if (!std::strcmp(argv[i], "--links") && i + 1 < argc) {
+      for (double l : parse_list(argv[++i])) only_links.push_back(static_cast<int>(l));
+      filtered = true;
+    } else if (!std::strcmp(argv[i], "--dt") && i + 1 < argc) only_dts = parse_list(argv[++i]), filtered = true;
+    else if (!std::strcmp(argv[i], "--case") && i + 1 < argc) only_case = argv[++i], filtered = true;
+    else {
+      std::fprintf(stderr, "usage: bench_articulated [--quick] [--out FILE] [--links 10,40] [--dt 0.02,0.05] "
+                           "[--case chain_swing|chain_tilt] [--chains-only]\n");
+      return 2;
+    }
   }
   g_machine = pliant::bench::machine_description();
   const double duration = quick ? 2.0 : 10.0;
-  const std::vector<int> link_counts = quick ? std::vector<int>{10, 40} : std::vector<int>{10, 40, 100};
-  const std::vector<double> dts = quick ? std::vector<double>{0.005, 0.01, 0.05}
-                                        : std::vector<double>{0.001, 0.005, 0.01, 0.02, 0.05, 0.1};
+  std::vector<int> link_counts = quick ? std::vector<int>{10, 40} : std::vector<int>{10, 40, 100};
+  std::vector<double> dts = quick ? std::vector<double>{0.005, 0.01, 0.05}
+                                  : std::vector<double>{0.001, 0.005, 0.01, 0.02, 0.05, 0.1};
+  if (!only_links.empty()) link_counts = only_links;
+  if (!only_dts.empty()) dts = only_dts;
   // Matched accuracy bookkeeping: best wall per simulated second at drift <= 1%.
   std::map<std::string, std::map<int, std::map<std::string, std::pair<double, double>>>> best;  // case, links, method -> (wall, dt)
   for (const char* chain_case : {"chain_swing", "chain_tilt"}) {
     const bool tilt = std::string(chain_case) == "chain_tilt";
+    if (!only_case.empty() && only_case != chain_case) continue;
     for (int links : link_counts) {
       const std::string xml = chain_mjcf(links);
       const Model m = model_from_mjcf(xml, "chain.xml");
@@ -371,8 +402,11 @@ int main(int argc, char** argv) {
       emit(j);
     }
   }
-  contact_cases(quick);
-  batched_case(quick);
+  if (!chains_only) {
+    contact_cases(quick);
+    batched_case(quick);
+  }
+  if (filtered && !explicit_out) return 0;
   std::filesystem::create_directories(std::filesystem::path(out).parent_path());
   std::ofstream(out) << g_results.dump(1) << "\n";
   std::fprintf(stderr, "wrote %s\n", out.c_str());

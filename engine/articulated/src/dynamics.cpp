@@ -53,6 +53,13 @@ Mat6 point_hessian(const Vec3& x, const Mat3& kk) {
   return jx.transpose() * kk * jx;
 }
 
+Mat6 geometric_block_transposed(const Mat3& moment, const Vec3& force) {
+  Mat6 q = Mat6::Zero();
+  q.topLeftCorner<3, 3>() = moment.transpose() - moment.trace() * Mat3::Identity();
+  q.bottomLeftCorner<3, 3>() = skew(force);
+  return q;
+}
+
 void tree_solve(const Model& m, const Kinematics& k, const std::vector<Mat6>& h,
                 const VecX& armature, const VecX& rhs, VecX* x, TreeWorkspace* ws) {
   const int nb = static_cast<int>(m.bodies.size());
@@ -76,8 +83,14 @@ void tree_solve(const Model& m, const Kinematics& k, const std::vector<Mat6>& h,
       continue;
     }
     const DofMat s = body_subspace(m, k, b);
-    ws->u[b] = ws->ia[b] * s;
+    // u = ia^T S: for a non-symmetric composite block (exact PBAD Hessian, see
+    // tree_solve's header) entry (j, a) of the matrix is S_j^T ia_j S_a for a an
+    // ancestor dof, so the coupling column towards the ancestors is ia^T S; the
+    // joint's own block is the symmetric matrix whose upper triangle is S^T ia^T S.
+    ws->u[b].noalias() = ws->ia[b].transpose() * s;
     Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6> d = s.transpose() * ws->u[b];
+    for (int i = 0; i < body.dof_count; ++i)
+      for (int j = 0; j < i; ++j) d(i, j) = d(j, i);
     for (int i = 0; i < body.dof_count; ++i) d(i, i) += armature[body.dof_begin + i];
     ws->dinv[b].compute(d);
     ws->ures[b] = rhs.segment(body.dof_begin, body.dof_count) - s.transpose() * ws->pa[b];

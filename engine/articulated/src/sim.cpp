@@ -28,14 +28,21 @@ double pbad_energy(const Model& m, const SimOptions& o, const State& s, const Pb
                    const VecX& q, SimWorkspace& ws, bool derivs) {
   Kinematics& k = ws.kin;
   kinematics(m, q, &k, !derivs);
+  if (derivs) ws.kin_at = q;  // full kinematics at q (pbad_finish reuses it)
+  else ws.kin_at.resize(0);
   const int nb = static_cast<int>(m.bodies.size());
   const double c = p.weight / (o.dt * o.dt);
   double e = 0;
+  const bool exact = derivs && o.exact_hessian && o.solver == Solver::Lm;
   if (derivs) {
     ws.w.resize(nb);
     ws.h.resize(nb);
     ws.w[0].setZero();
     ws.h[0].setZero();
+    ws.moment.resize(nb);
+    ws.force.resize(nb);
+    ws.moment[0].setZero();
+    ws.force[0].setZero();
   }
   for (int b = 1; b < nb; ++b) {
     const Body& body = m.bodies[b];
@@ -52,6 +59,12 @@ double pbad_energy(const Model& m, const SimOptions& o, const State& s, const Pb
     ws.w[b].head<3>() = 2 * c * rot + k.xcom[b].cross(f);
     ws.w[b].tail<3>() = f;
     ws.h[b] = 2 * c * k.cinert[b];
+    if (exact) {
+      // Geometric term: integral of x f(p)^T with f(p) = rho (2c (X(p) - Y(p)) - g),
+      // exact with the body's mass, centre and second moment.
+      ws.moment[b] = k.xcom[b] * f.transpose() + 2 * c * rs * d.transpose();
+      ws.force[b] = f;
+    }
   }
   if (o.contact.enabled && !ws.points.empty() && !ws.obstacles.empty()) {
     const int no = static_cast<int>(ws.obstacles.size());
@@ -68,6 +81,10 @@ double pbad_energy(const Model& m, const SimOptions& o, const State& s, const Pb
           if (derivs) {
             ws.w[cp.body] += point_wrench(x, kk * dist * n);
             ws.h[cp.body] += point_hessian(x, kk * n * n.transpose());
+            if (exact) {
+              ws.moment[cp.body] += x * (kk * dist * n).transpose();
+              ws.force[cp.body] += kk * dist * n;
+            }
           }
         }
         const double fn = slot < static_cast<int>(s.normal_force_prev.size()) ? s.normal_force_prev[slot] : 0;
@@ -78,8 +95,13 @@ double pbad_energy(const Model& m, const SimOptions& o, const State& s, const Pb
           const double eps = o.contact.slip_eps, r = std::sqrt(st.squaredNorm() + eps * eps);
           e += o.contact.mu * fn * (r - eps);
           if (derivs) {
-            ws.w[cp.body] += point_wrench(x, o.contact.mu * fn / r * st);
+            const Vec3 ff = o.contact.mu * fn / r * st;
+            ws.w[cp.body] += point_wrench(x, ff);
             ws.h[cp.body] += point_hessian(x, (o.contact.mu * fn / r) * pt);
+            if (exact) {
+              ws.moment[cp.body] += x * ff.transpose();
+              ws.force[cp.body] += ff;
+            }
           }
         } else {
           const double g = o.contact.ck * fn / o.dt;
@@ -87,6 +109,10 @@ double pbad_energy(const Model& m, const SimOptions& o, const State& s, const Pb
           if (derivs) {
             ws.w[cp.body] += point_wrench(x, g * st);
             ws.h[cp.body] += point_hessian(x, g * pt);
+            if (exact) {
+              ws.moment[cp.body] += x * (g * st).transpose();
+              ws.force[cp.body] += g * st;
+            }
           }
         }
       }
@@ -101,6 +127,11 @@ double pbad_energy(const Model& m, const SimOptions& o, const State& s, const Pb
     for (const Joint& j : m.joints)
       for (int i = 0; i < joint_nv(j.type); ++i)
         e += 0.5 * j.damping / o.dt * ws.dq[j.vadr + i] * ws.dq[j.vadr + i];
+  }
+  if (exact) {
+    ws.h_exact.resize(nb);
+    ws.h_exact[0].setZero();
+    for (int b = 1; b < nb; ++b) ws.h_exact[b] = ws.h[b] + geometric_block_transposed(ws.moment[b], ws.force[b]);
   }
   if (derivs) {
     wrenches_to_generalized(m, k, ws.w, &ws.grad);  // consumes ws.w
@@ -117,6 +148,7 @@ double pbad_energy(const Model& m, const SimOptions& o, const State& s, const Pb
 void explicit_forces(const Model& m, const SimOptions& o, const State& s, const Kinematics& k,
                      const VecX& qvel, SimWorkspace& ws, VecX* tau, std::vector<Contact>* record) {
   actuator_forces(m, s, tau);
+  ws.contacts.clear();
   if (!o.contact.enabled || ws.points.empty() || ws.obstacles.empty()) return;
   find_contacts(m, k, ws.points, ws.obstacles, &ws.contacts);
   if (ws.contacts.empty()) return;
@@ -152,6 +184,7 @@ void explicit_forces(const Model& m, const SimOptions& o, const State& s, const 
 void accel(const Model& m, const SimOptions& o, const State& s, const VecX& q, const VecX& v,
            SimWorkspace& ws, VecX* a) {
   kinematics(m, q, &ws.kin);
+  ws.kin_at.resize(0);
   VecX tau;
   explicit_forces(m, o, s, ws.kin, v, ws, &tau, nullptr);
   forward_dynamics(m, ws.kin, v, tau, a, &ws.tree);
@@ -159,7 +192,12 @@ void accel(const Model& m, const SimOptions& o, const State& s, const VecX& q, c
 
 bool finite(const VecX& v) { return v.allFinite(); }
 
-// q(-dt) and q(-2 dt) from the state's velocity and acceleration (second-order Taylor).
+// q(-dt) and q(-2 dt) before the first step. A multistep stencil needs its start-up
+// frames on the true trajectory (a second-order Taylor guess leaves an O(dt^3) kink
+// that excites fast modes, which PBAD then damps: 0.1% of the swing energy of a 10-link
+// chain at dt 0.05). Without contact they come from RK4 run backwards in time with
+// substeps of at most dt/4 and 2.5 ms; with contact (stiff penalty, friction that
+// would run backwards) from the Taylor expansion with the initial acceleration.
 void startup_past(const Model& m, const SimOptions& o, const State& s, SimWorkspace& ws, VecX* q1,
                   VecX* q2) {
   VecX a;
@@ -170,6 +208,32 @@ void startup_past(const Model& m, const SimOptions& o, const State& s, SimWorksp
   qpos_integrate(m, *q1, -dt * s.qvel + 0.5 * dt * dt * a, 1.0);
   *q2 = s.qpos;
   qpos_integrate(m, *q2, -2 * dt * s.qvel + 2 * dt * dt * a, 1.0);
+  if (o.contact.enabled && !ws.contacts.empty()) return;  // accel() found contacts at q0
+  const int sub = std::max(4, static_cast<int>(std::ceil(dt / 0.0025)));
+  const double h = -dt / sub;
+  VecX q = s.qpos, v = s.qvel, a1, a2, a3, a4, qs;
+  for (int frame = 1; frame <= 2; ++frame) {
+    for (int i = 0; i < sub; ++i) {
+      accel(m, o, s, q, v, ws, &a1);
+      qs = q;
+      qpos_integrate(m, qs, v, h / 2);
+      const VecX v2 = v + h / 2 * a1;
+      accel(m, o, s, qs, v2, ws, &a2);
+      qs = q;
+      qpos_integrate(m, qs, v2, h / 2);
+      const VecX v3 = v + h / 2 * a2;
+      accel(m, o, s, qs, v3, ws, &a3);
+      qs = q;
+      qpos_integrate(m, qs, v3, h);
+      const VecX v4 = v + h * a3;
+      accel(m, o, s, qs, v4, ws, &a4);
+      qpos_integrate(m, q, (v + 2 * v2 + 2 * v3 + v4) / 6, h);
+      v += h / 6 * (a1 + 2 * a2 + 2 * a3 + a4);
+      if (!ws.contacts.empty()) return;  // touched an obstacle on the way back: keep Taylor
+    }
+    if (!q.allFinite() || !v.allFinite()) return;
+    (frame == 1 ? *q1 : *q2) = q;
+  }
 }
 
 }  // namespace
@@ -207,16 +271,54 @@ State state_init(const Model& m) {
   return s;
 }
 
+namespace {
+
+// Poses of a past frame: PBAD needs q_i, q_{i-1}, q_{i-2} every step, and two of them
+// were already computed one and two steps before (least recently used of 3 slots).
+const Kinematics& frame_kinematics(const Model& m, const VecX& q, SimWorkspace& ws) {
+  ws.frame_kin.resize(3);
+  ws.frame_q.resize(3);
+  ws.frame_stamp.resize(3, 0);
+  int slot = 0;
+  for (int i = 0; i < 3; ++i) {
+    if (ws.frame_q[i].size() == q.size() && ws.frame_q[i] == q) {
+      ws.frame_stamp[i] = ++ws.frame_clock;
+      return ws.frame_kin[i];
+    }
+    if (ws.frame_stamp[i] < ws.frame_stamp[slot]) slot = i;
+  }
+  kinematics(m, q, &ws.frame_kin[slot], true);
+  ws.frame_q[slot] = q;
+  ws.frame_stamp[slot] = ++ws.frame_clock;
+  return ws.frame_kin[slot];
+}
+
+// Hands ws.kin (computed at q) to the frame cache without copying.
+void frame_store(const VecX& q, SimWorkspace& ws) {
+  ws.frame_kin.resize(3);
+  ws.frame_q.resize(3);
+  ws.frame_stamp.resize(3, 0);
+  int slot = 0;
+  for (int i = 1; i < 3; ++i)
+    if (ws.frame_stamp[i] < ws.frame_stamp[slot]) slot = i;
+  std::swap(ws.frame_kin[slot], ws.kin);
+  ws.frame_q[slot] = q;
+  ws.frame_stamp[slot] = ++ws.frame_clock;
+  ws.kin_at.resize(0);
+}
+
+}  // namespace
+
 void pbad_begin(const Model& m, const SimOptions& o, State& s, PbadStep& p, SimWorkspace& ws) {
   sim_prepare(m, ws);
   if (s.normal_force_prev.size() != ws.points.size() * ws.obstacles.size()) {
     // First step: friction uses the normal forces of the initial state.
     kinematics(m, s.qpos, &ws.kin);
+    ws.kin_at.resize(0);
     s.normal_force_prev.assign(ws.points.size() * ws.obstacles.size(), 0.0);
     find_contacts(m, ws.kin, ws.points, ws.obstacles, &ws.contacts);
     for (const Contact& c : ws.contacts) s.normal_force_prev[c.slot] = o.contact.stiffness * c.depth;
   }
-  const double dt = o.dt;
   // Past frames; before the first step they come from a Taylor expansion with the
   // initial acceleration (a constant-velocity past would make the start first-order).
   VecX q1, q2;
@@ -227,17 +329,15 @@ void pbad_begin(const Model& m, const SimOptions& o, State& s, PbadStep& p, SimW
   } else {
     startup_past(m, o, s, ws, &q1, &q2);
   }
-  ws.kin_past.resize(2);
-  kinematics(m, s.qpos, &ws.kin_prev);
-  kinematics(m, q1, &ws.kin_past[0]);
-  if (third) kinematics(m, q2, &ws.kin_past[1]);
+  p.past1 = q1;
+  const Kinematics& k0 = frame_kinematics(m, s.qpos, ws);
+  const Kinematics& k1 = frame_kinematics(m, q1, ws);
+  const Kinematics& k2 = third ? frame_kinematics(m, q2, ws) : k1;
   const int nb = static_cast<int>(m.bodies.size());
   p.y.resize(nb);
   p.a.resize(nb);
   for (int b = 0; b < nb; ++b) {
-    const Kinematics &k0 = ws.kin_prev, &k1 = ws.kin_past[0];
     if (third) {
-      const Kinematics& k2 = ws.kin_past[1];
       p.y[b] = 0.5 * (5 * k0.xcom[b] - 4 * k1.xcom[b] + k2.xcom[b]);
       p.a[b] = 0.5 * (5 * k0.xmat[b] - 4 * k1.xmat[b] + k2.xmat[b]);
     } else {
@@ -248,12 +348,13 @@ void pbad_begin(const Model& m, const SimOptions& o, State& s, PbadStep& p, SimW
   p.weight = third ? 1.0 : 0.5;
   p.prev_points.resize(ws.points.size());
   for (size_t i = 0; i < ws.points.size(); ++i)
-    p.prev_points[i] = ws.kin_prev.xpos[ws.points[i].body] + ws.kin_prev.xmat[ws.points[i].body] * ws.points[i].local;
+    p.prev_points[i] = k0.xpos[ws.points[i].body] + k0.xmat[ws.points[i].body] * ws.points[i].local;
   // Prediction: quadratic extrapolation q_i (+) (2 (q_i - q_{i-1}) - (q_{i-1} - q_{i-2})).
   p.any_damping = false;
   for (const Joint& j : m.joints) p.any_damping = p.any_damping || j.damping > 0;
   p.q = s.qpos;
   qpos_integrate(m, p.q, 2 * qpos_difference(m, s.qpos, q1) - qpos_difference(m, q1, q2), 1.0);
+  p.q_pred = p.q;
   p.lambda = std::clamp(p.lambda, 1e-6, 1e-2);  // warm start from the previous step
   // Generalized-force tolerance: lm_tolerance times the model's weight times 1 m.
   double weight = 0;
@@ -264,6 +365,11 @@ void pbad_begin(const Model& m, const SimOptions& o, State& s, PbadStep& p, SimW
   p.iterations = 0;
   p.done = false;
   p.energy = pbad_energy(m, o, s, p, p.q, ws, true);
+}
+
+double pbad_evaluate(const Model& m, const SimOptions& o, const State& s, const PbadStep& p, const VecX& q,
+                     SimWorkspace& ws) {
+  return pbad_energy(m, o, s, p, q, ws, true);
 }
 
 namespace {
@@ -330,6 +436,23 @@ bool lbfgs_iterate(const Model& m, const SimOptions& o, const State& s, PbadStep
 
 }  // namespace
 
+namespace {
+
+// Accuracy-aware stop: the next Newton correction, estimated from the new gradient
+// scaled by the Gauss-Newton diagonal, is below lm_relative_tolerance times this
+// step's correction to the predictor (which measures the step's truncation error,
+// Milne's device): the solver error then stays a small fraction of the
+// discretisation error instead of being driven to round-off.
+bool accurate_enough(const Model& m, const SimOptions& o, const PbadStep& p, const SimWorkspace& ws) {
+  if (o.lm_relative_tolerance <= 0) return false;
+  double next = 0;
+  for (int i = 0; i < m.nv; ++i) next = std::max(next, std::abs(ws.grad[i]) / (ws.diag[i] + 1e-300));
+  const double correction = qpos_difference(m, p.q, p.q_pred).lpNorm<Eigen::Infinity>();
+  return next < o.lm_relative_tolerance * correction;
+}
+
+}  // namespace
+
 bool pbad_iterate(const Model& m, const SimOptions& o, const State& s, PbadStep& p, SimWorkspace& ws) {
   if (p.done) return true;
   ++p.iterations;
@@ -346,7 +469,7 @@ bool pbad_iterate(const Model& m, const SimOptions& o, const State& s, PbadStep&
     if (p.any_damping)
       for (const Joint& j : m.joints)
         for (int i = 0; i < joint_nv(j.type); ++i) ws.arm[j.vadr + i] += j.damping / o.dt;
-    tree_solve(m, ws.kin, ws.h, ws.arm, rhs, &ws.step, &ws.tree);
+    tree_solve(m, ws.kin, o.exact_hessian ? ws.h_exact : ws.h, ws.arm, rhs, &ws.step, &ws.tree);
     const double step_max = ws.step.lpNorm<Eigen::Infinity>();
     ws.q_trial = p.q;
     qpos_integrate(m, ws.q_trial, ws.step, 1.0);
@@ -355,45 +478,46 @@ bool pbad_iterate(const Model& m, const SimOptions& o, const State& s, PbadStep&
       continue;
     }
     const bool tiny = step_max < o.lm_tolerance;
-    // Energy comparison with a round-off allowance (E ~ m/dt^2 is large).
-    const double e_trial = pbad_energy(m, o, s, p, ws.q_trial, ws, false);
+    // The trial is evaluated with derivatives: Newton steps are nearly always
+    // accepted, and a rejected one re-evaluates the current point.
+    const double e_trial = pbad_energy(m, o, s, p, ws.q_trial, ws, true);
     if (tiny || e_trial <= p.energy) {
       // Decrease at the round-off floor of E (E ~ m/dt^2 |X - Y|^2 + V): converged.
       const bool stalled = p.energy - e_trial < 1e-14 * (std::abs(p.energy) + 1e-300);
-      p.q = ws.q_trial;
+      std::swap(p.q, ws.q_trial);
+      p.energy = e_trial;
       p.lambda = std::max(p.lambda * 0.3, 1e-12);
-      p.energy = pbad_energy(m, o, s, p, p.q, ws, true);
       if (tiny || stalled || p.iterations >= o.lm_max_iterations ||
-          ws.grad.lpNorm<Eigen::Infinity>() < p.grad_tol)
+          ws.grad.lpNorm<Eigen::Infinity>() < p.grad_tol || accurate_enough(m, o, p, ws))
         p.done = true;
       return p.done;
     }
+    pbad_energy(m, o, s, p, p.q, ws, true);
     p.lambda *= 10;
   }
   // No decrease possible: at a minimum to round-off.
-  p.energy = pbad_energy(m, o, s, p, p.q, ws, true);
   p.done = true;
   return true;
 }
 
 void pbad_finish(const Model& m, const SimOptions& o, State& s, const PbadStep& p, SimWorkspace& ws) {
-  const double dt = o.dt;
-  VecX q1, q2;
-  if (s.past.size() >= 2) {
-    q1 = s.past[0];
-  } else {
-    startup_past(m, o, s, ws, &q1, &q2);
-  }
+  const VecX& q1 = p.past1;
   const VecX a = qpos_difference(m, p.q, s.qpos), b = qpos_difference(m, s.qpos, q1);
-  s.qvel = (3 * a - b) / (2 * dt);  // second-order backward difference
-  s.past = {s.qpos, q1};
+  s.qvel = (3 * a - b) / (2 * o.dt);  // second-order backward difference
+  if (s.past.size() == 2) {  // reuse the vectors' storage
+    std::swap(s.past[1], s.past[0]);
+    std::swap(s.past[0], s.qpos);
+  } else {
+    s.past = {s.qpos, q1};
+  }
   s.qpos = p.q;
   // Normal forces for next step's friction.
-  kinematics(m, s.qpos, &ws.kin);
+  if (!(ws.kin_at.size() == s.qpos.size() && ws.kin_at == s.qpos)) kinematics(m, s.qpos, &ws.kin);
   s.normal_force_prev.assign(ws.points.size() * ws.obstacles.size(), 0.0);
   find_contacts(m, ws.kin, ws.points, ws.obstacles, &ws.contacts);
   for (const Contact& c : ws.contacts) s.normal_force_prev[c.slot] = o.contact.stiffness * c.depth;
-  s.time += dt;
+  frame_store(s.qpos, ws);  // next step's q_i
+  s.time += o.dt;
   ++s.step;
 }
 
@@ -454,6 +578,7 @@ bool sim_step(const Model& m, const SimOptions& o, State& s, SimWorkspace& ws, S
 Energy state_energy(const Model& m, const SimOptions& o, const State& s, SimWorkspace& ws) {
   sim_prepare(m, ws);
   kinematics(m, s.qpos, &ws.kin);
+  ws.kin_at.resize(0);
   Energy e;
   e.kinetic = kinetic_energy(m, ws.kin, s.qvel);
   e.potential = potential_energy(m, ws.kin);

@@ -11,6 +11,7 @@ TEST(Batch, InterleavedIterationsGiveTheSequentialResult) {
   SimOptions o;
   o.integrator = Integrator::Pbad3;
   o.dt = 0.02;
+  o.lm_relative_tolerance = 0;  // converge fully: several LM iterations per step
   std::vector<State> batch(5);
   for (int t = 0; t < 5; ++t) {
     batch[t] = state_init(m);

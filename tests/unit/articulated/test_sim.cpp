@@ -91,12 +91,120 @@ TEST(Sim, LevenbergMarquardtReachesStationarity) {
   SimOptions o;
   o.integrator = Integrator::Pbad3;
   o.dt = 0.02;
+  o.lm_relative_tolerance = 0;  // only the absolute criteria
   State s = state_init(m);
   SimWorkspace ws;
   StepInfo info;
   for (int i = 0; i < 10; ++i) ASSERT_TRUE(sim_step(m, o, s, ws, &info));
   EXPECT_TRUE(info.converged);
   EXPECT_LT(info.energy_residual, 1e-6);
+}
+
+// Exact PBAD Hessian (Gauss-Newton + geometric blocks through tree_solve) against
+// central differences of the gradient, on a chain (hinges) and on a hinge + slide model
+// touching a plane; the tree solve with those blocks must invert the FD Hessian.
+void expect_exact_hessian(const Model& m, State s, const SimOptions& o) {
+  SimWorkspace ws;
+  PbadStep p;
+  pbad_begin(m, o, s, p, ws);
+  VecX q = p.q;
+  for (int i = 0; i < m.nv; ++i) q[i] += 0.05 * std::sin(1.7 * i + 0.3);  // off the minimiser
+  const int n = m.nv;
+  Eigen::MatrixXd hfd(n, n);
+  const double eps = 1e-6;
+  for (int i = 0; i < n; ++i) {
+    VecX qp = q, qm = q;
+    qp[i] += eps;
+    qm[i] -= eps;
+    pbad_evaluate(m, o, s, p, qp, ws);
+    const VecX gp = ws.grad;
+    pbad_evaluate(m, o, s, p, qm, ws);
+    hfd.col(i) = (gp - ws.grad) / (2 * eps);
+  }
+  EXPECT_LT((hfd - hfd.transpose()).norm(), 1e-5 * hfd.norm());
+  pbad_evaluate(m, o, s, p, q, ws);
+  const VecX zero = VecX::Zero(n);
+  Eigen::MatrixXd prod(n, n), prod_gn(n, n);
+  for (int i = 0; i < n; ++i) {
+    VecX x;
+    tree_solve(m, ws.kin, ws.h_exact, zero, hfd.col(i), &x, &ws.tree);
+    prod.col(i) = x;
+    tree_solve(m, ws.kin, ws.h, zero, hfd.col(i), &x, &ws.tree);
+    prod_gn.col(i) = x;
+  }
+  const Eigen::MatrixXd id = Eigen::MatrixXd::Identity(n, n);
+  EXPECT_LT((prod - id).norm(), 1e-5);
+  EXPECT_GT((prod_gn - id).norm(), 1e-2);  // the geometric term is not negligible here
+}
+
+TEST(Sim, ExactHessianInvertsFiniteDifferenceHessian) {
+  SimOptions o;
+  o.integrator = Integrator::Pbad3;
+  o.dt = 0.05;
+  const Model chain = model_from_mjcf(chain_mjcf(4), "chain.xml");
+  State s = state_init(chain);
+  s.qpos[0] = 1.3;
+  s.qvel.setConstant(0.4);
+  expect_exact_hessian(chain, s, o);
+  const std::string xml = R"(<mujoco><worldbody><geom type="plane" size="5 5 0.1"/>
+    <body pos="0 0 0.5"><joint type="slide" axis="0 0 1"/><joint type="hinge" axis="0 1 0"/>
+      <geom type="capsule" fromto="0 0 0 0.3 0 -0.3" size="0.05"/>
+      <body pos="0.3 0 -0.3"><joint type="hinge" axis="1 0 0.2"/><geom type="sphere" size="0.05" pos="0 0.1 -0.1"/></body>
+    </body></worldbody></mujoco>)";
+  const Model legged = model_from_mjcf(xml, "legged.xml");
+  State t = state_init(legged);
+  t.qpos << -0.2, 0.3, 0.5;
+  t.qvel << -1, 0.5, 2;
+  o.contact.friction = FrictionModel::None;
+  expect_exact_hessian(legged, t, o);
+}
+
+struct ChainRun {
+  VecX qpos;
+  double iterations = 0;
+};
+
+ChainRun run_tilted_chain(int links, double dt, int steps, bool exact, double relative_tolerance) {
+  const Model m = model_from_mjcf(chain_mjcf(links), "chain.xml");
+  SimOptions o;
+  o.integrator = Integrator::Pbad3;
+  o.dt = dt;
+  o.exact_hessian = exact;
+  o.lm_relative_tolerance = relative_tolerance;
+  o.lm_tolerance = 1e-10;
+  State s = state_init(m);
+  s.qpos[0] = 1.3;
+  s.qvel[1] = 0.3;
+  SimWorkspace ws;
+  ChainRun r;
+  for (int i = 0; i < steps; ++i) {
+    StepInfo info;
+    EXPECT_TRUE(sim_step(m, o, s, ws, &info));
+    r.iterations += info.iterations;
+  }
+  r.iterations /= steps;
+  r.qpos = s.qpos;
+  return r;
+}
+
+TEST(Sim, NewtonConvergesInFewIterationsWhereGaussNewtonCrawls) {
+  // 40 links at dt 0.1: the chain's tension (geometric term) is several times M/dt^2.
+  const ChainRun newton = run_tilted_chain(40, 0.1, 10, true, 0);
+  const ChainRun gauss = run_tilted_chain(40, 0.1, 10, false, 0);
+  EXPECT_LE(newton.iterations, 3.5) << gauss.iterations;
+  EXPECT_GE(gauss.iterations, 3 * newton.iterations) << newton.iterations << " " << gauss.iterations;
+  // (Gauss-Newton stops at the 50-iteration cap here, short of the minimiser.)
+}
+
+TEST(Sim, AccuracyAwareStopKeepsTheConvergedTrajectory) {
+  // The solver error it leaves is a small fraction of the discretisation error.
+  const ChainRun full = run_tilted_chain(10, 0.05, 60, true, 0);
+  const ChainRun early = run_tilted_chain(10, 0.05, 60, true, 1e-2);
+  const ChainRun half_step = run_tilted_chain(10, 0.025, 120, true, 0);
+  const double solver_error = (early.qpos - full.qpos).lpNorm<Eigen::Infinity>();
+  const double discretisation_error = (half_step.qpos - full.qpos).lpNorm<Eigen::Infinity>();
+  EXPECT_LT(early.iterations, full.iterations - 0.5);
+  EXPECT_LT(solver_error, 0.05 * discretisation_error) << discretisation_error;
 }
 
 VecX run_chain(const Model& m, Integrator integ, double dt, double duration) {
@@ -131,6 +239,7 @@ TEST(Sim, LbfgsSolverReachesTheLevenbergMarquardtSolution) {
   lm.integrator = lb.integrator = Integrator::Pbad3;
   lm.dt = lb.dt = 0.02;
   lm.lm_tolerance = lb.lm_tolerance = 1e-10;
+  lm.lm_relative_tolerance = lb.lm_relative_tolerance = 0;
   lb.solver = Solver::Lbfgs;
   State a = state_init(m), b = a;
   a.qpos[0] = b.qpos[0] = 1.0;

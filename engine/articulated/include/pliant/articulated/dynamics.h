@@ -45,6 +45,13 @@ inline Vec6 point_wrench(const Vec3& x, const Vec3& f) {
 // 6x6 form of a 3x3 point stiffness K at world point x (delta x = v + omega x X).
 Mat6 point_hessian(const Vec3& x, const Mat3& K);
 
+// Transposed geometric block of a body loaded by forces f_k at points x_k (given as
+// moment = sum x_k f_k^T and force = sum f_k, f_k the energy's gradient at x_k): the
+// term sum_k f_k . d2x_k/dq_i dq_j = S_i^T Q S_j (i the ancestor-or-earlier dof;
+// d2x/dq_i dq_j = omega_i x xdot_j), Q = [[moment - tr(moment) I, -[force]x], [0, 0]].
+// Returns Q^T, the form tree_solve takes (added to the Gauss-Newton block).
+Mat6 geometric_block_transposed(const Mat3& moment, const Vec3& force);
+
 // Scratch for the O(N) solves (one per thread / trajectory).
 struct TreeWorkspace {
   std::vector<Mat6> ia;   // articulated inertias
@@ -56,10 +63,13 @@ struct TreeWorkspace {
 };
 
 // Solves (sum_b Phi_b^T H_b Phi_b + diag(armature)) x = rhs in O(N) with the
-// articulated-body recursion (Featherstone's ABA with zero velocity): H_b is any
-// symmetric positive semi-definite 6x6 per body, Phi_b its world-frame Jacobian.
-// With H_b = cinert it computes M^-1 rhs; PBAD's Levenberg-Marquardt passes its
-// Gauss-Newton blocks.
+// articulated-body recursion (Featherstone's ABA with zero velocity): H_b is a 6x6
+// per body, Phi_b its world-frame Jacobian. With H_b = cinert it computes M^-1 rhs.
+// H_b may be non-symmetric: the matrix solved is then the symmetric one whose entry
+// (j, i), dof i an ancestor-or-earlier dof of j, is S_j^T (sum_{b below j} H_b) S_i,
+// which is the exact Hessian of a pose energy when H_b = Gauss-Newton block +
+// transposed geometric block (pose_geometric_block); PBAD's Newton steps use it.
+// The matrix must be non-singular (LM adds its damping through armature).
 void tree_solve(const Model& m, const Kinematics& k, const std::vector<Mat6>& h,
                 const VecX& armature, const VecX& rhs, VecX* x, TreeWorkspace* ws);
 

@@ -24,8 +24,10 @@
 namespace pliant::articulated {
 
 enum class Integrator { Pbad2, Pbad3, Euler, Rk4 };
-// PBAD's per-step minimiser: Levenberg-Marquardt on the Gauss-Newton model, or
-// L-BFGS preconditioned by the same Gauss-Newton solve (both O(N) per iteration).
+// PBAD's per-step minimiser: Levenberg-Marquardt on the exact Hessian (Gauss-Newton
+// blocks plus the geometric term of the forces' curvature, still O(N) through
+// tree_solve) or on the Gauss-Newton model alone, or L-BFGS preconditioned by the
+// Gauss-Newton solve (all O(N) per iteration).
 enum class Solver { Lm, Lbfgs };
 Integrator integrator_from_name(const std::string& name);  // throws std::invalid_argument
 std::string integrator_name(Integrator i);
@@ -36,9 +38,17 @@ struct SimOptions {
   ContactOptions contact;
   Solver solver = Solver::Lm;
   int lm_max_iterations = 50;
+  // LM matrix: exact Hessian (Newton; converges in a few iterations at large dt,
+  // where the chain's tension makes the geometric term comparable to M/dt^2) or the
+  // Gauss-Newton matrix (2w/dt^2) M(q) + contact terms (PD, linear convergence).
+  bool exact_hessian = true;
   // Stop when max |dq| of a step is below this (rad or m), or when max |gradient| is
   // below it times the model's weight (N) times 1 m.
   double lm_tolerance = 1e-7;
+  // Accuracy-aware stop (0: off): the next Newton correction (estimated from the
+  // gradient over the Gauss-Newton diagonal) below this times the step's correction
+  // to the quadratic predictor, a measure of the step's truncation error.
+  double lm_relative_tolerance = 1e-2;
 };
 
 struct State {
@@ -60,6 +70,8 @@ struct PbadStep {
   std::vector<Mat3> a;  // target rotation per body
   std::vector<Vec3> prev_points;  // world positions of contact points at q_i
   VecX q;               // current iterate
+  VecX past1;           // q_{i-1} (start-up frame on the first step)
+  VecX q_pred;          // predictor (quadratic extrapolation)
   double energy = 0, lambda = 1e-6, weight = 0.5;
   bool any_damping = false;
   double grad_tol = 0;
@@ -70,10 +82,17 @@ struct PbadStep {
 
 // Per-trajectory scratch (no allocation once warm).
 struct SimWorkspace {
-  Kinematics kin, kin_prev;
-  std::vector<Kinematics> kin_past;
+  Kinematics kin;
+  VecX kin_at;  // qpos of kin when it is complete (cdof, cinert), else empty
+  std::vector<Kinematics> frame_kin;  // poses of recent frames q_i, q_{i-1}, q_{i-2}
+  std::vector<VecX> frame_q;
+  std::vector<long> frame_stamp;
+  long frame_clock = 0;
   TreeWorkspace tree;
-  std::vector<Mat6> h;
+  std::vector<Mat6> h;        // Gauss-Newton blocks (LM damping scale, L-BFGS)
+  std::vector<Mat6> h_exact;  // plus the transposed geometric blocks (Newton)
+  std::vector<Mat3> moment;   // per body sum x f^T of the energy's point gradients
+  std::vector<Vec3> force;    // per body sum f
   std::vector<Vec6> w;
   VecX grad, step, q_trial, diag, arm, rhs, tau, dq;
   std::vector<Contact> contacts;
@@ -93,6 +112,10 @@ bool sim_step(const Model& m, const SimOptions& o, State& s, SimWorkspace& ws, S
 // one LM iteration (returns true when converged), finish (shift history, velocity).
 void pbad_begin(const Model& m, const SimOptions& o, State& s, PbadStep& p, SimWorkspace& ws);
 bool pbad_iterate(const Model& m, const SimOptions& o, const State& s, PbadStep& p, SimWorkspace& ws);
+// PBAD energy at q for the step set up by pbad_begin, with its gradient in ws.grad and
+// the Gauss-Newton / exact blocks in ws.h / ws.h_exact (tests, diagnostics).
+double pbad_evaluate(const Model& m, const SimOptions& o, const State& s, const PbadStep& p, const VecX& q,
+                     SimWorkspace& ws);
 void pbad_finish(const Model& m, const SimOptions& o, State& s, const PbadStep& p, SimWorkspace& ws);
 
 // Total energy (kinetic + gravity + contact penalty) of a state.
