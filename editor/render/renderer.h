@@ -1,9 +1,13 @@
 // Draws one take frame into the currently bound framebuffer with OpenGL 3.3
 // core. The same code runs under GLFW and EGL, so CI renders the pixels a user
 // sees. 2D smoke: density as a texture; 3D smoke: ray marching a 3D texture.
+// Other kinds (liquid, soft, articulated) through their FrameDrawer
+// (render/frame_drawer.h), framed into the same unit box.
 #pragma once
 #include <array>
 #include <string>
+
+#include <nlohmann/json.hpp>
 
 #include "pliant/core/take.h"
 #include "render/orbit_camera.h"
@@ -28,9 +32,16 @@ class Renderer {
 
   // Compiles the embedded shaders; needs a current GL context.
   bool init(std::string* err);
-  // Uploads a record's "density" (and "velocity") to GL textures.
-  void set_frame(const Record& frame);
+  // Uploads a record's "density" (and "velocity") to GL textures, or hands the
+  // record to the first kind drawer that takes it. `take_scene`: the take
+  // manifest's scene copy (kind drawers read geometry from it); may be null.
+  void set_frame(const Record& frame, const nlohmann::json* take_scene = nullptr);
   void clear_frame();
+  // Kind drawers: the next upload fixes the world -> unit-box framing again
+  // (call when a different take is shown).
+  void reset_framing();
+  // Name of the kind drawer showing the frame ("" for smoke or none).
+  std::string drawer_name() const;
   bool has_frame() const;
   // Domain size in world units, for camera framing: 2D (nx, ny, 0), 3D (nx, ny, nz)
   // scaled so the longest side is 1.

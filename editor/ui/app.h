@@ -25,6 +25,7 @@
 #include "render/renderer.h"
 #include "ui/injected_input.h"
 #include "ui/keyframe_canvas.h"
+#include "ui/kind_panels.h"
 #include "ui/take_compare.h"
 #include "ui/take_view.h"
 #include "ui/ui_mark.h"
@@ -104,6 +105,9 @@ class App {
   // Exports the shown take: "png" (plugin), "mp4" (PNGs then ffmpeg), "vdb" (plugin).
   bool cmd_export(const std::string& format, const std::filesystem::path& out);
   void poll_export();  // logs the end of an export once
+  // Every frame of the shown take rendered by the viewport (camera, settings,
+  // size) into DIR/frame_%05d.png; used by cmd_export for kind-drawer takes.
+  bool export_rendered_frames(const std::filesystem::path& dir, std::string* err);
   void cmd_cancel(size_t job);
   void open_file_dialog(FileDialog::Mode mode);
   void handle_drops(const std::vector<std::string>& paths);
@@ -145,6 +149,7 @@ class App {
   Renderer renderer;
   KeyframeCanvasState canvas;  // smoke keyframe painting (keyframe_canvas.h)
   TakeCompare compare;         // A/B: a second take beside the shown one
+  KindUiStates kind_ui;        // per-kind UI state (ui/kind_panels.h)
   std::unique_ptr<ExportRun> export_run;  // the newest export (app_export.cpp)
   // Scripts hook here: before_frame runs after platform.new_frame (to inject
   // input), after_render after the frame is drawn (screenshots).

@@ -1,12 +1,75 @@
 // Export of the shown take: PNG sequence and OpenVDB through the exporter plugins
 // (`pliant export`), MP4 as the PNG sequence encoded by ffmpeg when installed.
 // The commands run on a thread (ExportRun); the UI polls it every frame.
+#include <GL/gl.h>
+#include <GL/glext.h>
+
+#include <cstdio>
+
 #include "doc/export_run.h"
+#include "render/screenshot.h"
 #include "ui/app.h"
 
 namespace pliant::editor {
 
 namespace fs = std::filesystem;
+
+// Takes drawn by a kind drawer (particles, meshes, bodies) have no exporter
+// plugin that can draw them: their PNGs are the viewport's own rendering of
+// every frame, with the current camera, at the viewport's size. GL lives on the
+// UI thread, so this runs synchronously (tens of ms per frame).
+bool App::export_rendered_frames(const fs::path& dir, std::string* err) {
+  TakeReader* rd = take.reader();
+  if (!gl_ || !renderer_ok_ || !rd) {
+    *err = "rendered export needs the OpenGL viewport and an open take";
+    return false;
+  }
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) {
+    *err = "cannot create " + dir.string() + ": " + ec.message();
+    return false;
+  }
+  const int w = viewport.fbo_w > 15 ? viewport.fbo_w : 960, h = viewport.fbo_h > 15 ? viewport.fbo_h : 540;
+  GLuint fbo = 0, tex = 0, rb = 0;
+  glGenFramebuffers(1, &fbo);
+  glGenTextures(1, &tex);
+  glGenRenderbuffers(1, &rb);
+  glBindTexture(GL_TEXTURE_2D, tex);
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, w, h, 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
+  glBindTexture(GL_TEXTURE_2D, 0);
+  glBindRenderbuffer(GL_RENDERBUFFER, rb);
+  glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH24_STENCIL8, w, h);
+  glBindRenderbuffer(GL_RENDERBUFFER, 0);
+  GLint prev = 0;
+  glGetIntegerv(GL_FRAMEBUFFER_BINDING, &prev);
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, tex, 0);
+  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, rb);
+  bool ok = true;
+  const size_t n = rd->frame_count();
+  for (size_t i = 0; i < n && ok; ++i) {
+    try {
+      renderer.set_frame(rd->read_frame_at(i), &rd->manifest().scene);
+    } catch (const std::exception& e) {
+      *err = "frame " + std::to_string(i) + ": " + e.what();
+      ok = false;
+      break;
+    }
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+    renderer.render(viewport.camera, viewport.settings, w, h);
+    char name[32];
+    std::snprintf(name, sizeof name, "frame_%05zu.png", i);
+    ok = write_png((dir / name).string(), read_framebuffer(fbo, 0, 0, w, h), err);
+  }
+  glBindFramebuffer(GL_FRAMEBUFFER, GLuint(prev));
+  glDeleteFramebuffers(1, &fbo);
+  glDeleteTextures(1, &tex);
+  glDeleteRenderbuffers(1, &rb);
+  viewport.shown_frame = -1;  // the viewport re-uploads its own frame
+  ++viewport.uploads;
+  return ok;
+}
 
 bool App::cmd_export(const std::string& format, const fs::path& out) {
   auto refuse = [&](const std::string& why) {
@@ -22,14 +85,20 @@ bool App::cmd_export(const std::string& format, const fs::path& out) {
   auto plugin_export = [&](const std::string& name, const fs::path& dir) {
     cmds.push_back({pliant, "export", take.dir().string(), "--format", name, "--out", dir.string()});
   };
+  // Kind drawers' takes: rendered frames now, then (MP4) ffmpeg on the thread.
+  const bool rendered = !renderer.drawer_name().empty() && (format == "png" || format == "mp4");
+  if (rendered) {
+    std::string err;
+    if (!export_rendered_frames(format == "png" ? out : out / "frames", &err)) return refuse(err);
+  }
   if (format == "png") {
-    plugin_export("png", out);
+    if (!rendered) plugin_export("png", out);
   } else if (format == "vdb") {
     plugin_export("vdb", out);
   } else if (format == "mp4") {
     const std::string ffmpeg = find_ffmpeg();
     if (ffmpeg.empty()) return refuse("MP4 needs ffmpeg, which is not installed (apt-get install ffmpeg)");
-    plugin_export("png", out / "frames");
+    if (!rendered) plugin_export("png", out / "frames");
     // Nearest-neighbour upscale to at least 512 px high (grids are small), even sizes for yuv420p.
     cmds.push_back({ffmpeg, "-y", "-loglevel", "error", "-framerate", std::to_string(int(take.fps)),
                     "-i", (out / "frames" / "frame_%05d.png").string(), "-vf",

@@ -8,6 +8,7 @@
 
 #include "ui/app.h"
 #include "ui/json_widgets.h"
+#include "ui/kind_panels.h"
 #include "ui/panel_window.h"
 
 namespace pliant::editor {
@@ -175,11 +176,19 @@ void draw_inspector_panel(App& app, const PanelRect& r) {
   static const std::set<std::string> kTyped = {"pliant", "kind", "name", "grid", "time",
                                                "advection", "buoyancy_m_per_s2", "pressure",
                                                "sources", "forces"};
+  const KindPanels* kp = kind_panels(kind);
   if (kind == "smoke") draw_smoke(doc);
-  if (ImGui::CollapsingHeader("Other fields", ImGuiTreeNodeFlags_DefaultOpen) && s.is_object()) {
+  else if (kp && kp->inspector) kp->inspector(app);
+  auto typed = [&](const std::string& key) {
+    if (kind == "smoke") return kTyped.count(key) > 0;
+    if (kp && kp->inspector) for (const auto& k : kp->typed_keys) if (k == key) return true;
+    return false;
+  };
+  if (ImGui::CollapsingHeader("Other fields", ImGuiTreeNodeFlags_DefaultOpen) && doc.scene().is_object()) {
+    const json& s2 = doc.scene();
     std::vector<std::string> keys;
-    for (auto it = s.begin(); it != s.end(); ++it)
-      if (kind != "smoke" || !kTyped.count(it.key())) keys.push_back(it.key());
+    for (auto it = s2.begin(); it != s2.end(); ++it)
+      if (!typed(it.key())) keys.push_back(it.key());
     for (const auto& k : keys)
       if (k != "pliant" && k != "kind") json_tree(doc, k, "/" + k);
   }

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "ui/app.h"
+#include "ui/kind_panels.h"
 #include "ui/panel_window.h"
 #include "ui/smoke_panels.h"
 
@@ -17,6 +18,7 @@ void draw_jobs_panel(App& app, const PanelRect& r) {
     return;
   }
   draw_smoke_solve_panel(app);
+  if (const KindPanels* kp = kind_panels(scene_kind(app)); kp && kp->jobs) kp->jobs(app);
   bool valid = app.scene_error().empty();
   if (!valid) ImGui::BeginDisabled();
   if (ImGui::Button("Run (F5)")) app.cmd_run();

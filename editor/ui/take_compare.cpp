@@ -19,6 +19,7 @@ void TakeCompare::open(const fs::path& take_dir) {
   error.clear();
   shown_frame = -1;
   shown_count = 0;
+  renderer.reset_framing();
 }
 
 fs::path default_compare_take(App& app) {
@@ -30,7 +31,8 @@ fs::path default_compare_take(App& app) {
 void TakeCompare::release_gl() {
   if (fbo) glDeleteFramebuffers(1, &fbo);
   if (color_tex) glDeleteTextures(1, &color_tex);
-  fbo = color_tex = 0;
+  if (depth_rb) glDeleteRenderbuffers(1, &depth_rb);
+  fbo = color_tex = depth_rb = 0;
   if (renderer_ready) renderer.shutdown();
   renderer_ready = false;
 }
@@ -57,13 +59,14 @@ void TakeCompare::draw(App& app, float x, float y, int w, int h) {
   if (n == 0) return message("B: no frames yet");
   const int f = std::clamp(app.take.frame, 0, n - 1);
   if (f != shown_frame || size_t(n) != shown_count) {
-    renderer.set_frame(reader->read_frame_at(size_t(f)));
+    renderer.set_frame(reader->read_frame_at(size_t(f)), &reader->manifest().scene);
     shown_frame = f;
     shown_count = size_t(n);
   }
   if (!fbo) {
     glGenFramebuffers(1, &fbo);
     glGenTextures(1, &color_tex);
+    glGenRenderbuffers(1, &depth_rb);
   }
   if (fbo_w != w || fbo_h != h) {
     glBindTexture(GL_TEXTURE_2D, color_tex);
@@ -73,6 +76,11 @@ void TakeCompare::draw(App& app, float x, float y, int w, int h) {
     glBindTexture(GL_TEXTURE_2D, 0);
     glBindFramebuffer(GL_FRAMEBUFFER, fbo);
     glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, color_tex, 0);
+    // Depth for the kind drawers' meshes (soft characters, articulated bodies).
+    glBindRenderbuffer(GL_RENDERBUFFER, depth_rb);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH24_STENCIL8, w, h);
+    glBindRenderbuffer(GL_RENDERBUFFER, 0);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, depth_rb);
     fbo_w = w;
     fbo_h = h;
   }

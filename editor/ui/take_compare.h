@@ -19,7 +19,7 @@ struct TakeCompare {
   std::unique_ptr<TakeReader> reader;
   Renderer renderer;
   bool renderer_ready = false;
-  unsigned fbo = 0, color_tex = 0;
+  unsigned fbo = 0, color_tex = 0, depth_rb = 0;
   int fbo_w = 0, fbo_h = 0;
   int shown_frame = -1;
   size_t shown_count = 0;

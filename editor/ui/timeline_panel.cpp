@@ -7,6 +7,7 @@
 #include "ui/app.h"
 #include "doc/smoke_keyframes.h"
 #include "ui/panel_window.h"
+#include "ui/kind_panels.h"
 #include "ui/smoke_panels.h"
 
 namespace pliant::editor {
@@ -50,6 +51,7 @@ void draw_timeline_panel(App& app, const PanelRect& r) {
   ui_mark("frame_slider");
   // Scene kinds with keyframes draw their markers under the slider.
   if (has_control(app.doc.scene()) || is_smoke_2d(app.doc.scene())) draw_keyframe_markers(app);
+  else if (const KindPanels* kp = kind_panels(scene_kind(app)); kp && kp->timeline) kp->timeline(app);
   ImGui::End();
 }
 

@@ -12,6 +12,7 @@
 #include "render/contour.h"
 #include "ui/app.h"
 #include "ui/keyframe_canvas.h"
+#include "ui/kind_panels.h"
 #include "ui/panel_window.h"
 
 namespace pliant::editor {
@@ -65,6 +66,7 @@ bool sync_preview(App& app, TakeReader& rd) {
   slice.data.assign(d->data.begin() + f * cells, d->data.begin() + (f + 1) * cells);
   one.fields.push_back(std::move(slice));
   const bool new_take = v.shown_dir != dir;
+  if (new_take) app.renderer.reset_framing();
   app.renderer.set_frame(one);
   ++v.uploads;
   if (new_take) v.camera.reset();
@@ -143,7 +145,8 @@ void sync_frame(App& app) {
   if (dir == shown_dir && app.take.frame == shown_frame && count == shown_count) return;
   bool new_take = dir != shown_dir;
   try {
-    app.renderer.set_frame(rd->read_frame_at(static_cast<size_t>(app.take.frame)));
+    if (new_take) app.renderer.reset_framing();
+    app.renderer.set_frame(rd->read_frame_at(static_cast<size_t>(app.take.frame)), &rd->manifest().scene);
     ++app.viewport.uploads;
     if (new_take) app.viewport.camera.reset();
   } catch (const std::exception& e) {
@@ -183,6 +186,11 @@ void draw_viewport_panel(App& app, const PanelRect& r) {
     ImGui::End();
     return;
   }
+  const KindPanels* kp = kind_panels(scene_kind(app));
+  if (kp && kp->viewport_editor && kp->viewport_editor(app)) {
+    ImGui::End();
+    return;
+  }
   if (ImGui::Button("Reset view")) v.camera.reset();
   ui_mark("Reset view");
   ImGui::SameLine();
@@ -211,6 +219,10 @@ void draw_viewport_panel(App& app, const PanelRect& r) {
       app.compare.open(a);
     }
     ui_mark("ab_swap");
+  }
+  if (kp && kp->viewport_toolbar) {
+    ImGui::SameLine();
+    kp->viewport_toolbar(app);
   }
 
   ImVec2 avail = ImGui::GetContentRegionAvail();
@@ -261,6 +273,7 @@ void draw_viewport_panel(App& app, const PanelRect& r) {
         reinterpret_cast<ImTextureID>(static_cast<intptr_t>(v.color_tex)), pos,
         ImVec2(pos.x + w, pos.y + h), ImVec2(0, 1), ImVec2(1, 0));
     if (app.renderer.has_frame()) draw_keyframe_outline(app, pos, w, h);
+    if (kp && kp->viewport_overlay) kp->viewport_overlay(app, pos.x, pos.y, w, h);
     if (app.compare.enabled) app.compare.draw(app, pos.x + w, pos.y, full_w - w, h);
     if (v.showing_preview)
       ImGui::GetWindowDrawList()->AddText(ImVec2(pos.x + 12, pos.y + 12), IM_COL32(255, 210, 120, 255),
