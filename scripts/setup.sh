@@ -4,7 +4,7 @@
 # something is missing.
 set -euo pipefail
 
-ENGINE_PKGS=(build-essential cmake pkg-config git
+ENGINE_PKGS=(build-essential cmake ninja-build pkg-config git
   libeigen3-dev libsuitesparse-dev nlohmann-json3-dev libcli11-dev libstb-dev
   libgtest-dev libgmock-dev libbenchmark-dev libomp-dev
   clang libclang-rt-14-dev fonts-dejavu-core liblbfgspp-dev libassimp-dev
