@@ -170,4 +170,48 @@ ModalBasis with_modal_derivatives(const Lattice& lat, const Lame& lame, const Mo
   return out;
 }
 
+ModalBasis pod_basis(const Lattice& lat, const Lame& lame, const std::vector<Eigen::VectorXd>& snapshots, int r) {
+  const int n3 = 3 * lat.nodes();
+  Eigen::VectorXd x(n3), m(n3);
+  for (int i = 0; i < lat.nodes(); ++i) {
+    x.segment<3>(3 * i) = lat.rest[i];
+    m.segment<3>(3 * i).setConstant(lat.node_mass_kg[i]);
+  }
+  Eigen::MatrixXd S(n3, snapshots.size());
+  for (size_t c = 0; c < snapshots.size(); ++c) S.col(Eigen::Index(c)) = snapshots[c];
+  deflate(S, rigid_modes(lat), m);
+  // Method of snapshots: C = S^T M S = V L V^T, principal directions S V L^(-1/2).
+  Eigen::MatrixXd C = S.transpose() * (m.asDiagonal() * S);
+  C = 0.5 * (C + C.transpose()).eval();
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(C);
+  const Eigen::VectorXd& ev = es.eigenvalues();
+  const int ns = int(ev.size());
+  std::vector<int> keep;
+  for (int i = ns - 1; i >= 0 && int(keep.size()) < r; --i)
+    if (ev[i] > 1e-12 * ev[ns - 1] && ev[i] > 0) keep.push_back(i);
+  Eigen::MatrixXd B(n3, keep.size());
+  for (size_t c = 0; c < keep.size(); ++c) B.col(Eigen::Index(c)) = S * es.eigenvectors().col(keep[c]);
+  return rayleigh_ritz(lat, lame, std::move(B));
+}
+
+ModalBasis rayleigh_ritz(const Lattice& lat, const Lame& lame, Eigen::MatrixXd B) {
+  const int n3 = 3 * lat.nodes();
+  Eigen::VectorXd x(n3), m(n3);
+  for (int i = 0; i < lat.nodes(); ++i) {
+    x.segment<3>(3 * i) = lat.rest[i];
+    m.segment<3>(3 * i).setConstant(lat.node_mass_kg[i]);
+  }
+  deflate(B, rigid_modes(lat), m);
+  m_orthonormalize(B, m);
+  Eigen::SparseMatrix<double> K;
+  elastic_energy(lat, lame, x, CellWeights{}, nullptr, &K);
+  Eigen::MatrixXd Kr = B.transpose() * (K * B);
+  Kr = 0.5 * (Kr + Kr.transpose()).eval();
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> rr(Kr);
+  ModalBasis out;
+  out.U = B * rr.eigenvectors();
+  out.omega2 = rr.eigenvalues();
+  return out;
+}
+
 }  // namespace pliant::soft

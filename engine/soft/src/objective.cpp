@@ -37,6 +37,11 @@ SoftState simulate(const Problem& p, const Eigen::VectorXd& theta, int n,
   return s;
 }
 
+double heading_yaw(const SoftState& s, const Eigen::Vector3d& axis) {
+  const Eigen::Vector3d h = s.R * axis;
+  return std::atan2(h[2], h[0]);
+}
+
 Eigen::VectorXd residuals(const Problem& p, const Eigen::VectorXd& theta) {
   const Character& ch = *p.character;
   const Objectives& o = p.obj;
@@ -51,9 +56,15 @@ Eigen::VectorXd residuals(const Problem& p, const Eigen::VectorXd& theta) {
   std::vector<Eigen::VectorXd> key_res;
   Eigen::VectorXd x;
   int frame = 0, unconverged = 0;
+  double yaw_prev = heading_yaw(s0, o.turn_axis), yaw_total = 0;
   SoftState last = simulate(p, theta, p.frames, [&](const SoftState& s) {
     ++frame;
     const Eigen::Vector3d com = centre_of_mass(ch, s);
+    if (o.w_turn > 0) {
+      const double yaw = heading_yaw(s, o.turn_axis);
+      yaw_total += std::remainder(yaw - yaw_prev, 2 * M_PI);  // unwrapped
+      yaw_prev = yaw;
+    }
     if (o.w_heading > 0) heading_sum += s.R * o.heading_axis - o.heading_direction.normalized();
     if (o.w_jump > 0) {
       const double v = kappa * (com[1] - com0[1]);
@@ -110,6 +121,10 @@ Eigen::VectorXd residuals(const Problem& p, const Eigen::VectorXd& theta) {
                   ((lse_max + std::log(lse_sum) - std::log(double(std::max(1, frame)))) / kappa - o.jump_height_m));
   if (o.w_distance > 0)
     out.push_back(std::sqrt(o.w_distance) * ((com - com0).dot(o.distance_direction.normalized()) - o.distance_m));
+  if (o.w_turn > 0) {
+    out.push_back(std::sqrt(o.w_turn) * (yaw_total / T - o.turn_rate_rad_per_s));
+    out.push_back(std::sqrt(o.w_turn) * (std::hypot(com[0] - com0[0], com[2] - com0[2]) / T - o.turn_speed_m_per_s));
+  }
   for (double v : shuffle) out.push_back(std::sqrt(o.w_shuffle * dt) * v);
   for (const auto& r : key_res)
     for (int i = 0; i < r.size(); ++i) out.push_back(std::sqrt(o.w_keyframes) * r[i]);

@@ -39,6 +39,14 @@ SoftModel soft_compile(const Scene& scene) {
   const int resolution = int(ch->integer("resolution", 8, 2, 64));
   const int modes = int(ch->integer("modes", 10, 1, 60));
   const int derivatives = int(ch->integer("modal_derivatives", 0, 0, 8));
+  // "pod": nonlinear POD of full simulations under random smooth loads (compile cost:
+  // pod_runs x pod_frames full-space steps).
+  const bool pod = ch->choice("basis", "linear", {"linear", "pod"}) == "pod";
+  PodTraining pod_training;
+  pod_training.runs = int(ch->integer("pod_runs", pod_training.runs, 1, 200));
+  pod_training.frames = int(ch->integer("pod_frames", pod_training.frames, 1, 1000));
+  pod_training.strain = ch->number("pod_strain", pod_training.strain, 1e-4, 1.0);
+  pod_training.linear_modes = int(ch->integer("pod_linear_modes", pod_training.linear_modes, 0, 60));
   const bool cub = ch->boolean("cubature", false);
   const double cub_tol = ch->number("cubature_tolerance", 0.02, 1e-6, 0.5);
   const int cub_poses = int(ch->integer("cubature_poses", 16, 1, 200));
@@ -67,7 +75,9 @@ SoftModel soft_compile(const Scene& scene) {
     throw InputError(scene.file, ch->child_pointer("resolution"),
                      "lattice has " + std::to_string(lat.nodes()) + " nodes (at most 20000); lower the resolution");
   ch->finish();
-  m.character = make_character(std::move(surface), std::move(lat), mat, modes, derivatives);
+  if (pod && derivatives > 0)
+    ch->fail("modal_derivatives", "modal derivatives and \"basis\": \"pod\" cannot be combined");
+  m.character = make_character(std::move(surface), std::move(lat), mat, modes, derivatives, pod ? &pod_training : nullptr);
 
   // Environment.
   Environment& env = p.env;
@@ -145,6 +155,13 @@ SoftModel soft_compile(const Scene& scene) {
       o.w_heading = t->number("weight", 1, 0);
       t->finish();
     }
+    if (auto t = oj->object("turn")) {
+      o.turn_axis = unit3(*t, "body_axis", Eigen::Vector3d::UnitX());
+      o.turn_rate_rad_per_s = t->number("rate_rad_per_s", 0, -100, 100);
+      o.turn_speed_m_per_s = t->number("speed_m_per_s", 0, 0, 100);
+      o.w_turn = t->number("weight", 1, 0);
+      t->finish();
+    }
     if (auto t = oj->object("jump")) {
       o.jump_height_m = t->required_number("height_m", 0, 1e3);
       o.w_jump = t->number("weight", 1, 0);
@@ -191,6 +208,51 @@ SoftModel soft_compile(const Scene& scene) {
     m.optimizer.fd_step = oj->number("fd_step", m.optimizer.fd_step, 1e-12, 1);
     m.optimizer.tolerance = oj->number("tolerance", m.optimizer.tolerance, 0, 1);
     oj->finish();
+  }
+  // Navigation: gaits (forward, left, right) + RRT* to a goal (navigation.h).
+  if (auto nj = root.object("navigation")) {
+    NavSettings& nav = m.navigation;
+    if (!navigation_available())
+      root.fail("navigation", "navigation needs OMPL (Debian package libompl-dev); this build has none");
+    nav.enabled = true;
+    const auto g = nj->numbers("goal_m", {}, 2, 2);
+    if (g.size() != 2) nj->fail("goal_m", "missing; expected [x, z] (metres, ground plane)");
+    nav.goal_m = {g[0], g[1]};
+    nav.goal_tolerance_m = nj->number("goal_tolerance_m", nav.goal_tolerance_m, 1e-3, 1e3);
+    nav.body_axis = unit3(*nj, "body_axis", nav.body_axis);
+    nav.speed_m_per_s = nj->number("speed_m_per_s", nav.speed_m_per_s, 1e-4, 100);
+    nav.turn_rate_rad_per_s = nj->number("turn_rate_rad_per_s", nav.turn_rate_rad_per_s, 1e-3, 100);
+    nav.clearance_m = nj->number("clearance_m", nav.clearance_m, 0, 1e3);
+    nav.planning_time_s = nj->number("planning_time_s", nav.planning_time_s, 1e-3, 600);
+    nav.max_frames = int(nj->integer("max_frames", nav.max_frames, 1, 1000000));
+    for (auto& o2 : nj->objects("obstacles")) {
+      NavObstacle ob;
+      const auto c = o2.numbers("center_m", {}, 2, 2);
+      if (c.size() != 2) o2.fail("center_m", "missing; expected [x, z]");
+      ob.center_m = {c[0], c[1]};
+      ob.radius_m = o2.required_number("radius_m", 1e-6, 1e6);
+      o2.finish();
+      nav.obstacles.push_back(ob);
+      // Also a physical obstacle: a sphere centred on the ground.
+      env.obstacles.push_back({Obstacle::Sphere, Eigen::Vector3d(c[0], ground_h, c[1]), Eigen::Vector3d::UnitY(),
+                               ob.radius_m});
+    }
+    if (auto gj = nj->object("gaits")) {
+      const char* names[3] = {"forward", "left", "right"};
+      std::vector<Eigen::VectorXd> th;
+      for (const char* nm : names) {
+        const auto v = gj->numbers(nm, {}, 0, 100000);
+        if (v.empty()) continue;
+        if (int(v.size()) != p.dmp.parameters())
+          gj->fail(nm, "expected " + std::to_string(p.dmp.parameters()) + " DMP parameters, got " +
+                           std::to_string(v.size()));
+        th.push_back(Eigen::Map<const Eigen::VectorXd>(v.data(), Eigen::Index(v.size())));
+      }
+      gj->finish();
+      if (th.size() == 3) nav.cached_theta = th;
+      else if (!th.empty()) nj->fail("gaits", "give all three of forward, left, right (or none to optimize them)");
+    }
+    nj->finish();
   }
   for (const auto& k : o.keyframes)
     if (k.frame > p.frames)

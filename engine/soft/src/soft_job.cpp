@@ -67,12 +67,89 @@ nlohmann::json soft_summary(const Scene& scene) {
           {"parameters", m.problem.dmp.parameters()}};
 }
 
+namespace {
+
+// Navigation: optimize (or take cached) gaits, measure their primitives, plan with
+// RRT* and execute; frames carry the usual fields plus "gait" [1].
+nlohmann::json run_navigation(JobContext& ctx, SoftModel& m, std::chrono::steady_clock::time_point t0) {
+  const NavSettings& nav = m.navigation;
+  const char* names[3] = {"forward", "left", "right"};
+  std::vector<Gait> gaits;
+  nlohmann::json gait_json = nlohmann::json::object(), gait_theta = nlohmann::json::object();
+  const auto t_opt = std::chrono::steady_clock::now();
+  ctx.progress.stage("gaits", 3);
+  for (int k = 0; k < 3; ++k) {
+    Problem pk = m.problem;
+    pk.obj = gait_objectives(nav, k);
+    pk.obj.w_effort = m.problem.obj.w_effort;
+    Eigen::VectorXd theta;
+    if (!nav.cached_theta.empty()) {
+      theta = nav.cached_theta[k];
+    } else {
+      OptimizerState st;
+      st.theta = initial_theta(pk);
+      const ResidualFn rf = [&pk](const Eigen::VectorXd& th) { return residuals(pk, th); };
+      optimize(rf, m.optimizer, st, [&](const OptimizerState&) {
+        ctx.progress.check_cancelled();
+        return true;
+      });
+      theta = st.theta;
+    }
+    gaits.push_back(measure_gait(pk, names[k], theta, nav.body_axis));
+    const Gait& g = gaits.back();
+    gait_json[names[k]] = {{"forward_m", g.forward_m}, {"side_m", g.side_m}, {"yaw_rad", g.yaw_rad}};
+    gait_theta[names[k]] = std::vector<double>(theta.data(), theta.data() + theta.size());
+    ctx.progress.report(k + 1);
+  }
+  const double gaits_s = seconds_since(t_opt);
+  ctx.progress.stage("navigate", nav.max_frames);
+  SoftState s0 = initial_state(m.character, m.problem.start_offset_m, Eigen::Vector3d::Zero(), m.problem.sim.dt_s);
+  Record r0 = soft_frame_record(m, s0, 0, true);
+  r0.fields.push_back(Field{"gait", {1}, {0.0f}});
+  ctx.take.append(r0);
+  ctx.events.frame(0);
+  int frame = 0;
+  const auto t_nav = std::chrono::steady_clock::now();
+  const NavResult res = navigate(m.problem, gaits, nav, [&](const SoftState& s, int gait) {
+    ++frame;
+    Record r = soft_frame_record(m, s, frame, false);
+    r.fields.push_back(Field{"gait", {1}, {float(gait)}});
+    ctx.take.append(r);
+    ctx.events.frame(frame);
+    ctx.progress.report(frame);
+    ctx.progress.check_cancelled();
+  });
+  std::vector<std::vector<double>> planned;
+  for (const auto& q : res.planned) planned.push_back({q[0], q[1], q[2]});
+  return {{"navigation", true},
+          {"reached", res.reached},
+          {"final_distance_m", res.final_distance_m},
+          {"min_clearance_m", res.min_clearance_m},
+          {"turning_radius_m", res.turning_radius_m},
+          {"gait_sequence", res.gait_sequence},
+          {"frames_simulated", frame + 1},
+          {"planned_path", planned},
+          {"gaits", gait_json},
+          {"gait_theta", gait_theta},
+          {"gaits_cached", !nav.cached_theta.empty()},
+          {"gaits_s", gaits_s},
+          {"navigate_s", seconds_since(t_nav)},
+          {"wall_s", seconds_since(t0)}};
+}
+
+}  // namespace
+
 nlohmann::json soft_run_job(JobContext& ctx) {
   const auto t0 = std::chrono::steady_clock::now();
   ctx.progress.stage("compile");
   SoftModel m = soft_compile(ctx.scene);
   soft_bind(m);
   const double compile_s = seconds_since(t0);
+  if (m.navigation.enabled) {
+    nlohmann::json metrics = run_navigation(ctx, m, t0);
+    metrics["compile_s"] = compile_s;
+    return metrics;
+  }
   const Problem& p = m.problem;
 
   // Resume from the last checkpoint when asked.

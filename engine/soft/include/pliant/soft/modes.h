@@ -6,6 +6,7 @@
 // shift-invert subspace iteration with a CHOLMOD factorization of K + sigma M.
 #pragma once
 #include <Eigen/Core>
+#include <vector>
 
 #include "pliant/soft/body.h"
 #include "pliant/soft/fem.h"
@@ -32,5 +33,15 @@ ModalBasis linear_modes(const Lattice& lat, const Lame& lame, int r);
 // U^T K U is diagonal again (omega2 ascending). Captures the quadratic coupling of
 // large bending that linear modes miss.
 ModalBasis with_modal_derivatives(const Lattice& lat, const Lame& lame, const ModalBasis& b, int k);
+
+// Nonlinear POD (proper orthogonal decomposition) of simulated poses: the r dominant
+// M-weighted principal directions of the displacement snapshots (rigid motion removed
+// from each), M-orthonormalized and rotated so that U^T K U is diagonal (omega2 are
+// then Rayleigh quotients, ascending). Snapshots are 3N local displacements.
+// M-orthonormalizes the columns of B (rigid motion removed) and rotates them so that
+// U^T K U is diagonal (omega2 ascending).
+ModalBasis rayleigh_ritz(const Lattice& lat, const Lame& lame, Eigen::MatrixXd B);
+
+ModalBasis pod_basis(const Lattice& lat, const Lame& lame, const std::vector<Eigen::VectorXd>& snapshots, int r);
 
 }  // namespace pliant::soft

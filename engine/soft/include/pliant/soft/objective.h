@@ -11,6 +11,8 @@
 //   distance   final COM displacement along a direction minus target distance (1)
 //   shuffle    per frame, RMS tangential speed of nodes touching an obstacle (frames)
 //   keyframes  surface vertices minus (rest position + offset) at chosen frames
+//   turn       mean yaw rate of a body axis about +y minus target (rad/s), and mean
+//              horizontal COM speed minus target (the gaits of navigation.h)
 //   effort     theta itself (keeps the problem well posed)
 #pragma once
 #include <Eigen/Core>
@@ -43,8 +45,14 @@ struct Objectives {
   double w_shuffle = 0;
   double w_keyframes = 0;
   std::vector<Keyframe> keyframes;
+  double w_turn = 0;
+  Eigen::Vector3d turn_axis = Eigen::Vector3d::UnitX();
+  double turn_rate_rad_per_s = 0, turn_speed_m_per_s = 0;
   double w_effort = 1e-4;
 };
+
+// Yaw of the body axis a in the ground plane: atan2((R a)_z, (R a)_x), radians.
+double heading_yaw(const SoftState& s, const Eigen::Vector3d& axis);
 
 struct Problem {
   const Character* character = nullptr;

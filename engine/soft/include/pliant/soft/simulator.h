@@ -17,6 +17,7 @@
 #pragma once
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
+#include <vector>
 
 #include "pliant/soft/body.h"
 #include "pliant/soft/environment.h"
@@ -39,10 +40,24 @@ struct Character {
   double mass_kg = 0;
 };
 
+// Training of the nonlinear POD basis: `runs` full-space simulations (no gravity, no
+// contact), each under its own random smooth body force (a sum of three cosine waves
+// over the rest shape, random directions and wave vectors, suddenly applied) whose
+// amplitude would bend the first linear mode by `strain` x the body's diagonal.
+struct PodTraining {
+  int runs = 20;
+  int frames = 40;       // steps per run; every step is a snapshot
+  double dt_s = 0.01;
+  double strain = 0.2;
+  unsigned seed = 7;
+  int linear_modes = 8;  // the lowest linear modes kept (at most r - 1); POD fills the rest
+};
+
 // Builds rest data, modes (r) of a lattice, plus the modal derivatives of the first
-// `derivative_modes` modes (k (k + 1) / 2 more basis vectors).
+// `derivative_modes` modes (k (k + 1) / 2 more basis vectors). With pod, the basis is
+// instead the r-vector POD of the training snapshots (pod_snapshots).
 Character make_character(SurfaceMesh surface, Lattice lattice, const Material& mat, int modes,
-                         int derivative_modes = 0);
+                         int derivative_modes = 0, const PodTraining* pod = nullptr);
 
 struct SimParams {
   double dt_s = 1.0 / 30;
@@ -84,5 +99,9 @@ void reduced_step(const Character& ch, const Environment& env, const SimParams& 
 // defined on modal coordinates); validation runs set modal_damping_s = 0.
 void full_step(const Character& ch, const Environment& env, const SimParams& sp, const Eigen::VectorXd& f,
                Eigen::VectorXd& x, Eigen::VectorXd& x_prev, StepStats* stats = nullptr);
+
+// Local displacements (best rigid fit to the rest shape removed, 3N each) of the full
+// simulations described by PodTraining.
+std::vector<Eigen::VectorXd> pod_snapshots(const Character& ch, const PodTraining& t);
 
 }  // namespace pliant::soft

@@ -23,6 +23,7 @@
 #include "pliant/core/take.h"
 #include "pliant/soft/body.h"
 #include "pliant/soft/cubature.h"
+#include "pliant/soft/navigation.h"
 #include "pliant/soft/objective.h"
 #include "pliant/soft/optimizer.h"
 #include "pliant/soft/simulator.h"
@@ -36,6 +37,7 @@ struct SoftModel {
   OptimizerSettings optimizer;
   int frames = 100;            // frames written to the take (frame 0 = rest)
   CubatureReport cubature;     // cells == 0 when cubature is off
+  NavSettings navigation;      // enabled: the job plans gait sequences to a goal
 };
 
 // problem.character points into the model: call after copying or moving a model.

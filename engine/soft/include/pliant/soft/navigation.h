@@ -1,0 +1,87 @@
+// Navigation of a soft character (dissertation section 4.6; ALGORITHMS.md section 3,
+// "Navigation"): a few gaits that differ only in their DMP parameters (forward, turn
+// left, turn right) are optimized once; each is measured as a motion primitive, the
+// planar rigid motion (forward, sideways, yaw) of one controller period in the body
+// frame. Forward is a straight line and the turns are arcs, so the character is a
+// Dubins car with turning radius rho = speed / |yaw rate|: RRT* (OMPL,
+// ompl::geometric::RRTstar) in OMPL's Dubins space plans a shortest curvature-bounded
+// path to the goal around the obstacles' footprints, inflated by the body's radius.
+// The path is then executed in the reduced simulation one period at a time: the gait
+// whose primitive lands nearest a look-ahead point on the path is played (closed
+// loop on the simulated pose, so primitive errors do not accumulate). Planar
+// coordinates are (x, z) of the world (y up); yaw = atan2(h_z, h_x) of the body axis h.
+// Without OMPL (libompl-dev) navigation is unavailable: soft_compile rejects a
+// "navigation" section with an InputError.
+#pragma once
+#include <Eigen/Core>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "pliant/soft/objective.h"
+
+namespace pliant::soft {
+
+struct Gait {
+  std::string name;
+  Eigen::VectorXd theta;
+  double forward_m = 0, side_m = 0, yaw_rad = 0;  // per period, body frame at its start
+};
+
+struct NavObstacle {
+  Eigen::Vector2d center_m = Eigen::Vector2d::Zero();  // (x, z)
+  double radius_m = 0;
+};
+
+struct NavSettings {
+  bool enabled = false;
+  Eigen::Vector2d goal_m = Eigen::Vector2d::Zero();  // (x, z)
+  double goal_tolerance_m = 0.25;
+  std::vector<NavObstacle> obstacles;
+  Eigen::Vector3d body_axis = Eigen::Vector3d::UnitX();
+  double speed_m_per_s = 0.15;       // gait targets
+  double turn_rate_rad_per_s = 0.5;
+  double clearance_m = 0.05;         // added to the body radius when inflating obstacles
+  double planning_time_s = 1.0;
+  int max_frames = 1500;
+  std::vector<Eigen::VectorXd> cached_theta;  // forward, left, right (empty: optimize)
+};
+
+// True when this build has OMPL.
+bool navigation_available();
+
+// Objectives of gait k (0 forward, 1 left, 2 right) for problem p.
+Objectives gait_objectives(const NavSettings& nav, int k);
+
+// Measures a gait's primitive: simulates `warmup + periods` controller periods from
+// rest and averages the per-period planar motion over the last `periods`.
+Gait measure_gait(const Problem& p, const std::string& name, const Eigen::VectorXd& theta,
+                  const Eigen::Vector3d& body_axis, int warmup = 1, int periods = 3);
+
+// Planar pose (x, z, yaw) of a state.
+Eigen::Vector3d planar_pose(const SoftState& s, const Eigen::Vector3d& body_axis);
+
+// Horizontal radius of the body (largest distance of a rest node from the COM axis).
+double body_radius_m(const Character& ch);
+
+// RRT* in the Dubins space (turning radius rho) from pose start to the goal disc,
+// avoiding obstacles inflated by `inflate`; dense poses (x, z, yaw) along the path.
+// Throws std::runtime_error when no path is found or OMPL is missing.
+std::vector<Eigen::Vector3d> plan_dubins_path(const Eigen::Vector3d& start, const NavSettings& nav, double rho,
+                                              double inflate, unsigned seed = 1);
+
+struct NavResult {
+  std::vector<Eigen::Vector3d> planned;  // poses along the planned path
+  std::vector<int> gait_sequence;        // one gait index per period
+  std::vector<Eigen::Vector3d> com;      // simulated COM per frame (frame 0 first)
+  double turning_radius_m = 0;
+  double final_distance_m = 0;           // COM to goal, horizontal
+  double min_clearance_m = 0;            // COM to the nearest obstacle footprint (not inflated)
+  bool reached = false;
+};
+
+// Plans and executes: on_frame(state, gait) after every simulated frame.
+NavResult navigate(const Problem& p, const std::vector<Gait>& gaits, const NavSettings& nav,
+                   const std::function<void(const SoftState&, int)>& on_frame = {});
+
+}  // namespace pliant::soft
