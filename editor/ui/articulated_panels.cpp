@@ -1,10 +1,470 @@
-// Placeholder until the articulated panels land: the generic inspector only.
-#include "ui/kind_panels.h"
+// The articulated kind's parts of the shared panels: typed inspector, jobs
+// (Simulate, Compare integrators with the energy plot), viewport toolbar and
+// overlay, timeline readout; the geometry source the drawer compiles takes with.
+#include "ui/articulated_panels.h"
+
+#include <imgui.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+
+#include "pliant/core/scene.h"
+#include "pliant/core/take.h"
+#include "render/articulated_drawer.h"
+#include "ui/app.h"
+#include "ui/json_widgets.h"
+#include "ui/panel_window.h"
+#include "ui/ui_mark.h"
+
+#ifdef PLIANT_HAVE_ARTICULATED
+#include "pliant/articulated/articulated.h"
+#endif
 
 namespace pliant::editor {
 
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+ArticulatedUiState& ui_state(App& app) { return app.kind_ui.get<ArticulatedUiState>("articulated"); }
+
+#ifdef PLIANT_HAVE_ARTICULATED
+Scene make_scene(const json& doc, const fs::path& dir) {
+  Scene s;
+  s.file = "scene";
+  s.dir = dir.empty() ? fs::path(".") : dir;
+  s.kind = "articulated";
+  s.doc = doc;
+  return s;
+}
+
+// The drawer's geometry source: the engine's own compile of the take's scene.
+bool compile_geometry(const json& scene, const fs::path& dir, ArticulatedGeometry* out, std::string* err) {
+  try {
+    const articulated::ArticulatedScene a = articulated::articulated_compile(make_scene(scene, dir));
+    const articulated::Model& m = a.model;
+    out->bodies = static_cast<int>(m.bodies.size()) - 1;
+    out->gravity = m.gravity.norm();
+    for (size_t b = 1; b < m.bodies.size(); ++b) {
+      out->total_mass += m.bodies[b].mass;
+      if (m.bodies[b].parent != 0) continue;
+      for (int j : m.bodies[b].joints) {
+        const auto t = m.joints[j].type;
+        if (t == articulated::JointType::Free || t == articulated::JointType::Slide) out->floating = true;
+      }
+    }
+    for (const articulated::Geom& g : m.geoms) {
+      ArticulatedGeom v;
+      v.shape = g.type == articulated::GeomType::Plane     ? ArticulatedGeom::Plane
+                : g.type == articulated::GeomType::Sphere  ? ArticulatedGeom::Sphere
+                : g.type == articulated::GeomType::Capsule ? ArticulatedGeom::Capsule
+                                                           : ArticulatedGeom::Box;
+      v.body = g.body;
+      v.pos = {float(g.pos.x()), float(g.pos.y()), float(g.pos.z())};
+      v.quat = {float(g.quat.w()), float(g.quat.x()), float(g.quat.y()), float(g.quat.z())};
+      v.size = {float(g.size.x()), float(g.size.y()), float(g.size.z())};
+      out->geoms.push_back(v);
+    }
+    return true;
+  } catch (const std::exception& e) {
+    *err = e.what();
+    return false;
+  }
+}
+
+// Registered at start-up: render/ does not link the engine module.
+const bool kGeometryRegistered = [] {
+  articulated_drawer_set_geometry_source(&compile_geometry);
+  return true;
+}();
+#endif
+
+fs::path document_folder(const App& app) {
+  std::error_code ec;
+  return app.doc.has_path() ? fs::absolute(app.doc.path(), ec).parent_path() : fs::current_path(ec);
+}
+
+// Relative model paths of the shown take resolve against its scene file's folder.
+void point_drawer_at_take(App& app) {
+  TakeReader* rd = app.take.reader();
+  fs::path dir = document_folder(app);
+  if (rd && !rd->manifest().scene_file.empty()) {
+    std::error_code ec;
+    dir = fs::absolute(fs::path(rd->manifest().scene_file), ec).parent_path();
+  }
+  articulated_drawer_set_scene_dir(dir);
+}
+
+// "10 bodies, nq 20, nv 20, 0 actuators" (or the compile error), per revision.
+const std::string& model_summary(App& app) {
+  ArticulatedUiState& st = ui_state(app);
+  if (st.summary_doc == app.doc.id() && st.summary_revision == app.doc.revision()) return st.summary;
+  st.summary_doc = app.doc.id();
+  st.summary_revision = app.doc.revision();
+#ifdef PLIANT_HAVE_ARTICULATED
+  try {
+    const articulated::ArticulatedScene a =
+        articulated::articulated_compile(make_scene(app.doc.scene(), document_folder(app)));
+    const articulated::Model& m = a.model;
+    double mass = 0;
+    for (const auto& b : m.bodies) mass += b.mass;
+    char buf[256];
+    std::snprintf(buf, sizeof buf, "%d bodies, %zu geoms, nq %d, nv %d, %zu actuators, %.3g kg; %d frames",
+                  int(m.bodies.size()) - 1, m.geoms.size(), m.nq, m.nv, m.actuators.size(), mass,
+                  a.mpc ? a.steps + 1 : a.frames);
+    st.summary = buf;
+  } catch (const std::exception& e) {
+    st.summary = std::string("model: ") + e.what();
+  }
+#else
+  st.summary = "this editor was built without the articulated engine";
+#endif
+  return st.summary;
+}
+
+bool has_key(const json& s, const char* k) { return s.is_object() && s.contains(k); }
+
+void tooltip(const char* text) {
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", text);
+}
+
+void draw_inspector(App& app) {
+  Document& doc = app.doc;
+  point_drawer_at_take(app);
+  if (ImGui::CollapsingHeader("Model", ImGuiTreeNodeFlags_DefaultOpen)) {
+    const json& s = doc.scene();
+    if (has_key(s, "model") && s["model"].is_object()) {
+      ImGui::TextDisabled("inline model");
+      json_tree(doc, "model", "/model");
+    } else {
+      json_text(doc, "model file", "/model");
+      tooltip("MJCF (.xml) or Pliant JSON model (.json), relative to the scene's folder; "
+              "dropping a model file on the window sets it");
+    }
+    if (ImGui::SmallButton("Inline chain")) {
+      doc.set("/model", json{{"chain", {{"links", 10}, {"link_length", 0.1}, {"radius", 0.01}}}});
+    }
+    ui_mark("inline_chain");
+    tooltip("replace the model by a generated chain of capsules (edit links, length, radius)");
+    ImGui::PushTextWrapPos(0);
+    ImGui::TextDisabled("%s", model_summary(app).c_str());
+    ImGui::PopTextWrapPos();
+  }
+  if (ImGui::CollapsingHeader("Simulation", ImGuiTreeNodeFlags_DefaultOpen)) {
+    json_choice(doc, "integrator", "/integrator", "pbad3", {"pbad2", "pbad3", "euler", "rk4"});
+    tooltip("pbad2/pbad3: position-based collocation of 2nd/3rd order (implicit, one LM solve per step); "
+            "euler: semi-implicit Euler; rk4: Runge-Kutta 4");
+    json_double(doc, "dt", "/dt", 0.01, 0.0005f, 1e-6, 1.0, "%.4g");
+    json_double(doc, "duration_s", "/duration_s", 5.0, 0.05f, 0.0, 1e6, "%.3g");
+    json_int(doc, "write_every", "/write_every", 1, 1, 1000000);
+    tooltip("write every n-th step as a take frame");
+  }
+  if (ImGui::CollapsingHeader("Contact", ImGuiTreeNodeFlags_DefaultOpen)) {
+    json_bool(doc, "enabled", "/contact/enabled", true);
+    json_double(doc, "stiffness", "/contact/stiffness", 1e5, 100.0f, 1e-6, 1e12, "%.4g");
+    tooltip("penalty k: normal force k * depth (N/m)");
+    json_double(doc, "damping", "/contact/damping", 0.0, 0.1f, 0.0, 1e12, "%.4g");
+    json_choice(doc, "friction", "/contact/friction", "coulomb", {"none", "coulomb", "ck"});
+    tooltip("coulomb: dry friction (smoothed); ck: the dissertation's tangential model, -C_k f_n v_t");
+    const json& s = doc.scene();
+    const std::string friction = has_key(s, "contact") && s["contact"].is_object()
+                                     ? s["contact"].value("friction", std::string("coulomb"))
+                                     : "coulomb";
+    if (friction == "coulomb") json_double(doc, "mu", "/contact/mu", 0.5, 0.01f, 0.0, 100.0, "%.3g");
+    if (friction == "ck") json_double(doc, "C_k", "/contact/ck", 10.0, 0.1f, 0.0, 1e6, "%.3g");
+    if (friction == "coulomb")
+      json_double(doc, "slip_eps", "/contact/slip_eps", 1e-7, 1e-8f, 1e-12, 1.0, "%.2e");
+  }
+  if (ImGui::CollapsingHeader("Solver")) {
+    json_choice(doc, "method", "/solver/method", "lm", {"lm", "lbfgs"});
+    tooltip("PBAD step solver: Levenberg-Marquardt (O(N) tree solve) or preconditioned L-BFGS");
+    json_int(doc, "max_iterations", "/solver/max_iterations", 50, 1, 10000);
+    json_double(doc, "tolerance", "/solver/tolerance", 1e-7, 1e-8f, 1e-16, 1.0, "%.2e");
+    json_choice(doc, "hessian", "/solver/hessian", "exact", {"exact", "gauss_newton"});
+  }
+  const json& s = doc.scene();
+  if (has_key(s, "mpc") && s["mpc"].is_object()) {
+    if (ImGui::CollapsingHeader("MPC (CEM)", ImGuiTreeNodeFlags_DefaultOpen)) {
+      json_int(doc, "horizon", "/mpc/horizon", 10, 1, 1000);
+      tooltip("planning horizon in control steps");
+      json_int(doc, "substeps", "/mpc/substeps", 2, 1, 1000);
+      tooltip("simulation steps per control step");
+      json_int(doc, "samples", "/mpc/samples", 32, 2, 100000);
+      json_int(doc, "elites", "/mpc/elites", 6, 1, 100000);
+      json_int(doc, "iterations", "/mpc/iterations", 2, 1, 100);
+      json_double(doc, "noise", "/mpc/noise", 0.6, 0.01f, 0.0, 10.0, "%.3g");
+      json_int(doc, "seed", "/mpc/seed", 1, 0, 1 << 30);
+      json_double(doc, "ctrl_cost", "/mpc/ctrl_cost", 1e-3, 1e-4f, 0.0, 1e6, "%.3g");
+      json_double(doc, "upright_weight", "/mpc/upright_weight", 0.0, 0.5f, 0.0, 1e6, "%.3g");
+      json_double(doc, "height_weight", "/mpc/height_weight", 0.0, 0.5f, 0.0, 1e6, "%.3g");
+      if (ImGui::SmallButton("Remove MPC")) {
+        json next = s;
+        next.erase("mpc");
+        doc.edit("Remove MPC", next);
+      }
+      ui_mark("remove_mpc");
+    }
+  } else {
+    if (ImGui::SmallButton("Add MPC (CEM)"))
+      doc.set("/mpc", json{{"horizon", 10}, {"substeps", 2}, {"samples", 32}, {"elites", 6}, {"iterations", 2},
+                           {"noise", 0.6}, {"seed", 1}});
+    ui_mark("add_mpc");
+    tooltip("plan the actuators with cross-entropy MPC (the model needs motors)");
+  }
+}
+
+const ImU32 kRunColors[] = {IM_COL32(90, 160, 255, 255), IM_COL32(110, 220, 110, 255),
+                            IM_COL32(255, 100, 90, 255), IM_COL32(255, 185, 60, 255)};
+
+ImU32 run_color(const std::string& integrator) {
+  const auto& names = articulated_integrators();
+  for (size_t i = 0; i < names.size(); ++i)
+    if (names[i] == integrator) return kRunColors[i];
+  return IM_COL32(200, 200, 200, 255);
+}
+
+bool unstable(const IntegratorRun& r) { return !r.finite || r.drift_percent() > 200; }
+
+// Total energy of every run over time on one shared scale (unstable runs are
+// left out of the scale and clipped), with a legend: drift %, state; a click
+// on a legend entry shows that take in the viewport.
+void draw_energy_plot(App& app) {
+  ArticulatedUiState& st = ui_state(app);
+  if (st.runs.empty()) return;
+  float tmax = 0, lo = 1e30f, hi = -1e30f;
+  bool any_stable = false;
+  for (const auto& r : st.runs) any_stable = any_stable || (!unstable(r) && !r.total.empty());
+  for (const auto& r : st.runs) {
+    if (!r.time_s.empty()) tmax = std::max(tmax, r.time_s.back());
+    if (any_stable && unstable(r)) continue;
+    for (float v : r.total)
+      if (std::isfinite(v)) {
+        lo = std::min(lo, v);
+        hi = std::max(hi, v);
+      }
+  }
+  if (!(hi >= lo)) lo = 0, hi = 1;
+  const float pad = std::max(0.05f * (hi - lo), 1e-6f * std::max(std::fabs(hi), 1.0f));
+  lo -= pad;
+  hi += pad;
+  if (!(tmax > 0)) tmax = 1;
+
+  ImGui::TextUnformatted("total energy (J) over time (s)");
+  const float w = std::max(60.0f, ImGui::GetContentRegionAvail().x), h = 140.0f;
+  const ImVec2 p0 = ImGui::GetCursorScreenPos();
+  ImGui::InvisibleButton("energy_plot", ImVec2(w, h));
+  ui_mark("energy_plot");
+  const ImVec2 p1(p0.x + w, p0.y + h);
+  ImDrawList* dl = ImGui::GetWindowDrawList();
+  dl->AddRectFilled(p0, p1, IM_COL32(25, 27, 32, 255));
+  dl->AddRect(p0, p1, IM_COL32(90, 90, 100, 255));
+  dl->PushClipRect(p0, p1, true);
+  std::vector<ImVec2> pts;
+  for (const auto& r : st.runs) {
+    pts.clear();
+    for (size_t i = 0; i < r.total.size(); ++i) {
+      float v = r.total[i];
+      if (!std::isfinite(v)) break;
+      v = std::clamp(v, lo - (hi - lo), hi + (hi - lo));
+      pts.emplace_back(p0.x + w * r.time_s[i] / tmax, p1.y - h * (v - lo) / (hi - lo));
+    }
+    if (pts.size() >= 2) dl->AddPolyline(pts.data(), int(pts.size()), run_color(r.integrator), 0, 1.5f);
+  }
+  dl->PopClipRect();
+  char label[64];
+  std::snprintf(label, sizeof label, "%.4g", hi);
+  dl->AddText(ImVec2(p0.x + 3, p0.y + 2), IM_COL32(170, 170, 180, 255), label);
+  std::snprintf(label, sizeof label, "%.4g", lo);
+  dl->AddText(ImVec2(p0.x + 3, p1.y - 16), IM_COL32(170, 170, 180, 255), label);
+  std::snprintf(label, sizeof label, "%.3g s", tmax);
+  dl->AddText(ImVec2(p1.x - ImGui::CalcTextSize(label).x - 3, p1.y - 16), IM_COL32(170, 170, 180, 255), label);
+
+  for (const auto& r : st.runs) {
+    const ImVec2 c = ImGui::GetCursorScreenPos();
+    const float lh = ImGui::GetTextLineHeight();
+    dl->AddRectFilled(ImVec2(c.x, c.y + 0.3f * lh), ImVec2(c.x + 0.8f * lh, c.y + 0.8f * lh + 0.3f * lh),
+                      run_color(r.integrator));
+    ImGui::Dummy(ImVec2(lh, lh));
+    ImGui::SameLine();
+    const JobStatus js = r.job ? r.job->snapshot() : JobStatus{};
+    char text[160];
+    const double d = r.drift_percent();
+    if (unstable(r))
+      std::snprintf(text, sizeof text, "%-6s unstable (%s)", r.integrator.c_str(), job_state_name(js.state));
+    else if (d < 0)
+      std::snprintf(text, sizeof text, "%-6s (%s)", r.integrator.c_str(), job_state_name(js.state));
+    else
+      std::snprintf(text, sizeof text, "%-6s drift %.3g%%  %zu frames (%s)", r.integrator.c_str(), d,
+                    r.total.size(), job_state_name(js.state));
+    if (ImGui::Selectable(text, app.take.dir() == r.take)) app.cmd_open_take(r.take);
+    ui_mark("legend_" + r.integrator);
+    if (js.state == JobState::Failed && ImGui::IsItemHovered()) ImGui::SetTooltip("%s", js.error.c_str());
+  }
+  ImGui::TextDisabled("drift = max|E - E0| / max(kinetic max, potential range)");
+}
+
+void draw_jobs(App& app) {
+  ArticulatedUiState& st = ui_state(app);
+  point_drawer_at_take(app);
+  const bool valid = app.scene_error().empty();
+  if (!valid) ImGui::BeginDisabled();
+  if (ImGui::Button("Simulate")) articulated_simulate(app);
+  ui_mark("Simulate");
+  tooltip("run the scene with its integrator and dt (like Run)");
+  ImGui::SameLine();
+  if (ImGui::Button("Compare integrators")) {
+    std::vector<std::string> picked;
+    for (size_t i = 0; i < articulated_integrators().size(); ++i)
+      if (st.compare_pick[i]) picked.push_back(articulated_integrators()[i]);
+    articulated_compare_integrators(app, picked);
+  }
+  ui_mark("compare_integrators");
+  tooltip("run the scene once per ticked integrator (same dt) and plot their energies together");
+  if (!valid) ImGui::EndDisabled();
+  for (size_t i = 0; i < articulated_integrators().size(); ++i) {
+    if (i) ImGui::SameLine();
+    ImGui::Checkbox(articulated_integrators()[i].c_str(), &st.compare_pick[i]);
+    ui_mark("pick_" + articulated_integrators()[i]);
+  }
+  if (!st.compare_error.empty()) ImGui::TextColored(kErrorColor, "%s", st.compare_error.c_str());
+  articulated_poll_compare(app);
+  draw_energy_plot(app);
+
+  const json& s = app.doc.scene();
+  if (has_key(s, "mpc")) ImGui::TextDisabled("MPC scene: the take is the executed, planned trajectory");
+  if (TakeReader* rd = app.take.reader()) {
+    const json& m = rd->manifest().metrics;
+    if (m.is_object() && m.contains("distance_m") && m["distance_m"].is_number())
+      ImGui::Text("moved %.3g m forward", m["distance_m"].get<double>());
+    if (app.take.frame_count() > 1) {
+      if (ImGui::SmallButton("Play from start")) {
+        app.take.set_frame(0);
+        app.take.playing = true;
+      }
+      ui_mark("play_from_start");
+    }
+  }
+  ImGui::Separator();
+}
+
+void draw_toolbar(App& app) {
+  point_drawer_at_take(app);
+  ArticulatedDrawOptions& o = articulated_draw_options();
+  bool changed = ImGui::Checkbox("contacts", &o.show_contacts);
+  ui_mark("show_contacts");
+  ImGui::SameLine();
+  changed |= ImGui::Checkbox("follow", &o.follow);
+  ui_mark("follow");
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("keep a free-moving model's root in view (the ground moves)");
+  ImGui::SameLine();
+  ImGui::SetNextItemWidth(110);
+  changed |= ImGui::SliderFloat("force scale", &o.force_scale, 0.05f, 20.0f, "%.2f", ImGuiSliderFlags_Logarithmic);
+  if (ImGui::IsItemHovered())
+    ImGui::SetTooltip("contact force arrows: 1 = the model's weight drawn at 0.3 x the view");
+  // Upload the frame again so the drawer applies the new options.
+  if (changed) app.viewport.shown_frame = -1;
+}
+
+void draw_overlay(App& app, float x, float y, int, int) {
+  if (!app.renderer.has_frame() || app.renderer.drawer_name() != "articulated") return;
+  const ArticulatedFrameInfo& info = articulated_last_frame_info();
+  ImDrawList* dl = ImGui::GetWindowDrawList();
+  char text[200];
+  std::snprintf(text, sizeof text, "%d bodies  %d contacts  max |f| %.3g N", info.bodies, info.contacts,
+                info.max_force);
+  dl->AddText(ImVec2(x + 10, y + 8), IM_COL32(220, 220, 230, 255), text);
+  if (info.has_energy) {
+    std::snprintf(text, sizeof text, "E %.5g J  (kinetic %.4g, potential %.4g)", info.energy[2], info.energy[0],
+                  info.energy[1]);
+    dl->AddText(ImVec2(x + 10, y + 26), IM_COL32(220, 220, 230, 255), text);
+  }
+  if (!info.model_error.empty())
+    dl->AddText(ImVec2(x + 10, y + 44), IM_COL32(255, 110, 90, 255), ("model: " + info.model_error).c_str());
+}
+
+void draw_timeline(App& app) {
+  TakeReader* rd = app.take.reader();
+  if (!rd || app.take.frame_count() == 0) return;
+  const Manifest& man = rd->manifest();
+  double dt = 0;
+  int every = 1;
+  if (man.scene.is_object()) {
+    dt = man.scene.value("dt", 0.0);
+    every = man.scene.value("write_every", 1);
+  }
+  if (dt > 0)
+    ImGui::Text("t = %.3f s", app.take.frame * dt * std::max(every, 1));
+  else
+    ImGui::Text("frame %d", app.take.frame);
+  const json& m = man.metrics;
+  if (m.is_object() && !m.empty()) {
+    ImGui::SameLine();
+    std::string line;
+    for (const char* k : {"distance_m", "energy_drift", "lm_iterations_per_step", "wall_s"})
+      if (m.contains(k) && m[k].is_number()) {
+        char b[64];
+        std::snprintf(b, sizeof b, "%s %.4g   ", k, m[k].get<double>());
+        line += b;
+      }
+    ImGui::TextDisabled("%s", line.c_str());
+  }
+}
+
+}  // namespace
+
+bool articulated_on_drop(App& app, const std::string& path) {
+  const json& s = app.doc.scene();
+  if (!s.is_object() || s.value("kind", std::string()) != "articulated") return false;
+  const fs::path p(path);
+  const std::string ext = p.extension().string();
+  if (ext != ".xml" && ext != ".json") return false;
+  if (ext == ".json") {
+    // A scene (with "kind") opens as a document; a model file is ours.
+    try {
+      std::ifstream in(p);
+      const json j = json::parse(in);
+      if (j.is_object() && j.contains("kind")) return false;
+    } catch (const std::exception&) {
+      return false;
+    }
+  }
+  std::error_code ec;
+  fs::path model = fs::absolute(p, ec);
+  if (app.doc.has_path()) {
+    const fs::path rel = fs::relative(model, document_folder(app), ec);
+    if (!ec && !rel.empty()) model = rel;
+  }
+  json next = s;
+  next["model"] = model.generic_string();
+#ifdef PLIANT_HAVE_ARTICULATED
+  try {
+    articulated::articulated_compile(make_scene(next, document_folder(app)));
+  } catch (const std::exception& e) {
+    app.set_status(std::string("Model not loaded: ") + e.what(), true);
+    app.log.error(app.status());
+    return true;  // ours, but rejected: the document is unchanged
+  }
+#endif
+  app.doc.edit("Set model " + p.filename().string(), next);
+  app.set_status("Model " + model.generic_string());
+  app.log.info(app.status());
+  return true;
+}
+
 const KindPanels& articulated_panels() {
-  static const KindPanels p{"articulated"};
+  static const KindPanels p = [] {
+    KindPanels k;
+    k.kind = "articulated";
+    k.inspector = &draw_inspector;
+    k.typed_keys = {"model", "integrator", "dt", "duration_s", "write_every", "contact", "solver", "mpc"};
+    k.jobs = &draw_jobs;
+    k.viewport_toolbar = &draw_toolbar;
+    k.viewport_overlay = &draw_overlay;
+    k.timeline = &draw_timeline;
+    return k;
+  }();
   return p;
 }
 

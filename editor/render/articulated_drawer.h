@@ -1,0 +1,66 @@
+// Articulated take frames (issue 6): bodies posed by "body_pose" with the
+// model's geoms, the ground and static obstacles, contact points with force
+// arrows. The model comes from compiling the take manifest's scene copy once
+// per take (articulated_compile); the drawer itself is render/articulated_drawer.cpp.
+//
+// Display frame: the engine is z-up, the orbit camera y-up, so the drawer shows
+// world (x, y, z) at display (x, z, -y); bounds are reported in display units.
+#pragma once
+#include <array>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "render/mat4.h"
+
+namespace pliant::editor {
+
+// Settings the articulated panels change; the drawer reads them at upload time
+// (panels force a re-upload after a change).
+struct ArticulatedDrawOptions {
+  bool show_contacts = true;
+  bool follow = true;        // floating models: keep the root body centred horizontally
+  float force_scale = 1.0f;  // arrow length = force_scale * |f| / (total weight) * 0.3 * view size
+};
+ArticulatedDrawOptions& articulated_draw_options();
+
+// The folder that relative model paths of the take's scene copy are resolved
+// against (the folder of the manifest's scene_file). The drawer's upload() only
+// receives the scene JSON, so the panels set this before the viewport draws.
+void articulated_drawer_set_scene_dir(const std::filesystem::path& dir);
+
+// The model's geometry as the drawer needs it. render/ does not link the engine
+// module, so the articulated panels (ui/, which do) register the function that
+// compiles a scene into this (articulated_compile); without one, bodies are
+// drawn as plain balls.
+struct ArticulatedGeom {
+  enum Shape { Plane, Sphere, Capsule, Box } shape = Sphere;
+  int body = 0;  // 0: a static obstacle in the world
+  Vec3 pos{0, 0, 0};                     // in the body frame (world for static)
+  std::array<float, 4> quat{1, 0, 0, 0};  // w x y z
+  Vec3 size{0, 0, 0};  // sphere r; capsule r, half length (local z); box half sizes
+};
+struct ArticulatedGeometry {
+  int bodies = 0;          // without the world
+  bool floating = false;   // a root body has a free or slide joint
+  double total_mass = 0;   // kg
+  double gravity = 9.81;   // m/s^2
+  std::vector<ArticulatedGeom> geoms;
+};
+using ArticulatedGeometryFn = bool (*)(const nlohmann::json& scene, const std::filesystem::path& dir,
+                                       ArticulatedGeometry* out, std::string* err);
+void articulated_drawer_set_geometry_source(ArticulatedGeometryFn fn);
+
+// What the last uploaded frame held (the viewport overlay prints it).
+struct ArticulatedFrameInfo {
+  int bodies = 0, geoms = 0, contacts = 0;
+  bool has_energy = false;
+  float energy[3] = {0, 0, 0};  // kinetic, potential, total (J)
+  float max_force = 0;          // N, largest contact force of the frame
+  std::string model_error;      // compile error: bodies drawn as plain spheres
+};
+const ArticulatedFrameInfo& articulated_last_frame_info();
+
+}  // namespace pliant::editor

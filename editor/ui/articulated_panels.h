@@ -1,0 +1,68 @@
+// Articulated scenes in the editor (issue 6): typed inspector, Simulate and
+// "Compare integrators" (one job per integrator on scene variants, their total
+// energy over time plotted together with a drift legend), viewport toolbar
+// (contacts, follow, force scale) and overlay, timeline readout, model drops.
+#pragma once
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "ui/kind_panels.h"
+
+namespace pliant::editor {
+
+class App;
+class JobProcess;
+}  // namespace pliant::editor
+namespace pliant {
+class TakeReader;
+}
+namespace pliant::editor {
+
+// One run of "Compare integrators": its job, take and the energy read so far.
+struct IntegratorRun {
+  std::string integrator;
+  std::filesystem::path take;
+  JobProcess* job = nullptr;  // owned by app.jobs
+  std::shared_ptr<TakeReader> reader;
+  size_t frames_read = 0;
+  std::vector<float> time_s, total, kinetic, potential;
+  bool finite = true;
+  // 100 * max |E(t) - E(0)| / energy scale, the scale being the largest of the
+  // kinetic energy's maximum and the potential energy's range over the run
+  // (both equal the energy exchanged by a conservative swing); -1 before 2 frames.
+  double drift_percent() const;
+};
+
+struct ArticulatedUiState : KindUiState {
+  bool compare_pick[4] = {true, true, true, true};  // pbad2, pbad3, euler, rk4
+  std::vector<IntegratorRun> runs;                  // the newest comparison
+  std::string compare_error;
+  int next_job_id = 1001;  // App's own counter is private: compare jobs number from 1001
+  // Model summary cache (per document revision).
+  uint64_t summary_doc = 0, summary_revision = ~uint64_t(0);
+  std::string summary;
+};
+
+// Integrators "Compare integrators" can run, in the order of compare_pick.
+const std::vector<std::string>& articulated_integrators();
+
+// Starts one job per picked integrator on variants of the document's scene
+// (integrator replaced, relative model path made absolute), writing each variant
+// beside its take "<take base>-<integrator>". false + status on failure.
+bool articulated_compare_integrators(App& app, const std::vector<std::string>& integrators);
+// Reads new frames' energy of every comparison run (called each UI frame by the jobs panel).
+void articulated_poll_compare(App& app);
+
+// Simulate: `pliant run` on the document like Run (F5), except that a relative
+// model path is made absolute first when the scene has to be copied beside the
+// take (an unsaved document), where the relative path would no longer resolve.
+bool articulated_simulate(App& app);
+
+// A dropped model file (.xml MJCF, or a .json that is a model, not a scene) on
+// an articulated document becomes its "model" (path relative to the scene's
+// folder); one undo step. Returns false when the drop is not for us.
+bool articulated_on_drop(App& app, const std::string& path);
+
+}  // namespace pliant::editor
