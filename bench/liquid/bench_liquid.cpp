@@ -1,4 +1,5 @@
-// bench_liquid [--quick] [--out FILE]: prints one JSON object per case and
+// bench_liquid [--quick] [--out FILE] [--sim-only | --planners-only | --feedback-only]
+//   [--no-feedback] [--problems N] [--feedback-problems N]: prints one JSON object per case and
 // writes them as an array to bench/results/liquid.json.
 //   sim_<dim>d_<n>k_t<threads>: dam-break-style collapse, particle_steps_per_s
 //   dam_break_3d: 0.5 m cube in a 1 m box (~60k particles), wall_per_sim_s
@@ -7,6 +8,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <ctime>
 #include <fstream>
@@ -86,13 +88,18 @@ nlohmann::json run_sim(const std::string& name, const LiquidModel& m, int thread
 }  // namespace
 
 int main(int argc, char** argv) {
-  bool quick = false, sims = true, planners = true;
+  bool quick = false, sims = true, planners = true, feedback = true;
+  int problems = 0, feedback_problems = 0;
   std::string out = PLIANT_BENCH_RESULTS;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--quick")) quick = true;
     else if (!std::strcmp(argv[i], "--out") && i + 1 < argc) out = argv[++i];
     else if (!std::strcmp(argv[i], "--sim-only")) planners = false;
     else if (!std::strcmp(argv[i], "--planners-only")) sims = false;
+    else if (!std::strcmp(argv[i], "--feedback-only")) sims = false, planners = false;
+    else if (!std::strcmp(argv[i], "--no-feedback")) feedback = false;
+    else if (!std::strcmp(argv[i], "--problems") && i + 1 < argc) problems = std::atoi(argv[++i]);
+    else if (!std::strcmp(argv[i], "--feedback-problems") && i + 1 < argc) feedback_problems = std::atoi(argv[++i]);
   }
   const std::string mach = pliant::bench::machine_description();
   nlohmann::json all = nlohmann::json::array();
@@ -124,7 +131,8 @@ int main(int argc, char** argv) {
     emit(run_sim("dam_break_3d", dam, std::min(2, maxt), quick ? 0.2 : 1.0));
   }
   if (planners)
-    for (auto& j : bench_planners(quick)) emit(j);
+    for (auto& j : bench_planners(quick, problems)) emit(j);
+  if (feedback) emit(bench_feedback(feedback_problems > 0 ? feedback_problems : quick ? 5 : 100));
   std::ofstream f(out);
   f << all.dump(2) << "\n";
   std::fprintf(stderr, "wrote %s\n", out.c_str());

@@ -12,11 +12,12 @@
 
 #include "planners.h"
 #include "pliant/core/progress.h"
+#include "pliant/liquid/feedback.h"
 #include "pliant/liquid/problem_generator.h"
 
-inline std::vector<nlohmann::json> bench_planners(bool quick) {
+inline std::vector<nlohmann::json> bench_planners(bool quick, int count_override = 0) {
   using namespace pliant::liquid;
-  const int count = quick ? 3 : 20;
+  const int count = count_override > 0 ? count_override : quick ? 3 : 20;
   const auto problems = held_out_problems(count, 2026);
   std::vector<nlohmann::json> out;
   for (Planner planner : {Planner::Simplified, Planner::Correction}) {
@@ -49,4 +50,45 @@ inline std::vector<nlohmann::json> bench_planners(bool quick) {
                    {"per_problem", per}});
   }
   return out;
+}
+
+// The feedback planner on held-out problems with the shipped network: the
+// closed loop (MPC decisions + full simulator) is the validation run.
+//   mpc_step_ms: mean time of one MPC decision (the networks over all
+//   candidates and the horizon); the simulator's frames are not included.
+inline nlohmann::json bench_feedback(int count) {
+  using namespace pliant::liquid;
+  const FeedbackPredictor net = FeedbackPredictor::load(default_feedback_network());
+  const auto problems = held_out_problems(count, 2026);
+  int success = 0;
+  double transfer = 0, wall = 0, step_ms = 0, step_max = 0, plan_s = 0;
+  nlohmann::json per = nlohmann::json::array();
+  for (const auto& p : problems) {
+    const double t0 = omp_get_wtime();
+    const FeedbackRun run = run_feedback(p.model, net, MpcSettings{}, liquid_init(p.model), {}, nullptr);
+    wall += omp_get_wtime() - t0;
+    LiquidModel m = p.model;
+    m.source_path = run.path;
+    const auto fr = liquid_fractions(m, run.final_state);
+    transfer += fr[0];
+    success += fr[1] < 0.05;
+    step_ms += run.mpc_step_ms_mean;
+    plan_s += run.mpc_step_ms_mean * run.mpc_steps * 1e-3;  // all decisions of the pour
+    step_max = std::max(step_max, run.mpc_step_ms_max);
+    per.push_back({{"id", p.id}, {"in_target", fr[0]}, {"spilled", fr[1]}, {"in_source", fr[2]},
+                   {"mpc_step_ms", run.mpc_step_ms_mean}});
+    std::fprintf(stderr, "  feedback problem %d: in target %.3f spilled %.3f left %.3f\n", p.id, fr[0], fr[1], fr[2]);
+  }
+  return {{"case", "planner_feedback_2d"},
+          {"problems", count},
+          {"split", "held_out (generator seed 2026)"},
+          {"training_samples", net.samples},
+          {"success_at_5", double(success) / count},
+          {"mean_transfer", transfer / count},
+          {"plan_s", plan_s / count},
+          {"mpc_step_ms", step_ms / count},
+          {"mpc_step_ms_max", step_max},
+          {"closed_loop_wall_s", wall / count},
+          {"threads", omp_get_max_threads()},
+          {"per_problem", per}};
 }

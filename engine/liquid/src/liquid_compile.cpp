@@ -2,13 +2,16 @@
 // pointer and expectation (JsonReader); containers may be inline objects or
 // paths to container files (assets/containers/*.json) relative to the scene.
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
 #include "pliant/core/error.h"
 #include "pliant/core/json_reader.h"
 #include "pliant/core/scene.h"
+#include "pliant/liquid/feedback.h"
 #include "pliant/liquid/liquid.h"
+#include "pliant/liquid/problem_generator.h"
 
 namespace pliant::liquid {
 namespace {
@@ -93,6 +96,38 @@ Pose read_pose(JsonReader& r, int dim, bool position_required) {
   return p;
 }
 
+void read_planner(JsonReader& root, LiquidModel& m, const Scene& scene) {
+  if (auto p = root.object("planner")) {
+    const std::string mode = p->choice("mode", "none", {"none", "correction", "simplified", "feedback"});
+    m.planner.planner = mode == "correction"   ? Planner::Correction
+                        : mode == "simplified" ? Planner::Simplified
+                        : mode == "feedback"   ? Planner::Feedback
+                                               : Planner::None;
+    m.planner.iterations = int(p->integer("iterations", m.planner.iterations, 1, 1000));
+    m.planner.population = int(p->integer("population", m.planner.population, 4, 1000));
+    m.planner.generations = int(p->integer("generations", m.planner.generations, 1, 100000));
+    m.planner.keys = int(p->integer("keys", m.planner.keys, 1, 20));
+    m.planner.fit_discharge = p->boolean("fit_discharge", m.planner.fit_discharge);
+    m.planner.refine_iterations = int(p->integer("refine_iterations", m.planner.refine_iterations, 0, 100));
+    m.planner.discharge_coefficient = p->number("discharge_coefficient", m.planner.discharge_coefficient, 0.01, 10);
+    m.planner.pour_time_s = p->number("pour_time_s", m.planner.pour_time_s, 0.1, 100);
+    m.planner.max_tilt_rad = p->number("max_tilt_deg", m.planner.max_tilt_rad / kDeg, 10, 180) * kDeg;
+    m.planner.seed = uint64_t(p->integer("seed", 1, 0));
+    const std::string net = p->string("network", "");
+    m.planner.network = net.empty() ? default_feedback_network().string() : scene.asset_path(net).string();
+    if (m.planner.planner == Planner::Feedback && !std::filesystem::exists(m.planner.network))
+      p->fail("network", "cannot read the feedback network \"" + m.planner.network +
+                             "\" (train one: liquid_train OUT/liquid_dataset NET.json)");
+    m.planner.interval_s = p->number("interval_s", m.planner.interval_s, 1e-3, 10);
+    m.planner.horizon = int(p->integer("horizon", m.planner.horizon, 1, 50));
+    m.planner.record_samples = p->boolean("record_samples", m.planner.record_samples);
+    m.planner.sample_rollouts = int(p->integer("sample_rollouts", m.planner.sample_rollouts, 0, 100));
+    p->finish();
+    if ((m.planner.planner != Planner::None || m.planner.record_samples) && (!m.has_source || !m.has_target))
+      p->fail("mode", "a planner needs both /source and /target");
+  }
+}
+
 }  // namespace
 
 LiquidModel liquid_compile(const Scene& scene) {
@@ -101,6 +136,24 @@ LiquidModel liquid_compile(const Scene& scene) {
   accept_scene_envelope(root);
   root.accept("comment");
   m.dim = int(root.integer("dim", 3, 2, 3));
+  if (auto pr = root.object("problem")) {
+    // A problem of the fixed-seed generator (dataset sweeps, benchmarks): it
+    // sets everything but the planner.
+    for (const char* key : {"domain", "time", "pressure", "gravity_m_per_s2", "liquid", "source", "target"})
+      if (root.has(key)) root.fail(key, "not allowed together with /problem (the generator sets it)");
+    const uint64_t seed = uint64_t(pr->integer("seed", 2026, 0));
+    const int id = int(pr->required_integer("id", 0, 1000000000));
+    const std::string split = pr->choice("split", "train", {"train", "held_out", "any"});
+    if (split == "train" && id % 5 == 0)
+      pr->fail("id", "problem " + std::to_string(id) + " is held out (id % 5 == 0); training uses the others");
+    if (split == "held_out" && id % 5 != 0)
+      pr->fail("id", "problem " + std::to_string(id) + " is a training problem; held-out ids are multiples of 5");
+    pr->finish();
+    m = generate_problem(id, seed, m.dim).model;
+    read_planner(root, m, scene);
+    root.finish();
+    return m;
+  }
   auto domain = root.object("domain");
   if (!domain) root.fail("domain", "missing required field; expected {\"min_m\", \"max_m\", \"cell_size_m\"}");
   m.domain_min_m = required_vec(*domain, "min_m", m.dim);
@@ -175,26 +228,7 @@ LiquidModel liquid_compile(const Scene& scene) {
   }
   if (!m.has_source && m.liquid_boxes.empty())
     root.fail("source", "missing: a liquid scene needs a source container or /liquid/boxes");
-  if (auto p = root.object("planner")) {
-    const std::string mode = p->choice("mode", "none", {"none", "correction", "simplified", "feedback"});
-    m.planner.planner = mode == "correction"   ? Planner::Correction
-                        : mode == "simplified" ? Planner::Simplified
-                        : mode == "feedback"   ? Planner::Feedback
-                                               : Planner::None;
-    m.planner.iterations = int(p->integer("iterations", m.planner.iterations, 1, 1000));
-    m.planner.population = int(p->integer("population", m.planner.population, 4, 1000));
-    m.planner.generations = int(p->integer("generations", m.planner.generations, 1, 100000));
-    m.planner.keys = int(p->integer("keys", m.planner.keys, 1, 20));
-    m.planner.fit_discharge = p->boolean("fit_discharge", m.planner.fit_discharge);
-    m.planner.refine_iterations = int(p->integer("refine_iterations", m.planner.refine_iterations, 0, 100));
-    m.planner.discharge_coefficient = p->number("discharge_coefficient", m.planner.discharge_coefficient, 0.01, 10);
-    m.planner.pour_time_s = p->number("pour_time_s", m.planner.pour_time_s, 0.1, 100);
-    m.planner.max_tilt_rad = p->number("max_tilt_deg", m.planner.max_tilt_rad / kDeg, 10, 180) * kDeg;
-    m.planner.seed = uint64_t(p->integer("seed", 1, 0));
-    p->finish();
-    if (m.planner.planner != Planner::None && (!m.has_source || !m.has_target))
-      p->fail("mode", "a planner needs both /source and /target");
-  }
+  read_planner(root, m, scene);
   root.finish();
   return m;
 }

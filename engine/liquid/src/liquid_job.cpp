@@ -4,9 +4,11 @@
 #include <omp.h>
 
 #include <chrono>
+#include <memory>
 #include <stdexcept>
 
 #include "planners.h"
+#include "pliant/liquid/feedback.h"
 #include "pliant/core/error.h"
 #include "pliant/liquid/pour_tracks.h"
 #include "pliant/liquid/liquid.h"
@@ -106,21 +108,20 @@ nlohmann::json liquid_run_job(JobContext& ctx) {
       case Planner::None: break;
       case Planner::Simplified: m.source_path = plan_simplified(m, ctx.progress, &info); break;
       case Planner::Correction: m.source_path = plan_correction(m, ctx.progress, &info); break;
-      case Planner::Feedback:
-        throw InputError(ctx.scene.file, "/planner/mode",
-                         "planner \"feedback\" is not implemented yet (use simplified or correction)");
+      case Planner::Feedback: break;  // plans while it simulates (below)
+    }
+  }
+  const bool feedback = m.planner.planner == Planner::Feedback;
+  FeedbackPredictor net;
+  if (feedback) {
+    try {
+      net = FeedbackPredictor::load(m.planner.network);
+    } catch (const std::exception& e) {
+      throw InputError(ctx.scene.file, "/planner/network", e.what());
     }
   }
   const double plan_s = seconds_since(t0);
-  if (m.planner.planner != Planner::None) {
-    if (!resumed) metrics["plan_s"] = plan_s, metrics["planner"] = info;
-    nlohmann::json keys = nlohmann::json::array();
-    for (const KeyPose& k : m.source_path.keys)
-      keys.push_back({{"time_s", k.time_s},
-                      {"position_m", {k.pose.position_m[0], k.pose.position_m[1], k.pose.position_m[2]}},
-                      {"tilt_deg", k.pose.tilt_rad * 180 / 3.14159265358979323846}});
-    metrics["trajectory"] = keys;
-  }
+  if (m.planner.planner != Planner::None && !resumed && !feedback) metrics["plan_s"] = plan_s, metrics["planner"] = info;
 
   const auto t1 = std::chrono::steady_clock::now();
   ctx.progress.stage("simulate", m.frames);
@@ -134,19 +135,60 @@ nlohmann::json liquid_run_job(JobContext& ctx) {
   double max_speed = 0;
   long long particle_steps = 0;
   PourTracks tracks(m, s);  // streamlines (C_OBJ) only for runs from frame 0
-  for (int f = s.frame; f < m.frames; ++f) {
+  std::unique_ptr<FeedbackContext> sample_ctx;
+  std::unique_ptr<SampleRecorder> samples;
+  if (m.planner.record_samples && !resumed) {
+    sample_ctx = std::make_unique<FeedbackContext>(m);
+    samples = std::make_unique<SampleRecorder>(*sample_ctx, s, m.planner.interval_s);
+  }
+  // Bookkeeping after every frame; `mm` is the model the frame was simulated
+  // with (the feedback planner extends its path as it goes).
+  long long last_substeps = s.substeps;
+  auto after_frame = [&](const LiquidModel& mm, const LiquidState& st) {
+    if (feedback) m.source_path = mm.source_path;  // tracks and samples read m's path
+    particle_steps += (st.substeps - last_substeps) * (long long)st.count();
+    last_substeps = st.substeps;
+    if (m.has_source && m.has_target && !resumed) tracks.record(st);
+    if (samples) samples->record(st);
+    ctx.take.append(liquid_frame_record(mm, st));
+    if (st.frame % kCheckpointEveryFrames == 0) ctx.take.append(checkpoint_record(st, mm.source_path));
+    ctx.events.frame(st.frame);
+    const auto fr = liquid_fractions(mm, st);
+    ctx.progress.report(st.frame, fr[1]);
     ctx.progress.check_cancelled();
-    StepStats st;
-    liquid_step(m, s, &st);
-    pressure_iterations += st.pressure_iterations;
-    max_speed = std::max(max_speed, st.max_speed);
-    particle_steps += (long long)st.substeps * (long long)s.count();
-    if (m.has_source && m.has_target && !resumed) tracks.record(s);
-    ctx.take.append(liquid_frame_record(m, s));
-    if (s.frame % kCheckpointEveryFrames == 0) ctx.take.append(checkpoint_record(s, m.source_path));
-    ctx.events.frame(s.frame);
-    const auto fr = liquid_fractions(m, s);
-    ctx.progress.report(f + 1, fr[1]);
+  };
+  if (feedback) {
+    // Receding-horizon MPC: decisions interleaved with the simulated frames,
+    // so this run is both the plan and its full-simulation validation.
+    MpcSettings ms;
+    ms.horizon = m.planner.horizon;
+    FeedbackRun run = run_feedback(m, net, ms, s, m.source_path, after_frame);
+    m.source_path = run.path;
+    s = std::move(run.final_state);
+    if (!resumed) {
+      metrics["plan_s"] = run.mpc_step_ms_mean * run.mpc_steps / 1000;
+      metrics["planner"] = {{"mode", "feedback"}, {"network", m.planner.network}, {"training_samples", net.samples}};
+    }
+    metrics["mpc_step_ms"] = run.mpc_step_ms_mean;
+    metrics["mpc_step_ms_max"] = run.mpc_step_ms_max;
+    metrics["mpc_steps"] = run.mpc_steps;
+  } else {
+    for (int f = s.frame; f < m.frames; ++f) {
+      ctx.progress.check_cancelled();
+      StepStats st;
+      liquid_step(m, s, &st);
+      pressure_iterations += st.pressure_iterations;
+      max_speed = std::max(max_speed, st.max_speed);
+      after_frame(m, s);
+    }
+  }
+  if (m.planner.planner != Planner::None) {
+    nlohmann::json keys = nlohmann::json::array();
+    for (const KeyPose& k : m.source_path.keys)
+      keys.push_back({{"time_s", k.time_s},
+                      {"position_m", {k.pose.position_m[0], k.pose.position_m[1], k.pose.position_m[2]}},
+                      {"tilt_deg", k.pose.tilt_rad * 180 / 3.14159265358979323846}});
+    metrics["trajectory"] = keys;
   }
   const double sim_s = seconds_since(t1);
   const auto fr = liquid_fractions(m, s);
@@ -165,6 +207,15 @@ nlohmann::json liquid_run_job(JobContext& ctx) {
   metrics["validate_s"] = sim_s;
   metrics["wall_per_sim_s"] = sim_s / std::max(1e-9, m.frames * m.dt_s);
   metrics["particle_steps_per_s"] = particle_steps / std::max(1e-9, sim_s);
+  if (samples) {
+    // Dataset job: the validated pour's samples and those of random pours.
+    std::vector<FeedbackSample> all = samples->samples();
+    const auto extra = random_rollout_samples(m, m.planner.sample_rollouts, m.seed + 101, m.planner.interval_s,
+                                              &ctx.progress);
+    all.insert(all.end(), extra.begin(), extra.end());
+    metrics["samples"] = SampleRecorder::to_json(all);
+    metrics["samples_count"] = all.size();
+  }
   return metrics;
 }
 

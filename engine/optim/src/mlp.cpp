@@ -32,6 +32,15 @@ Eigen::VectorXd Mlp::forward(const Eigen::VectorXd& x) const {
   return a;
 }
 
+Eigen::MatrixXd Mlp::forward_batch(const Eigen::MatrixXd& X) const {
+  Eigen::MatrixXd a = X;
+  for (size_t l = 0; l < W_.size(); ++l) {
+    a = (W_[l] * a).colwise() + b_[l];
+    if (l + 1 < W_.size()) a = a.array().tanh().matrix();
+  }
+  return a;
+}
+
 double Mlp::loss_gradient(const Eigen::VectorXd& x, const Eigen::VectorXd& y, Eigen::VectorXd* grad) const {
   const size_t L = W_.size();
   std::vector<Eigen::VectorXd> act(L + 1);  // act[0] = x, act[l+1] = layer l output
@@ -116,20 +125,13 @@ double Mlp::train(const Eigen::MatrixXd& X, const Eigen::MatrixXd& Y, int epochs
   return loss;
 }
 
-void Mlp::save(const std::filesystem::path& file) const {
+nlohmann::json Mlp::to_json() const {
   const Eigen::VectorXd p = params();
-  nlohmann::json j = {{"sizes", sizes_}, {"params", std::vector<double>(p.data(), p.data() + p.size())}};
-  std::ofstream out(file);
-  if (!out) throw std::runtime_error(file.string() + ": cannot write");
-  out << j.dump() << "\n";
+  return {{"sizes", sizes_}, {"params", std::vector<double>(p.data(), p.data() + p.size())}};
 }
 
-Mlp Mlp::load(const std::filesystem::path& file) {
-  std::ifstream in(file);
-  if (!in) throw std::runtime_error(file.string() + ": cannot read");
-  nlohmann::json j;
+Mlp Mlp::from_json(const nlohmann::json& j) {
   try {
-    in >> j;
     Mlp m(j.at("sizes").get<std::vector<int>>(), 0);
     const auto p = j.at("params").get<std::vector<double>>();
     if (int(p.size()) != m.param_count())
@@ -137,6 +139,26 @@ Mlp Mlp::load(const std::filesystem::path& file) {
                                std::to_string(m.param_count()));
     m.set_params(Eigen::Map<const Eigen::VectorXd>(p.data(), Eigen::Index(p.size())));
     return m;
+  } catch (const std::runtime_error&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw std::runtime_error(std::string("not an MLP: ") + e.what());
+  }
+}
+
+void Mlp::save(const std::filesystem::path& file) const {
+  std::ofstream out(file);
+  if (!out) throw std::runtime_error(file.string() + ": cannot write");
+  out << to_json().dump() << "\n";
+}
+
+Mlp Mlp::load(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  if (!in) throw std::runtime_error(file.string() + ": cannot read");
+  try {
+    nlohmann::json j;
+    in >> j;
+    return from_json(j);
   } catch (const std::exception& e) {
     throw std::runtime_error(file.string() + ": not an MLP file: " + e.what());
   }

@@ -2,6 +2,7 @@
 
 #include "pliant/core/error.h"
 #include "pliant/liquid/liquid.h"
+#include "pliant/liquid/problem_generator.h"
 
 namespace pliant::liquid {
 namespace {
@@ -71,6 +72,38 @@ TEST(LiquidCompile, ContainerFilesOfTheAssetsLoad) {
     d["target"]["position_m"] = {0.2, 0, 0};
     EXPECT_EQ(problem_of(d), "") << name;
   }
+}
+
+}  // namespace
+}  // namespace pliant::liquid
+
+namespace pliant::liquid {
+namespace {
+
+// "problem": a generator problem as a scene (dataset sweeps); the split is checked.
+TEST(LiquidCompile, GeneratorProblemScene) {
+  const nlohmann::json doc = {{"pliant", 1}, {"kind", "liquid"}, {"dim", 2},
+                              {"problem", {{"seed", 2026}, {"id", 7}}},
+                              {"planner", {{"mode", "simplified"}, {"record_samples", true}, {"sample_rollouts", 2}}}};
+  const LiquidModel m = liquid_compile(parse_scene(doc.dump(), "scene.json"));
+  const LiquidModel g = generate_problem(7, 2026, 2).model;
+  EXPECT_EQ(m.target.pose.position_m, g.target.pose.position_m);
+  EXPECT_EQ(m.fill_fraction, g.fill_fraction);
+  EXPECT_EQ(m.planner.planner, Planner::Simplified);
+  EXPECT_TRUE(m.planner.record_samples);
+  EXPECT_EQ(m.planner.sample_rollouts, 2);
+  nlohmann::json held = doc;
+  held["problem"]["id"] = 10;
+  EXPECT_EQ(problem_of(held).rfind("/problem/id: problem 10 is held out", 0), 0u) << problem_of(held);
+  held["problem"]["split"] = "held_out";
+  EXPECT_EQ(problem_of(held), "");
+  nlohmann::json extra = doc;
+  extra["domain"] = nlohmann::json::object();
+  EXPECT_EQ(problem_of(extra).rfind("/domain:", 0), 0u);
+  nlohmann::json net = doc;
+  net["planner"]["mode"] = "feedback";
+  net["planner"]["network"] = "no_such_net.json";
+  EXPECT_EQ(problem_of(net).rfind("/planner/network: cannot read", 0), 0u) << problem_of(net);
 }
 
 }  // namespace

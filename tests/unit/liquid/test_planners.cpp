@@ -2,8 +2,11 @@
 // simulator. Slow (tens of seconds): label "slow" in CMakeLists.
 #include <gtest/gtest.h>
 
+#include <filesystem>
+
 #include "planners.h"
 #include "pliant/core/progress.h"
+#include "pliant/liquid/feedback.h"
 #include "pliant/liquid/liquid.h"
 
 namespace pliant::liquid {
@@ -39,6 +42,21 @@ void expect_transfer(Planner planner) {
     m.source_path = planner == Planner::Simplified ? plan_simplified(m, progress, nullptr)
                                                    : plan_correction(m, progress, nullptr);
     const auto fr = simulate_fractions(m);
+    EXPECT_GE(fr[0], 0.9) << "problem " << which << ": spilled " << fr[1] << ", left " << fr[2];
+  }
+}
+
+// The feedback planner with the network shipped in assets/: the closed loop
+// (MPC + full simulator) is itself the validation run.
+TEST(Planners, FeedbackTransfersNinetyPercent) {
+  const FeedbackPredictor net =
+      FeedbackPredictor::load(std::filesystem::path(PLIANT_ASSETS_DIR) / "sweeps/liquid_dataset_net.json");
+  for (int which = 0; which < 3; ++which) {
+    const LiquidModel m = problem(which);
+    const FeedbackRun run = run_feedback(m, net, MpcSettings{}, liquid_init(m), {}, nullptr);
+    LiquidModel validated = m;
+    validated.source_path = run.path;
+    const auto fr = liquid_fractions(validated, run.final_state);
     EXPECT_GE(fr[0], 0.9) << "problem " << which << ": spilled " << fr[1] << ", left " << fr[2];
   }
 }

@@ -95,6 +95,15 @@ struct PlannerSettings {
   double pour_time_s = 1.5;       // duration of the planned pour
   double max_tilt_rad = 2.4;
   uint64_t seed = 1;
+  // Feedback planner (feedback.h): predictor file ("" = the shipped default),
+  // control interval and MPC horizon (intervals).
+  std::string network;
+  double interval_s = 0.1;
+  int horizon = 4;
+  // Dataset jobs: write the validation run's samples (and those of
+  // `sample_rollouts` random monotone pours) into the metrics as "samples".
+  bool record_samples = false;
+  int sample_rollouts = 0;
 };
 
 struct LiquidModel {

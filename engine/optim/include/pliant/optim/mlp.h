@@ -7,6 +7,7 @@
 #include <Eigen/Dense>
 #include <cstdint>
 #include <filesystem>
+#include <nlohmann/json_fwd.hpp>
 #include <vector>
 
 namespace pliant::optim {
@@ -18,6 +19,8 @@ class Mlp {
   Mlp(std::vector<int> sizes, uint64_t seed);
 
   Eigen::VectorXd forward(const Eigen::VectorXd& x) const;
+  // Columns of X at once (one matrix product per layer: the MPC's candidates).
+  Eigen::MatrixXd forward_batch(const Eigen::MatrixXd& X) const;
   // Loss 0.5 ||f(x) - y||^2 and its gradient w.r.t. params() (added to *grad).
   double loss_gradient(const Eigen::VectorXd& x, const Eigen::VectorXd& y, Eigen::VectorXd* grad) const;
 
@@ -34,6 +37,8 @@ class Mlp {
   // JSON file {"sizes": [...], "params": [...]}; load throws std::runtime_error.
   void save(const std::filesystem::path& file) const;
   static Mlp load(const std::filesystem::path& file);
+  nlohmann::json to_json() const;
+  static Mlp from_json(const nlohmann::json& j);  // throws std::runtime_error
 
  private:
   std::vector<int> sizes_;
