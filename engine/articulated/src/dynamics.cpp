@@ -60,8 +60,9 @@ Mat6 geometric_block_transposed(const Mat3& moment, const Vec3& force) {
   return q;
 }
 
-void tree_solve(const Model& m, const Kinematics& k, const std::vector<Mat6>& h,
+bool tree_solve(const Model& m, const Kinematics& k, const std::vector<Mat6>& h,
                 const VecX& armature, const VecX& rhs, VecX* x, TreeWorkspace* ws) {
+  bool positive = true;
   const int nb = static_cast<int>(m.bodies.size());
   ws->ia.resize(nb);
   ws->pa.resize(nb);
@@ -93,6 +94,8 @@ void tree_solve(const Model& m, const Kinematics& k, const std::vector<Mat6>& h,
       for (int j = 0; j < i; ++j) d(i, j) = d(j, i);
     for (int i = 0; i < body.dof_count; ++i) d(i, i) += armature[body.dof_begin + i];
     ws->dinv[b].compute(d);
+    // The tree elimination is a block LDL^T: positive pivots <=> positive definite.
+    positive = positive && (ws->dinv[b].vectorD().array() > 0).all();
     ws->ures[b] = rhs.segment(body.dof_begin, body.dof_count) - s.transpose() * ws->pa[b];
     const Eigen::Matrix<double, Eigen::Dynamic, 6, 0, 6, 6> ut = ws->u[b].transpose();
     const Eigen::Matrix<double, Eigen::Dynamic, 6, 0, 6, 6> dinv_ut = ws->dinv[b].solve(ut);
@@ -114,6 +117,7 @@ void tree_solve(const Model& m, const Kinematics& k, const std::vector<Mat6>& h,
     x->segment(body.dof_begin, body.dof_count) = xb;
     ws->acc[b] = ap + body_subspace(m, k, b) * xb;
   }
+  return positive;
 }
 
 void tree_diagonal(const Model& m, const Kinematics& k, const std::vector<Mat6>& h, VecX* diag,

@@ -63,6 +63,8 @@ ArticulatedScene articulated_compile(const Scene& scene) {
     o.solver = s->choice("method", "lm", {"lm", "lbfgs"}) == "lbfgs" ? Solver::Lbfgs : Solver::Lm;
     o.lm_max_iterations = static_cast<int>(s->integer("max_iterations", o.lm_max_iterations, 1, 10000));
     o.lm_tolerance = s->number("tolerance", o.lm_tolerance, 1e-16, 1);
+    o.lm_relative_tolerance = s->number("relative_tolerance", o.lm_relative_tolerance, 0, 1);
+    o.exact_hessian = s->choice("hessian", "exact", {"exact", "gauss_newton"}) == "exact";
     s->finish();
   }
   a.initial = state_init(m);

@@ -355,6 +355,7 @@ void pbad_begin(const Model& m, const SimOptions& o, State& s, PbadStep& p, SimW
   p.q = s.qpos;
   qpos_integrate(m, p.q, 2 * qpos_difference(m, s.qpos, q1) - qpos_difference(m, q1, q2), 1.0);
   p.q_pred = p.q;
+  p.step_ready = false;
   p.lambda = std::clamp(p.lambda, 1e-6, 1e-2);  // warm start from the previous step
   // Generalized-force tolerance: lm_tolerance times the model's weight times 1 m.
   double weight = 0;
@@ -438,17 +439,29 @@ bool lbfgs_iterate(const Model& m, const SimOptions& o, const State& s, PbadStep
 
 namespace {
 
-// Accuracy-aware stop: the next Newton correction, estimated from the new gradient
-// scaled by the Gauss-Newton diagonal, is below lm_relative_tolerance times this
-// step's correction to the predictor (which measures the step's truncation error,
-// Milne's device): the solver error then stays a small fraction of the
-// discretisation error instead of being driven to round-off.
-bool accurate_enough(const Model& m, const SimOptions& o, const PbadStep& p, const SimWorkspace& ws) {
-  if (o.lm_relative_tolerance <= 0) return false;
-  double next = 0;
-  for (int i = 0; i < m.nv; ++i) next = std::max(next, std::abs(ws.grad[i]) / (ws.diag[i] + 1e-300));
+// Accuracy-aware stop: solves for the next step at the new iterate (the solve the
+// next iteration would start with). If it is below lm_relative_tolerance times the
+// step's correction to the quadratic predictor (a measure of the step's truncation
+// error, Milne's device), it is applied without the energy test and the step ends:
+// the solver error stays a small fraction of the discretisation error instead of
+// being driven to round-off. Otherwise the solve is kept for the next iteration.
+bool final_correction(const Model& m, const SimOptions& o, PbadStep& p, SimWorkspace& ws) {
+  tree_diagonal(m, ws.kin, ws.h, &ws.diag, &ws.tree);
+  ws.rhs = -ws.grad;
+  ws.arm = p.lambda * ws.diag;
+  if (p.any_damping)
+    for (const Joint& j : m.joints)
+      for (int i = 0; i < joint_nv(j.type); ++i) ws.arm[j.vadr + i] += j.damping / o.dt;
+  if (!tree_solve(m, ws.kin, o.exact_hessian ? ws.h_exact : ws.h, ws.arm, ws.rhs, &ws.step, &ws.tree))
+    return false;  // the next iteration damps and solves again
   const double correction = qpos_difference(m, p.q, p.q_pred).lpNorm<Eigen::Infinity>();
-  return next < o.lm_relative_tolerance * correction;
+  if (ws.step.lpNorm<Eigen::Infinity>() > o.lm_relative_tolerance * correction) {
+    p.step_ready = true;
+    return false;
+  }
+  qpos_integrate(m, p.q, ws.step, 1.0);
+  ws.kin_at.resize(0);  // ws.kin is no longer at p.q
+  return true;
 }
 
 }  // namespace
@@ -461,15 +474,25 @@ bool pbad_iterate(const Model& m, const SimOptions& o, const State& s, PbadStep&
     if (p.done) pbad_energy(m, o, s, p, p.q, ws, true);
     return p.done;
   }
-  tree_diagonal(m, ws.kin, ws.h, &ws.diag, &ws.tree);
-  ws.rhs = -ws.grad;
-  const VecX& rhs = ws.rhs;
+  const std::vector<Mat6>& blocks = o.exact_hessian ? ws.h_exact : ws.h;
+  if (!p.step_ready) {
+    tree_diagonal(m, ws.kin, ws.h, &ws.diag, &ws.tree);
+    ws.rhs = -ws.grad;
+  }
   for (int tries = 0; tries < 12; ++tries) {
-    ws.arm = p.lambda * ws.diag;
-    if (p.any_damping)
-      for (const Joint& j : m.joints)
-        for (int i = 0; i < joint_nv(j.type); ++i) ws.arm[j.vadr + i] += j.damping / o.dt;
-    tree_solve(m, ws.kin, o.exact_hessian ? ws.h_exact : ws.h, ws.arm, rhs, &ws.step, &ws.tree);
+    if (!(p.step_ready && tries == 0)) {
+      ws.arm = p.lambda * ws.diag;
+      if (p.any_damping)
+        for (const Joint& j : m.joints)
+          for (int i = 0; i < joint_nv(j.type); ++i) ws.arm[j.vadr + i] += j.damping / o.dt;
+      // An indefinite Newton model (compressed chain, contact) could lead to a saddle:
+      // damp more until the matrix is positive definite.
+      if (!tree_solve(m, ws.kin, blocks, ws.arm, ws.rhs, &ws.step, &ws.tree)) {
+        p.lambda *= 10;
+        continue;
+      }
+    }
+    p.step_ready = false;
     const double step_max = ws.step.lpNorm<Eigen::Infinity>();
     ws.q_trial = p.q;
     qpos_integrate(m, ws.q_trial, ws.step, 1.0);
@@ -487,9 +510,10 @@ bool pbad_iterate(const Model& m, const SimOptions& o, const State& s, PbadStep&
       std::swap(p.q, ws.q_trial);
       p.energy = e_trial;
       p.lambda = std::max(p.lambda * 0.3, 1e-12);
-      if (tiny || stalled || p.iterations >= o.lm_max_iterations ||
-          ws.grad.lpNorm<Eigen::Infinity>() < p.grad_tol || accurate_enough(m, o, p, ws))
+      if (tiny || stalled || p.iterations >= o.lm_max_iterations || ws.grad.lpNorm<Eigen::Infinity>() < p.grad_tol)
         p.done = true;
+      else if (o.lm_relative_tolerance > 0)
+        p.done = final_correction(m, o, p, ws);
       return p.done;
     }
     pbad_energy(m, o, s, p, p.q, ws, true);

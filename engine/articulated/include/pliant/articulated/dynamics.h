@@ -69,8 +69,9 @@ struct TreeWorkspace {
 // (j, i), dof i an ancestor-or-earlier dof of j, is S_j^T (sum_{b below j} H_b) S_i,
 // which is the exact Hessian of a pose energy when H_b = Gauss-Newton block +
 // transposed geometric block (pose_geometric_block); PBAD's Newton steps use it.
-// The matrix must be non-singular (LM adds its damping through armature).
-void tree_solve(const Model& m, const Kinematics& k, const std::vector<Mat6>& h,
+// The matrix must be non-singular (LM adds its damping through armature). Returns
+// whether it is positive definite (all pivots of the elimination positive).
+bool tree_solve(const Model& m, const Kinematics& k, const std::vector<Mat6>& h,
                 const VecX& armature, const VecX& rhs, VecX* x, TreeWorkspace* ws);
 
 // Diagonal of sum_b Phi_b^T H_b Phi_b (composite blocks), O(N).

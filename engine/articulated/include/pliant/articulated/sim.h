@@ -45,9 +45,9 @@ struct SimOptions {
   // Stop when max |dq| of a step is below this (rad or m), or when max |gradient| is
   // below it times the model's weight (N) times 1 m.
   double lm_tolerance = 1e-7;
-  // Accuracy-aware stop (0: off): the next Newton correction (estimated from the
-  // gradient over the Gauss-Newton diagonal) below this times the step's correction
-  // to the quadratic predictor, a measure of the step's truncation error.
+  // Accuracy-aware stop (0: off): once the next Newton step is below this times the
+  // step's correction to the quadratic predictor (a measure of the step's truncation
+  // error), apply it and stop.
   double lm_relative_tolerance = 1e-2;
 };
 
@@ -72,6 +72,7 @@ struct PbadStep {
   VecX q;               // current iterate
   VecX past1;           // q_{i-1} (start-up frame on the first step)
   VecX q_pred;          // predictor (quadratic extrapolation)
+  bool step_ready = false;  // ws.step/diag/rhs already hold the next LM solve
   double energy = 0, lambda = 1e-6, weight = 0.5;
   bool any_damping = false;
   double grad_tol = 0;
