@@ -14,6 +14,7 @@
 #include "pliant/geom/coverage_image.h"
 #include "pliant/geom/raster_grid.h"
 #include "ui/app.h"
+#include "ui/keyframe_slices.h"
 #include "ui/panel_window.h"
 
 namespace pliant::editor {
@@ -36,19 +37,22 @@ std::string slot_label(int slot, const json& scene) {
   return "Keyframe ?";
 }
 
-void upload_composite(KeyframeCanvasState& s, const geom::PaintedGrid& g) {
+}  // namespace
+
+void upload_composite_texture(unsigned* texture, const geom::PaintedGrid& g, const geom::PaintedGrid* onion_prev,
+                              const geom::PaintedGrid* onion_next) {
   const int w = g.n[0], h = g.n[1];
   std::vector<uint8_t> rgba(size_t(w) * h * 4);
-  const bool prev = s.onion && s.onion_prev.cells() == g.cells();
-  const bool next = s.onion && s.onion_next.cells() == g.cells();
+  const bool prev = onion_prev && onion_prev->cells() == g.cells();
+  const bool next = onion_next && onion_next->cells() == g.cells();
   for (size_t c = 0; c < g.cells(); ++c) {
     float r = 0.10f, gr = 0.11f, b = 0.14f;
     if (prev) {
-      const float a = 0.35f * s.onion_prev.value[c] / 255.0f;
+      const float a = 0.35f * onion_prev->value[c] / 255.0f;
       r += a * (0.3f - r), gr += a * (0.55f - gr), b += a * (1.0f - b);
     }
     if (next) {
-      const float a = 0.35f * s.onion_next.value[c] / 255.0f;
+      const float a = 0.35f * onion_next->value[c] / 255.0f;
       r += a * (1.0f - r), gr += a * (0.6f - gr), b += a * (0.2f - b);
     }
     const float v = g.value[c] / 255.0f;
@@ -58,8 +62,8 @@ void upload_composite(KeyframeCanvasState& s, const geom::PaintedGrid& g) {
     rgba[c * 4 + 2] = uint8_t(std::lround(b * 255));
     rgba[c * 4 + 3] = 255;
   }
-  if (!s.texture) glGenTextures(1, &s.texture);
-  glBindTexture(GL_TEXTURE_2D, s.texture);
+  if (!*texture) glGenTextures(1, texture);
+  glBindTexture(GL_TEXTURE_2D, *texture);
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
@@ -71,7 +75,7 @@ void upload_composite(KeyframeCanvasState& s, const geom::PaintedGrid& g) {
 }
 
 // The neighbouring slots in frame order (initial density first).
-void neighbours(const json& scene, int slot, int* prev, int* next) {
+void keyframe_neighbours(const json& scene, int slot, int* prev, int* next) {
   std::vector<int> order{kInitialDensitySlot};
   auto ks = list_keyframes(scene);
   std::stable_sort(ks.begin(), ks.end(), [](const auto& a, const auto& b) { return a.frame < b.frame; });
@@ -84,7 +88,6 @@ void neighbours(const json& scene, int slot, int* prev, int* next) {
     }
 }
 
-}  // namespace
 
 int canvas_current_frame(App& app) {
   if (app.take.frame_count() > 0) return app.take.frame;
@@ -106,7 +109,7 @@ void refresh_canvas_cache(App& app) {
   const fs::path dir = scene_dir(app);
   s.grid = rasterize_slot(scene, dir, s.slot, &s.error);
   int p, n;
-  neighbours(scene, s.slot, &p, &n);
+  keyframe_neighbours(scene, s.slot, &p, &n);
   std::string ignored;
   s.onion_prev = p != -99 ? rasterize_slot(scene, dir, p, &ignored) : geom::PaintedGrid{};
   s.onion_next = n != -99 ? rasterize_slot(scene, dir, n, &ignored) : geom::PaintedGrid{};
@@ -212,7 +215,10 @@ bool import_mesh_keyframe(App& app, const std::string& path) {
 
 void release_canvas_gl(KeyframeCanvasState& s) {
   if (s.texture) glDeleteTextures(1, &s.texture);
-  s.texture = 0;
+  if (s.slice_texture) glDeleteTextures(1, &s.slice_texture);
+  s.texture = s.slice_texture = 0;
+  if (s.volume_view) release_volume_view(*s.volume_view);
+  s.volume_view.reset();
 }
 
 void draw_keyframe_canvas(App& app) {
@@ -347,6 +353,8 @@ void draw_keyframe_canvas(App& app) {
         if (stamp_canvas_text(app, g, s.start_x, s.start_y)) commit_canvas(app, g, std::string("Text \"") + s.text + "\"");
         break;
       }
+      case CanvasTool::Gizmo:  // 3D mesh keyframes only (keyframe_slices.cpp)
+        break;
     }
   }
   if (ImGui::IsItemHovered() && s.tool == CanvasTool::Move && io.MouseWheel != 0)
@@ -357,7 +365,8 @@ void draw_keyframe_canvas(App& app) {
     refresh_canvas_cache(app);  // a stroke committed above changed the document
     const std::array<uint64_t, 3> key{app.doc.revision(), uint64_t(int64_t(s.slot)), uint64_t(s.onion)};
     if (s.stroking || key != s.texture_key || !s.texture) {
-      upload_composite(s, s.stroking ? s.working : s.grid);
+      upload_composite_texture(&s.texture, s.stroking ? s.working : s.grid, s.onion ? &s.onion_prev : nullptr,
+                               s.onion ? &s.onion_next : nullptr);
       // After a stroke the working copy was shown: upload the committed grid next frame.
       s.texture_key = s.stroking ? std::array<uint64_t, 3>{~0ull, 0, 0} : key;
     }

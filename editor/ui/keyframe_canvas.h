@@ -6,18 +6,23 @@
 #pragma once
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "doc/paint_ops.h"
 #include "doc/smoke_keyframes.h"
+#include "doc/smoke_keyframes_3d.h"
 #include "pliant/geom/painted_grid.h"
 
 namespace pliant::editor {
 
 class App;
+struct KeyframeVolumeView;  // ui/keyframe_slices.h
 
-enum class CanvasTool { Brush, Eraser, Fill, Ellipse, Rectangle, Move, Text };
+// Gizmo is the mesh transform tool of 3D mesh keyframes (the 2D canvas shows the first 7).
+enum class CanvasTool { Brush, Eraser, Fill, Ellipse, Rectangle, Move, Text, Gizmo };
+enum class GizmoHandle { None, Move, Scale, Rotate, Fields };  // Fields: a number field dragged
 
 struct KeyframeCanvasState {
   int slot = kInitialDensitySlot;  // keyframe index, or the initial density
@@ -40,12 +45,22 @@ struct KeyframeCanvasState {
   geom::PaintedGrid working;
   double last_x = 0, last_y = 0, start_x = 0, start_y = 0;
   unsigned texture = 0;  // GL texture of the composite
-  // 3D scenes: the slot's volume and the z slice shown (keyframe_slices.cpp).
-  std::vector<float> volume;
+  std::array<uint64_t, 3> texture_key{~0ull, 0, 0};  // (revision, slot, onion) it shows
+
+  // 3D scenes (keyframe_slices.cpp): the slot's volume as bytes (exact for painted
+  // volumes) and its densities, its onion-skin neighbours, the z slice painted.
+  geom::PaintedGrid vol, vol_prev, vol_next;
+  std::vector<float> volume;  // vol as densities 0..1
   std::array<int, 3> volume_dims{0, 0, 0};
   uint64_t volume_revision = ~uint64_t(0);
-  int volume_slot = -99, slice = -1, shown_slice = -2;
-  std::array<uint64_t, 3> texture_key{~0ull, 0, 0};  // (revision, slot, onion) it shows
+  int volume_slot = -99, slice = -1;
+  uint64_t volume_version = 0;  // bumped whenever the shown volume (or a stroke) changes
+  std::array<uint64_t, 2> slice_key{~0ull, 0};  // (volume_version, slice + onion) the texture shows
+  unsigned slice_texture = 0;
+  // Mesh gizmo drag: the transform at press and the previewed one.
+  GizmoHandle gizmo = GizmoHandle::None;
+  MeshTransform gizmo_start, gizmo_now;
+  std::shared_ptr<KeyframeVolumeView> volume_view;  // the ray-marched keyframe beside the slice
 };
 
 // The canvas with its toolbar, in the current window's remaining region.
@@ -64,8 +79,14 @@ bool import_mesh_keyframe(App& app, const std::string& path);
 // The frame the keyframe tools act on: the take's frame when it has frames.
 int canvas_current_frame(App& app);
 void release_canvas_gl(KeyframeCanvasState& s);
-// 3D smoke: the selected keyframe as z slices (read-only), a slice slider and the
-// keyframe list; meshes are added by dropping them on the window.
+// The composite of a keyframe grid over its onion-skin neighbours (previous in
+// blue, next in orange; null = not shown) uploaded to *texture (created if 0).
+void upload_composite_texture(unsigned* texture, const geom::PaintedGrid& g, const geom::PaintedGrid* onion_prev,
+                              const geom::PaintedGrid* onion_next);
+// The slots before and after `slot` in frame order (initial density first); -99 = none.
+void keyframe_neighbours(const nlohmann::json& scene, int slot, int* prev, int* next);
+// 3D smoke: the selected keyframe painted one z slice at a time (the 2D tools),
+// mesh keyframes placed with a gizmo, and the ray-marched volume beside it.
 void draw_keyframe_slices(App& app);
 
 }  // namespace pliant::editor

@@ -1,7 +1,12 @@
-// Slice view of 3D smoke keyframes: the selected slot's raster (through the
-// engine's control_compile, so meshes appear voxelised) one z slice at a time.
-// Painting is 2D only; 3D keyframes come from meshes (drop one on the window)
-// and the scene's target fields.
+// 3D smoke keyframes: the selected slot (a keyframe or the initial density) as a
+// volume painted one z slice at a time with the 2D canvas tools (doc/paint_ops on
+// the slice, written back into the volume: one Document::edit per stroke), the
+// previous/next keyframes' same slice as onion skin, and the ray-marched volume
+// beside it (keyframe_slices_volume.cpp). Mesh keyframes get a gizmo: drag the
+// centre to move in the slice plane, the square handle to scale, the round one to
+// rotate about z; one undo step per drag, and the slice shows the engine's
+// voxelisation of the new placement afterwards. Painting on any non-painted slot
+// bakes its voxelisation into a painted volume (stored inline, bit-exact).
 #include <GL/gl.h>
 #include <GL/glext.h>
 #include <imgui.h>
@@ -12,83 +17,339 @@
 
 #include "ui/app.h"
 #include "ui/keyframe_canvas.h"
+#include "ui/keyframe_slices.h"
 #include "ui/panel_window.h"
 
 namespace pliant::editor {
 
-void draw_keyframe_slices(App& app) {
-  KeyframeCanvasState& s = app.canvas;
-  const nlohmann::json& scene = app.doc.scene();
-  if (!has_control(scene)) {
-    ImGui::TextDisabled("No keyframe control in this scene (Jobs > Keyframe solve > Add keyframe control)");
-    return;
-  }
-  std::string label = s.slot == kInitialDensitySlot ? "Initial density" : "Keyframe ?";
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+const char* kTools3d[] = {"Brush", "Eraser", "Fill", "Ellipse", "Rectangle"};
+
+fs::path scene_dir(const App& app) {
+  return app.doc.has_path() ? app.doc.path().parent_path() : fs::current_path();
+}
+
+std::string slot_label(const json& scene, int slot) {
+  if (slot == kInitialDensitySlot) return "Initial density";
   for (const auto& k : list_keyframes(scene))
-    if (k.index == s.slot) label = "Keyframe " + std::to_string(k.frame) + " (" + k.type + ")";
-  ImGui::SetNextItemWidth(200);
-  if (ImGui::BeginCombo("##slot3d", label.c_str())) {
+    if (k.index == slot) return "Keyframe " + std::to_string(k.frame) + " (" + k.type + ")";
+  return "Keyframe ?";
+}
+
+// Re-rasterises the slot and its neighbours when the document or the slot changed.
+void refresh_volume(App& app) {
+  KeyframeCanvasState& s = app.canvas;
+  const json& scene = app.doc.scene();
+  if (s.slot != kInitialDensitySlot) {
+    bool found = false;
+    for (const auto& k : list_keyframes(scene)) found |= k.index == s.slot;
+    if (!found) s.slot = kInitialDensitySlot;
+  }
+  if (s.volume_revision == app.doc.revision() && s.volume_slot == s.slot) return;
+  if (s.volume_slot != s.slot && is_mesh_slot(scene, s.slot)) s.tool = CanvasTool::Gizmo;  // opens with its gizmo
+  s.volume_revision = app.doc.revision();
+  s.volume_slot = s.slot;
+  const fs::path dir = scene_dir(app);
+  s.vol = rasterize_slot_volume(scene, dir, s.slot, &s.error);
+  s.volume_dims = s.vol.cells() ? s.vol.n : std::array<int, 3>{0, 0, 0};
+  s.volume.resize(s.vol.cells());
+  for (size_t c = 0; c < s.vol.cells(); ++c) s.volume[c] = s.vol.value[c] / 255.0f;
+  int p, n;
+  keyframe_neighbours(scene, s.slot, &p, &n);
+  std::string ignored;
+  s.vol_prev = p != -99 ? rasterize_slot_volume(scene, dir, p, &ignored) : geom::PaintedGrid{};
+  s.vol_next = n != -99 ? rasterize_slot_volume(scene, dir, n, &ignored) : geom::PaintedGrid{};
+  if (s.vol.cells() && (s.slice < 0 || s.slice >= s.vol.n[2])) s.slice = s.vol.n[2] / 2;
+  ++s.volume_version;
+}
+
+void commit_volume(App& app, const geom::PaintedGrid& v, const std::string& what) {
+  KeyframeCanvasState& s = app.canvas;
+  const std::string label = what + " (" + slot_label(app.doc.scene(), s.slot) + ", z " + std::to_string(s.slice) + ")";
+  app.doc.edit(label, with_painted_volume_slot(app.doc.scene(), s.slot, v));
+  app.set_status(label);
+}
+
+// The mesh's footprint half size in slice cells (the target's "size" is a fraction
+// of the smallest domain extent, or metres in "size_m").
+double mesh_half_cells(const json& scene, int slot, const MeshTransform& t) {
+  const json target = slot_target(scene, slot);
+  const auto n = smoke_resolution_3d(scene);
+  const int min_n = std::min({n[0], n[1], n[2]});
+  double size_cells = 0.6 * min_n;
+  if (target.value("size", json()).is_number()) size_cells = target["size"].get<double>() * min_n;
+  const double h = scene.contains("grid") ? scene["grid"].value("cell_size_m", 0.0) : 0.0;
+  if (target.value("size_m", json()).is_number() && h > 0) size_cells = target["size_m"].get<double>() / h;
+  return std::max(1.0, 0.5 * size_cells * t.scale);
+}
+
+struct GizmoPoints {
+  ImVec2 centre, scale_handle, rotate_handle, corners[4];
+};
+
+GizmoPoints gizmo_points(const MeshTransform& t, double half, const std::array<int, 3>& n, ImVec2 p0, ImVec2 p1,
+                         float cell) {
+  auto to_screen = [&](double cx, double cy) { return ImVec2(p0.x + float(cx) * cell, p1.y - float(cy) * cell); };
+  const double cx = t.center[0] * n[0], cy = t.center[1] * n[1];
+  const double a = t.rotation_deg * 3.14159265358979323846 / 180.0, ca = std::cos(a), sa = std::sin(a);
+  auto rot = [&](double x, double y) { return to_screen(cx + ca * x - sa * y, cy + sa * x + ca * y); };
+  GizmoPoints g;
+  g.centre = to_screen(cx, cy);
+  g.scale_handle = rot(half, -half);
+  g.rotate_handle = rot(0, half + std::max(1.5, 0.35 * half));
+  const double xs[4] = {-half, half, half, -half}, ys[4] = {-half, -half, half, half};
+  for (int i = 0; i < 4; ++i) g.corners[i] = rot(xs[i], ys[i]);
+  return g;
+}
+
+float dist(ImVec2 a, ImVec2 b) { return std::hypot(a.x - b.x, a.y - b.y); }
+
+// Slot, onion skin, whole-slot edits, tools, slice slider; the mesh fields.
+void draw_toolbar(App& app, bool mesh) {
+  KeyframeCanvasState& s = app.canvas;
+  const json& scene = app.doc.scene();
+  ImGui::SetNextItemWidth(190);
+  if (ImGui::BeginCombo("##slot3d", slot_label(scene, s.slot).c_str())) {
     if (ImGui::Selectable("Initial density", s.slot == kInitialDensitySlot)) s.slot = kInitialDensitySlot;
+    ui_mark("slot_initial");
     for (const auto& k : list_keyframes(scene)) {
       std::string l = "Keyframe " + std::to_string(k.frame) + " (" + k.type + ")##" + std::to_string(k.index);
       if (ImGui::Selectable(l.c_str(), s.slot == k.index)) s.slot = k.index;
+      ui_mark("slot_" + std::to_string(k.frame));
     }
     ImGui::EndCombo();
   }
   ui_mark("slice_slot");
-  if (s.volume_revision != app.doc.revision() || s.volume_slot != s.slot) {
-    s.volume = rasterize_slot_density(scene, app.doc.has_path() ? app.doc.path().parent_path() : std::filesystem::path(),
-                                      s.slot, &s.volume_dims, &s.error);
-    s.volume_revision = app.doc.revision();
-    s.volume_slot = s.slot;
-    s.shown_slice = -2;
+  ImGui::SameLine();
+  ImGui::Checkbox("onion", &s.onion);
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("previous keyframe's slice in blue, next in orange");
+  ImGui::SameLine();
+  if (ImGui::Button("Clear slice") && s.vol.cells()) {
+    geom::PaintedGrid v = s.vol;
+    set_volume_slice(v, s.slice, make_painted_grid(v.n[0], v.n[1]));
+    commit_volume(app, v, "Clear slice");
   }
-  const int nx = s.volume_dims[0], ny = s.volume_dims[1], nz = s.volume_dims[2];
-  if (s.volume.empty() || nx <= 0) {
-    ImGui::TextColored(kWarnColor, "%s", s.error.c_str());
+  ui_mark("slice_clear");
+  ImGui::SameLine();
+  if (ImGui::Button("Clear all") && s.vol.cells())
+    commit_volume(app, make_painted_volume(s.vol.n[0], s.vol.n[1], s.vol.n[2]), "Clear");
+  ui_mark("slice_clear_all");
+  if (s.vol.cells()) {
+    ImGui::SameLine();
+    ImGui::SetNextItemWidth(150);
+    ImGui::SliderInt("z slice", &s.slice, 0, s.vol.n[2] - 1);
+    ui_mark("slice_z");
+  }
+  // Row 2: tools (Gizmo for mesh keyframes) and their options.
+  if (!mesh && s.tool == CanvasTool::Gizmo) s.tool = CanvasTool::Brush;
+  if (s.tool == CanvasTool::Move || s.tool == CanvasTool::Text) s.tool = CanvasTool::Brush;
+  if (mesh) {
+    if (ImGui::RadioButton("Gizmo", s.tool == CanvasTool::Gizmo)) s.tool = CanvasTool::Gizmo;
+    ui_mark("tool_Gizmo");
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("drag the centre to move, the square to scale, the circle to rotate");
+    ImGui::SameLine();
+  }
+  for (int t = 0; t < 5; ++t) {
+    if (t || mesh) ImGui::SameLine();
+    if (ImGui::RadioButton(kTools3d[t], s.tool == CanvasTool(t))) s.tool = CanvasTool(t);
+    ui_mark(std::string("tool_") + kTools3d[t]);
+    if (mesh && ImGui::IsItemHovered()) ImGui::SetTooltip("painting bakes the voxelised mesh into a painted volume");
+  }
+  ImGui::SameLine();
+  ImGui::SetNextItemWidth(100);
+  ImGui::SliderFloat("size", &s.radius_cells, 0.5f, 32.0f, "%.1f cells", ImGuiSliderFlags_Logarithmic);
+  ImGui::SameLine();
+  ImGui::SetNextItemWidth(70);
+  ImGui::SliderFloat("hardness", &s.hardness, 0.0f, 1.0f, "%.2f");
+  if (mesh) {
+    // The transform as numbers; a drag of a field previews in gizmo_now and is one
+    // undo step on release.
+    const MeshTransform t = s.gizmo != GizmoHandle::None ? s.gizmo_now : mesh_transform(scene, s.slot);
+    float c[3] = {float(t.center[0]), float(t.center[1]), float(t.center[2])};
+    float sc = float(t.scale), rot = float(t.rotation_deg);
+    bool changed = false;
+    ImGui::SetNextItemWidth(200);
+    changed |= ImGui::DragFloat3("center", c, 0.005f, -1.0f, 2.0f, "%.3f");
+    const bool done1 = ImGui::IsItemDeactivatedAfterEdit();
+    ui_mark("mesh_center");
+    ImGui::SameLine();
+    ImGui::SetNextItemWidth(70);
+    changed |= ImGui::DragFloat("scale", &sc, 0.01f, 0.02f, 50.0f, "%.2f");
+    const bool done2 = ImGui::IsItemDeactivatedAfterEdit();
+    ImGui::SameLine();
+    ImGui::SetNextItemWidth(70);
+    changed |= ImGui::DragFloat("rotation z", &rot, 1.0f, -180.0f, 180.0f, "%.0f deg");
+    const bool done3 = ImGui::IsItemDeactivatedAfterEdit();
+    if (changed && (s.gizmo == GizmoHandle::None || s.gizmo == GizmoHandle::Fields)) {
+      s.gizmo = GizmoHandle::Fields;
+      s.gizmo_now = t;
+      s.gizmo_now.center = {c[0], c[1], c[2]};
+      s.gizmo_now.scale = std::max(0.02f, sc);
+      s.gizmo_now.rotation_deg = rot;
+    }
+    if ((done1 || done2 || done3) && s.gizmo == GizmoHandle::Fields) {
+      s.gizmo = GizmoHandle::None;
+      const std::string label = "Mesh transform (" + slot_label(scene, s.slot) + ")";
+      app.doc.edit(label, with_mesh_transform(scene, s.slot, s.gizmo_now));
+      app.set_status(label);
+    }
+  }
+  if (!s.error.empty()) ImGui::TextColored(kWarnColor, "%s", s.error.c_str());
+}
+
+}  // namespace
+
+void draw_keyframe_slices(App& app) {
+  KeyframeCanvasState& s = app.canvas;
+  const json& scene = app.doc.scene();
+  if (!has_control(scene)) {
+    ImGui::TextDisabled("No keyframe control in this scene (Jobs > Keyframe solve > Add keyframe control)");
     return;
   }
-  if (s.slice < 0 || s.slice >= nz) s.slice = nz / 2;
-  ImGui::SameLine();
-  ImGui::SetNextItemWidth(160);
-  ImGui::SliderInt("z slice", &s.slice, 0, nz - 1);
-  ui_mark("slice_z");
-  ImGui::SameLine();
-  ImGui::TextDisabled("%dx%dx%d; drop a mesh to add a keyframe", nx, ny, nz);
+  refresh_volume(app);
+  const bool mesh = is_mesh_slot(scene, s.slot);
+  draw_toolbar(app, mesh);
+  const auto n = s.vol.n;
+  if (s.vol.cells() == 0) return;
+  const int nx = n[0], ny = n[1];
 
+  // Slice on the left, volume on the right, both as tall as fits.
   ImVec2 avail = ImGui::GetContentRegionAvail();
-  const float cell = std::max(1.0f, std::min(avail.x / nx, avail.y / ny));
-  ImVec2 p0 = ImGui::GetCursorScreenPos();
-  p0.x += 0.5f * (avail.x - cell * nx);
-  const ImVec2 p1(p0.x + cell * nx, p0.y + cell * ny);
+  avail.x = std::max(avail.x, 32.0f);
+  avail.y = std::max(avail.y, 16.0f);
+  const float cell = std::max(1.0f, std::min(0.5f * avail.x / nx, avail.y / ny));
+  const ImVec2 size(cell * nx, cell * ny);
+  const ImVec2 origin = ImGui::GetCursorScreenPos();
+  const ImVec2 p0(origin.x + 0.5f * (0.5f * avail.x - size.x), origin.y);
+  const ImVec2 p1(p0.x + size.x, p0.y + size.y);
   ImGui::SetCursorScreenPos(p0);
-  ImGui::Dummy(ImVec2(cell * nx, cell * ny));
+  ImGui::InvisibleButton("slice_view", size, ImGuiButtonFlags_MouseButtonLeft);
   ui_mark("slice_view");
-  if (!app.has_gl()) return;
-  if (s.shown_slice != s.slice || !s.texture) {
-    std::vector<uint8_t> rgba(size_t(nx) * ny * 4);
-    const size_t off = size_t(s.slice) * nx * ny;
-    for (size_t c = 0; c < size_t(nx) * ny; ++c) {
-      const float v = std::clamp(s.volume[off + c], 0.0f, 1.0f);
-      rgba[c * 4 + 0] = uint8_t(std::lround(26 + v * (255 - 26)));
-      rgba[c * 4 + 1] = uint8_t(std::lround(28 + v * (255 - 28)));
-      rgba[c * 4 + 2] = uint8_t(std::lround(36 + v * (255 - 36)));
-      rgba[c * 4 + 3] = 255;
+  const ImGuiIO& io = ImGui::GetIO();
+  const double mx = (io.MousePos.x - p0.x) / cell, my = (p1.y - io.MousePos.y) / cell;  // cells, +y up
+
+  // Mesh gizmo.
+  const bool gizmo_tool = mesh && s.tool == CanvasTool::Gizmo;
+  const MeshTransform committed = mesh ? mesh_transform(scene, s.slot) : MeshTransform{};
+  const MeshTransform& shown_t = s.gizmo != GizmoHandle::None ? s.gizmo_now : committed;
+  const double half = mesh ? mesh_half_cells(scene, s.slot, shown_t) : 0.0;
+  if (gizmo_tool && ImGui::IsItemActivated()) {
+    const GizmoPoints g = gizmo_points(committed, mesh_half_cells(scene, s.slot, committed), n, p0, p1, cell);
+    const float pick = std::max(8.0f, 0.6f * cell);
+    s.gizmo = dist(io.MousePos, g.scale_handle) < pick    ? GizmoHandle::Scale
+              : dist(io.MousePos, g.rotate_handle) < pick ? GizmoHandle::Rotate
+                                                          : GizmoHandle::Move;
+    s.gizmo_start = s.gizmo_now = committed;
+    s.start_x = mx;
+    s.start_y = my;
+  } else if (s.gizmo != GizmoHandle::None && s.gizmo != GizmoHandle::Fields && ImGui::IsItemActive()) {
+    switch (s.gizmo) {
+      case GizmoHandle::Move: s.gizmo_now = gizmo_move(s.gizmo_start, mx - s.start_x, my - s.start_y, n); break;
+      case GizmoHandle::Scale: s.gizmo_now = gizmo_scale(s.gizmo_start, s.start_x, s.start_y, mx, my, n); break;
+      case GizmoHandle::Rotate: s.gizmo_now = gizmo_rotate(s.gizmo_start, s.start_x, s.start_y, mx, my, n); break;
+      default: break;
     }
-    if (!s.texture) glGenTextures(1, &s.texture);
-    glBindTexture(GL_TEXTURE_2D, s.texture);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, nx, ny, 0, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-    glBindTexture(GL_TEXTURE_2D, 0);
-    s.shown_slice = s.slice;
-    s.texture_key = {~0ull, 0, 0};  // the 2D canvas must re-upload if shown next
   }
+  if (s.gizmo != GizmoHandle::None && s.gizmo != GizmoHandle::Fields && ImGui::IsItemDeactivated()) {
+    const char* what = s.gizmo == GizmoHandle::Move ? "Move mesh" : s.gizmo == GizmoHandle::Scale ? "Scale mesh" : "Rotate mesh";
+    s.gizmo = GizmoHandle::None;
+    const std::string label = std::string(what) + " (" + slot_label(scene, s.slot) + ")";
+    if (s.gizmo_now.center != s.gizmo_start.center || s.gizmo_now.scale != s.gizmo_start.scale ||
+        s.gizmo_now.rotation_deg != s.gizmo_start.rotation_deg) {
+      app.doc.edit(label, with_mesh_transform(scene, s.slot, s.gizmo_now));
+      app.set_status(label);
+    }
+  }
+
+  // Painting on the slice: the 2D tools on a copy of slice z.
+  const Brush brush{s.radius_cells, s.hardness, s.tool == CanvasTool::Eraser};
+  if (!gizmo_tool) {
+    if (ImGui::IsItemActivated()) {
+      s.stroking = true;
+      s.working = volume_slice(s.vol, s.slice);
+      s.start_x = s.last_x = mx;
+      s.start_y = s.last_y = my;
+      if (s.tool == CanvasTool::Brush || s.tool == CanvasTool::Eraser) paint_dab(s.working, mx, my, brush);
+      ++s.volume_version;
+    } else if (s.stroking && ImGui::IsItemActive()) {
+      const bool moved = mx != s.last_x || my != s.last_y;
+      if ((s.tool == CanvasTool::Brush || s.tool == CanvasTool::Eraser) && moved) {
+        paint_segment(s.working, s.last_x, s.last_y, mx, my, brush);
+      } else if ((s.tool == CanvasTool::Ellipse || s.tool == CanvasTool::Rectangle) && moved) {
+        s.working = volume_slice(s.vol, s.slice);
+        if (s.tool == CanvasTool::Ellipse) fill_ellipse(s.working, s.start_x, s.start_y, mx, my, 255);
+        else fill_rectangle(s.working, s.start_x, s.start_y, mx, my, 255);
+      }
+      if (moved) ++s.volume_version;
+      s.last_x = mx;
+      s.last_y = my;
+    }
+    if (s.stroking && ImGui::IsItemDeactivated()) {
+      s.stroking = false;
+      geom::PaintedGrid v = s.vol;
+      if (s.tool == CanvasTool::Fill) {
+        geom::PaintedGrid sl = volume_slice(v, s.slice);
+        fill_region(sl, int(std::floor(s.start_x)), int(std::floor(s.start_y)), 255);
+        set_volume_slice(v, s.slice, sl);
+      } else {
+        set_volume_slice(v, s.slice, s.working);
+      }
+      const char* what[] = {"Brush stroke", "Eraser stroke", "Fill", "Ellipse", "Rectangle"};
+      commit_volume(app, v, what[std::clamp(int(s.tool), 0, 4)]);
+      refresh_volume(app);
+    }
+  }
+
   ImDrawList* dl = ImGui::GetWindowDrawList();
-  dl->AddImage(reinterpret_cast<ImTextureID>(static_cast<intptr_t>(s.texture)), p0, p1, ImVec2(0, 1), ImVec2(1, 0));
+  // The slice composite (the stroke in progress while painting) over the onion skin.
+  if (app.has_gl()) {
+    const std::array<uint64_t, 2> key{s.volume_version, uint64_t(s.slice) * 2 + uint64_t(s.onion)};
+    if (key != s.slice_key || !s.slice_texture) {
+      const geom::PaintedGrid shown = s.stroking ? s.working : volume_slice(s.vol, s.slice);
+      geom::PaintedGrid prev, next;
+      if (s.onion && s.vol_prev.n == n) prev = volume_slice(s.vol_prev, s.slice);
+      if (s.onion && s.vol_next.n == n) next = volume_slice(s.vol_next, s.slice);
+      upload_composite_texture(&s.slice_texture, shown, prev.cells() ? &prev : nullptr,
+                               next.cells() ? &next : nullptr);
+      s.slice_key = key;
+    }
+    dl->AddImage(reinterpret_cast<ImTextureID>(static_cast<intptr_t>(s.slice_texture)), p0, p1, ImVec2(0, 1),
+                 ImVec2(1, 0));
+  }
   dl->AddRect(p0, p1, IM_COL32(190, 195, 210, 200));
+  if (ImGui::IsItemHovered() && !gizmo_tool && (s.tool == CanvasTool::Brush || s.tool == CanvasTool::Eraser))
+    dl->AddCircle(io.MousePos, s.radius_cells * cell, IM_COL32(255, 200, 80, 200), 32);
+  if (mesh) {
+    const GizmoPoints g = gizmo_points(shown_t, half, n, p0, p1, cell);
+    const ImU32 col = gizmo_tool ? IM_COL32(90, 200, 255, 230) : IM_COL32(90, 200, 255, 110);
+    dl->AddPolyline(g.corners, 4, col, ImDrawFlags_Closed, 1.5f);
+    dl->AddCircleFilled(g.centre, 5.0f, col);
+    dl->AddRectFilled(ImVec2(g.scale_handle.x - 5, g.scale_handle.y - 5),
+                      ImVec2(g.scale_handle.x + 5, g.scale_handle.y + 5), col);
+    dl->AddLine(g.centre, g.rotate_handle, col, 1.0f);
+    dl->AddCircle(g.rotate_handle, 6.0f, col, 16, 2.0f);
+  }
+  const std::string caption = slot_label(scene, s.slot) + "  z " + std::to_string(s.slice) + "/" +
+                              std::to_string(n[2]) + "  " + std::to_string(nx) + "x" + std::to_string(ny) + "x" +
+                              std::to_string(n[2]);
+  dl->AddText(ImVec2(p0.x + 6, p0.y + 4), IM_COL32(220, 220, 230, 255), caption.c_str());
+
+  // The volume view to the right of the slice.
+  if (!s.volume_view) s.volume_view = std::make_shared<KeyframeVolumeView>();
+  const float vx = origin.x + 0.5f * avail.x + 4.0f;
+  const int vw = int(0.5f * avail.x - 4.0f), vh = int(std::max(size.y, std::min(avail.y, 0.5f * avail.x)));
+  geom::PaintedGrid shown_vol;
+  const geom::PaintedGrid* vol = &s.vol;
+  if (s.stroking) {
+    shown_vol = s.vol;
+    set_volume_slice(shown_vol, s.slice, s.working);
+    vol = &shown_vol;
+  }
+  draw_keyframe_volume(*s.volume_view, app, *vol, s.volume_version, s.slice, vx, origin.y, vw, vh);
 }
 
 }  // namespace pliant::editor

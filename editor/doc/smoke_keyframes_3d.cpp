@@ -1,0 +1,162 @@
+#include "doc/smoke_keyframes_3d.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "doc/smoke_keyframes.h"
+
+namespace pliant::editor {
+
+using nlohmann::json;
+
+std::array<int, 3> smoke_resolution_3d(const json& s) {
+  if (!is_smoke_scene(s) || !s.contains("grid") || !s["grid"].is_object()) return {0, 0, 0};
+  const json& r = s["grid"].value("resolution", json());
+  if (!r.is_array() || r.size() != 3) return {0, 0, 0};
+  for (const auto& v : r)
+    if (!v.is_number_integer() || v.get<int>() < 1) return {0, 0, 0};
+  return {r[0].get<int>(), r[1].get<int>(), r[2].get<int>()};
+}
+
+geom::PaintedGrid make_painted_volume(int w, int h, int d) {
+  geom::PaintedGrid g;
+  g.dim = 3;
+  g.n = {w, h, d};
+  g.value.assign(g.cells(), 0);
+  return g;
+}
+
+geom::PaintedGrid volume_slice(const geom::PaintedGrid& v, int z) {
+  geom::PaintedGrid g;
+  g.dim = 2;
+  g.n = {v.n[0], v.n[1], 1};
+  const size_t plane = size_t(v.n[0]) * v.n[1];
+  g.value.assign(plane, 0);
+  if (z >= 0 && z < v.n[2] && v.value.size() == v.cells())
+    std::copy_n(v.value.begin() + plane * z, plane, g.value.begin());
+  return g;
+}
+
+void set_volume_slice(geom::PaintedGrid& v, int z, const geom::PaintedGrid& slice) {
+  const size_t plane = size_t(v.n[0]) * v.n[1];
+  if (z < 0 || z >= v.n[2] || slice.value.size() != plane || v.value.size() != v.cells()) return;
+  std::copy(slice.value.begin(), slice.value.end(), v.value.begin() + plane * z);
+}
+
+geom::PaintedGrid rasterize_slot_volume(const json& scene, const std::filesystem::path& scene_dir, int slot,
+                                        std::string* error) {
+  const auto n = smoke_resolution_3d(scene);
+  if (n[0] <= 0 || !has_control(scene)) {
+    if (error) *error = "not a 3D smoke scene with a control section";
+    return {};
+  }
+  const json target = slot_target(scene, slot);
+  // Painted at the grid's size: the stored bytes, exactly (no float round trip).
+  if (target.is_object() && target.value("type", std::string()) == "painted") {
+    try {
+      const json& sz = target.at("size");
+      if (sz.size() == 3 && sz[0].get<int>() == n[0] && sz[1].get<int>() == n[1] && sz[2].get<int>() == n[2]) {
+        geom::PaintedGrid g = geom::decode_painted(target.at("data").get<std::string>(), 3, n);
+        if (error) error->clear();
+        return g;
+      }
+    } catch (const std::exception& e) {
+      if (error) *error = e.what();
+      return {};
+    }
+  }
+  std::array<int, 3> dims{};
+  std::vector<float> d = rasterize_slot_density(scene, scene_dir, slot, &dims, error);
+  if (d.empty() || dims != n) return {};
+  geom::PaintedGrid g = make_painted_volume(n[0], n[1], n[2]);
+  for (size_t c = 0; c < g.cells(); ++c) g.value[c] = uint8_t(std::lround(std::clamp(d[c], 0.0f, 1.0f) * 255.0f));
+  return g;
+}
+
+json with_painted_volume_slot(const json& scene, int slot, const geom::PaintedGrid& v) {
+  return with_slot_target(scene, slot,
+                          {{"type", "painted"}, {"size", {v.n[0], v.n[1], v.n[2]}}, {"data", geom::encode_painted(v)}});
+}
+
+bool is_mesh_slot(const json& scene, int slot) {
+  const json t = slot_target(scene, slot);
+  return t.is_object() && t.value("type", std::string()) == "mesh";
+}
+
+MeshTransform mesh_transform(const json& scene, int slot) {
+  MeshTransform t;
+  const json target = slot_target(scene, slot);
+  if (!target.is_object()) return t;
+  const json& c = target.value("center", json());
+  const json& cm = target.value("center_m", json());
+  if (c.is_array() && c.size() == 3) {
+    for (int a = 0; a < 3; ++a) t.center[a] = c[a].is_number() ? c[a].get<double>() : 0.5;
+  } else if (cm.is_array() && cm.size() == 3 && scene.contains("grid")) {
+    const auto n = smoke_resolution_3d(scene);
+    const double h = scene["grid"].value("cell_size_m", 0.0);
+    for (int a = 0; a < 3; ++a)
+      if (n[a] > 0 && h > 0 && cm[a].is_number()) t.center[a] = cm[a].get<double>() / (n[a] * h);
+  }
+  if (target.value("scale", json()).is_number()) t.scale = target["scale"].get<double>();
+  if (target.value("rotation_deg", json()).is_number()) t.rotation_deg = target["rotation_deg"].get<double>();
+  return t;
+}
+
+json with_mesh_transform(const json& scene, int slot, const MeshTransform& t) {
+  json target = slot_target(scene, slot);
+  if (!target.is_object()) return scene;
+  target.erase("center_m");
+  target["center"] = {t.center[0], t.center[1], t.center[2]};
+  target["scale"] = t.scale;
+  target["rotation_deg"] = t.rotation_deg;
+  return with_slot_target(scene, slot, target);
+}
+
+namespace {
+// The transform's centre in slice cells.
+std::array<double, 2> centre_cells(const MeshTransform& t, const std::array<int, 3>& n) {
+  return {t.center[0] * n[0], t.center[1] * n[1]};
+}
+}  // namespace
+
+MeshTransform gizmo_move(const MeshTransform& t, double dx, double dy, const std::array<int, 3>& n) {
+  MeshTransform out = t;
+  out.center[0] += dx / std::max(1, n[0]);
+  out.center[1] += dy / std::max(1, n[1]);
+  return out;
+}
+
+MeshTransform gizmo_scale(const MeshTransform& t, double x0, double y0, double x1, double y1,
+                          const std::array<int, 3>& n) {
+  const auto c = centre_cells(t, n);
+  const double r0 = std::hypot(x0 - c[0], y0 - c[1]), r1 = std::hypot(x1 - c[0], y1 - c[1]);
+  MeshTransform out = t;
+  if (r0 > 1e-6) out.scale = std::clamp(t.scale * r1 / r0, 0.02, 50.0);
+  return out;
+}
+
+MeshTransform gizmo_rotate(const MeshTransform& t, double x0, double y0, double x1, double y1,
+                           const std::array<int, 3>& n) {
+  const auto c = centre_cells(t, n);
+  const double a0 = std::atan2(y0 - c[1], x0 - c[0]), a1 = std::atan2(y1 - c[1], x1 - c[0]);
+  double deg = t.rotation_deg + (a1 - a0) * 180.0 / 3.14159265358979323846;
+  deg = std::remainder(deg, 360.0);  // keep it in (-180, 180]
+  MeshTransform out = t;
+  out.rotation_deg = deg;
+  return out;
+}
+
+std::array<double, 3> volume_centroid(const geom::PaintedGrid& v) {
+  double m = 0, s[3] = {0, 0, 0};
+  for (int k = 0; k < v.n[2]; ++k)
+    for (int j = 0; j < v.n[1]; ++j)
+      for (int i = 0; i < v.n[0]; ++i) {
+        const double w = v.value[size_t(i) + size_t(v.n[0]) * (size_t(j) + size_t(v.n[1]) * k)];
+        m += w;
+        s[0] += w * (i + 0.5), s[1] += w * (j + 0.5), s[2] += w * (k + 0.5);
+      }
+  if (m <= 0) return {0, 0, 0};
+  return {s[0] / m, s[1] / m, s[2] / m};
+}
+
+}  // namespace pliant::editor

@@ -1,0 +1,63 @@
+// 3D smoke keyframes as the editor edits them: a painted volume (geom::PaintedGrid
+// with dim 3, stored inline as {"type":"painted","size":[w,h,d],"data":...}) is
+// painted one z slice at a time with the 2D tools of doc/paint_ops.h, and a mesh
+// keyframe is placed by its transform ("center" as fractions of the domain,
+// "scale", "rotation_deg" about z, the slice normal: the engine's geom::Placement).
+// Like smoke_keyframes.h every "with_" function returns a NEW scene for one
+// Document::edit (one undo step).
+#pragma once
+#include <array>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "pliant/geom/painted_grid.h"
+
+namespace pliant::editor {
+
+// grid.resolution [nx, ny, nz] of a 3D smoke scene ({0, 0, 0} otherwise).
+std::array<int, 3> smoke_resolution_3d(const nlohmann::json& scene);
+
+// An empty w x h x d painted volume.
+geom::PaintedGrid make_painted_volume(int w, int h, int d);
+// z slice `z` of a volume as a 2D grid (w x h), and its inverse: only the cells of
+// that slice are written.
+geom::PaintedGrid volume_slice(const geom::PaintedGrid& volume, int z);
+void set_volume_slice(geom::PaintedGrid& volume, int z, const geom::PaintedGrid& slice);
+
+// The slot's target rasterised on the 3D grid as bytes: a painted target of the
+// grid's size decodes exactly (bit for bit), anything else goes through the
+// engine's control_compile (meshes voxelised). Empty grid + *error on failure.
+geom::PaintedGrid rasterize_slot_volume(const nlohmann::json& scene, const std::filesystem::path& scene_dir,
+                                        int slot, std::string* error);
+// The scene with the slot's target replaced by the painted volume.
+nlohmann::json with_painted_volume_slot(const nlohmann::json& scene, int slot, const geom::PaintedGrid& volume);
+
+// Placement of a mesh keyframe. center: fractions of each domain axis.
+struct MeshTransform {
+  std::array<double, 3> center{0.5, 0.5, 0.5};
+  double scale = 1.0;
+  double rotation_deg = 0.0;  // counter-clockwise about +z (seen in the slice view)
+};
+
+// True when the slot's target is {"type": "mesh"}.
+bool is_mesh_slot(const nlohmann::json& scene, int slot);
+// The slot's transform (defaults for missing fields; "center_m" converted to fractions).
+MeshTransform mesh_transform(const nlohmann::json& scene, int slot);
+// The scene with the slot's mesh transform replaced ("center_m" dropped for "center").
+nlohmann::json with_mesh_transform(const nlohmann::json& scene, int slot, const MeshTransform& t);
+
+// Gizmo drags, in slice cells (+y up) on a grid of n cells per axis:
+// move by (dx, dy); scale by the ratio of the distances from the centre of the
+// start and end points; rotate by the angle swept about the centre.
+MeshTransform gizmo_move(const MeshTransform& t, double dx_cells, double dy_cells, const std::array<int, 3>& n);
+MeshTransform gizmo_scale(const MeshTransform& t, double x0, double y0, double x1, double y1,
+                          const std::array<int, 3>& n);
+MeshTransform gizmo_rotate(const MeshTransform& t, double x0, double y0, double x1, double y1,
+                           const std::array<int, 3>& n);
+
+// Density-weighted centroid of a volume in cells (cell centres at i + 0.5); tests
+// and the gizmo's readout.
+std::array<double, 3> volume_centroid(const geom::PaintedGrid& volume);
+
+}  // namespace pliant::editor
