@@ -168,8 +168,10 @@ void App::poll_jobs() {
 }
 
 void App::handle_drops(const std::vector<std::string>& paths) {
+  const KindPanels* kp = kind_panels(scene_kind(*this));
   for (const auto& p : paths) {
     std::error_code ec;
+    if (kp && kp->on_drop && !fs::is_directory(p, ec) && kp->on_drop(*this, p)) continue;
     if (fs::is_directory(p, ec)) {
       cmd_open_take(p);
     } else if (fs::path(p).extension() == ".json") {

@@ -32,6 +32,10 @@ struct KindPanels {
   void (*viewport_overlay)(App&, float x, float y, int w, int h) = nullptr;
   // Timeline: under the frame slider (key poses, markers).
   void (*timeline)(App&) = nullptr;
+  // A file dropped on the window while a scene of this kind is open (a mesh, a
+  // model): return true when taken. Called before the generic handling, so a
+  // kind may take .json model files that are not scenes.
+  bool (*on_drop)(App&, const std::string& path) = nullptr;
 };
 
 // The table for `kind`, or null for kinds without one (smoke uses its own files).
