@@ -57,6 +57,7 @@ ArticulatedScene articulated_compile(const Scene& scene) {
     o.contact.mu = c->number("mu", o.contact.mu, 0);
     o.contact.ck = c->number("ck", o.contact.ck, 0);
     o.contact.slip_eps = c->number("slip_eps", o.contact.slip_eps, 1e-12);
+    o.contact.limit_stiffness = c->number("limit_stiffness", o.contact.limit_stiffness, 0);
     c->finish();
   }
   if (auto s = r.object("solver")) {

@@ -1,6 +1,10 @@
 // MJCF subset -> Model. Element paths in errors: /mujoco/worldbody/body[0]/geom[1],
-// attributes as .../@size. Angles are radians (compiler angle="radian" is required
-// only where angles appear: we read none, so angle is accepted and ignored).
+// attributes as .../@size. Angles (euler, axisangle, hinge range) follow <compiler
+// angle> (MuJoCo's default: degree) and eulerseq (default xyz; lower case = axes that
+// move with the frame, upper case = fixed axes). <default> classes (nested, with
+// class= and childclass=) are applied to joint/geom/motor elements before reading,
+// as MuJoCo does: the element's own attributes override its class's.
+#include <cctype>
 #include <cmath>
 #include <fstream>
 #include <map>
@@ -19,6 +23,9 @@ struct Ctx {
   const std::string& file;
   Model m;
   std::vector<bool> has_inertial{false};
+  double angle_scale = M_PI / 180;  // compiler angle="degree"
+  std::string eulerseq = "xyz";
+  bool autolimits = true;
 };
 
 std::string child_path(const std::string& parent, const XmlElement& parent_el, size_t index) {
@@ -68,12 +75,119 @@ Vec3 vec3(const Ctx& c, const XmlElement& e, const std::string& path, const std:
   return Vec3(v[0], v[1], v[2]);
 }
 
+// Orientation from quat, axisangle (x y z angle) or euler (three angles, eulerseq).
 Quat quat(const Ctx& c, const XmlElement& e, const std::string& path) {
+  const int given = (e.attr("quat") ? 1 : 0) + (e.attr("axisangle") ? 1 : 0) + (e.attr("euler") ? 1 : 0);
+  if (given > 1)
+    throw InputError(c.file, path + (e.attr("euler") ? "/@euler" : "/@axisangle"),
+                     "give one orientation (quat, axisangle or euler), not several");
+  if (e.attr("axisangle")) {
+    const auto v = numbers(c, e, path, "axisangle", 4, 4);
+    const Vec3 axis(v[0], v[1], v[2]);
+    if (axis.norm() < 1e-12) throw InputError(c.file, path + "/@axisangle", "axis is zero");
+    return Quat(Eigen::AngleAxisd(v[3] * c.angle_scale, axis.normalized()));
+  }
+  if (e.attr("euler")) {
+    const auto v = numbers(c, e, path, "euler", 3, 3);
+    Quat q = Quat::Identity();
+    for (int i = 0; i < 3; ++i) {
+      const char a = c.eulerseq[i];
+      const Vec3 axis = Vec3::Unit(std::tolower(a) - 'x');
+      const Quat r(Eigen::AngleAxisd(v[i] * c.angle_scale, axis));
+      q = std::islower(a) ? Quat(q * r) : Quat(r * q);  // moving (intrinsic) or fixed axes
+    }
+    return q.normalized();
+  }
   if (!e.attr("quat")) return Quat::Identity();
   const auto v = numbers(c, e, path, "quat", 4, 4);
   const Quat q(v[0], v[1], v[2], v[3]);
   if (q.norm() < 1e-12) throw InputError(c.file, path + "/@quat", "quaternion is zero");
   return q.normalized();
+}
+
+// <default> classes: class name -> element name -> attributes (inherited ones merged).
+using Defaults = std::map<std::string, std::map<std::string, std::vector<std::pair<std::string, std::string>>>>;
+
+void merge_attrs(std::vector<std::pair<std::string, std::string>>& into,
+                 const std::vector<std::pair<std::string, std::string>>& from) {
+  for (const auto& [k, v] : from) {
+    bool found = false;
+    for (auto& kv : into)
+      if (kv.first == k) kv.second = v, found = true;
+    if (!found) into.emplace_back(k, v);
+  }
+}
+
+void read_default(const Ctx& c, const XmlElement& e, const std::string& path, const std::string& parent,
+                  bool top, Defaults* d) {
+  for (const auto& [k, v] : e.attrs)
+    if (k != "class") throw InputError(c.file, path + "/@" + k, "unsupported attribute of <default>");
+  std::string cls = "main";
+  if (const auto* n = e.attr("class")) cls = *n;
+  else if (!top) throw InputError(c.file, path + "/@class", "a nested <default> needs a class");
+  if (d->count(cls) && !(top && cls == "main")) throw InputError(c.file, path + "/@class", "class \"" + cls + "\" defined twice");
+  (*d)[cls] = parent.empty() ? std::map<std::string, std::vector<std::pair<std::string, std::string>>>{} : (*d)[parent];
+  for (size_t k = 0; k < e.children.size(); ++k) {
+    const XmlElement& ch = e.children[k];
+    const std::string p = child_path(path, e, k);
+    if (ch.name == "default") {
+      read_default(c, ch, p, cls, false, d);
+    } else if (ch.name == "joint" || ch.name == "geom" || ch.name == "motor") {
+      for (const auto& [key, v] : ch.attrs)
+        if (key == "class" || key == "name") throw InputError(c.file, p + "/@" + key, "not allowed in a default");
+      merge_attrs((*d)[cls][ch.name], ch.attrs);
+    } else if (ch.name == "site" || ch.name == "camera" || ch.name == "light" || ch.name == "mesh" ||
+               ch.name == "material") {
+      continue;  // visual only
+    } else {
+      throw InputError(c.file, p, "unsupported element <" + ch.name + "> in <default> (supported: joint, geom, motor)");
+    }
+  }
+}
+
+void check_class(const Ctx& c, const std::string& name, const std::string& attr_path, const Defaults& d) {
+  if (d.count(name)) return;
+  std::vector<std::string> names;
+  for (const auto& kv : d) names.push_back(kv.first);
+  const std::string near = nearest_name(name, names);
+  throw InputError(c.file, attr_path,
+                   "no default class \"" + name + "\"" + (near.empty() ? "" : "; did you mean \"" + near + "\"?"));
+}
+
+// Rewrites joint/geom/motor elements with their class's attributes under their own.
+void apply_defaults(const Ctx& c, XmlElement& e, const std::string& path, const Defaults& d,
+                    const std::string& cls) {
+  std::string child_cls = cls;
+  if (e.name == "body") {
+    if (const auto* n = e.attr("childclass")) {
+      check_class(c, *n, path + "/@childclass", d);
+      child_cls = *n;
+    }
+  }
+  if (e.name == "joint" || e.name == "geom" || e.name == "motor") {
+    std::string own = cls;
+    if (const auto* n = e.attr("class")) {
+      check_class(c, *n, path + "/@class", d);
+      own = *n;
+    }
+    auto merged = std::vector<std::pair<std::string, std::string>>{};
+    const auto it = d.find(own);
+    if (it != d.end()) {
+      const auto el = it->second.find(e.name);
+      if (el != it->second.end()) merged = el->second;
+    }
+    std::vector<std::pair<std::string, std::string>> own_attrs;
+    for (const auto& kv : e.attrs)
+      if (kv.first != "class") own_attrs.push_back(kv);
+    merge_attrs(merged, own_attrs);
+    e.attrs = merged;
+  }
+  std::vector<std::pair<std::string, std::string>> kept;
+  for (const auto& kv : e.attrs)
+    if (!(e.name == "body" && kv.first == "childclass")) kept.push_back(kv);
+  e.attrs = kept;
+  for (size_t k = 0; k < e.children.size(); ++k)
+    apply_defaults(c, e.children[k], child_path(path, e, k), d, child_cls);
 }
 
 double number(const Ctx& c, const XmlElement& e, const std::string& path, const std::string& key,
@@ -86,7 +200,7 @@ double number(const Ctx& c, const XmlElement& e, const std::string& path, const 
 
 void read_geom(Ctx& c, const XmlElement& e, const std::string& path, int body) {
   check_attrs(c, e, path,
-              {"name", "type", "size", "pos", "quat", "fromto", "density", "mass", "rgba", "contype",
+              {"name", "type", "size", "pos", "quat", "axisangle", "euler", "fromto", "density", "mass", "rgba", "contype",
                "conaffinity", "friction", "condim", "material", "group", "margin"});
   Geom g;
   g.body = body;
@@ -129,8 +243,7 @@ void read_geom(Ctx& c, const XmlElement& e, const std::string& path, int body) {
 }
 
 void read_body(Ctx& c, const XmlElement& e, const std::string& path, int parent) {
-  check_attrs(c, e, path, {"name", "pos", "quat", "childclass"});
-  if (e.attr("childclass")) throw InputError(c.file, path + "/@childclass", "defaults are not supported");
+  check_attrs(c, e, path, {"name", "pos", "quat", "axisangle", "euler"});
   Body b;
   b.name = e.attr("name") ? *e.attr("name") : "body" + std::to_string(c.m.bodies.size());
   b.parent = parent;
@@ -164,13 +277,27 @@ void read_body(Ctx& c, const XmlElement& e, const std::string& path, int parent)
         j.pos = vec3(c, ch, p, "pos", Vec3::Zero());
         j.damping = number(c, ch, p, "damping", 0, 0);
         j.armature = number(c, ch, p, "armature", 0, 0);
+        const std::string limited = ch.attr("limited") ? *ch.attr("limited") : "auto";
+        if (limited != "true" && limited != "false" && limited != "auto")
+          throw InputError(c.file, p + "/@limited", "expected true, false or auto, got \"" + limited + "\"");
+        j.limited = limited == "true" || (limited == "auto" && c.autolimits && ch.attr("range"));
+        if (j.limited) {
+          if (!ch.attr("range")) throw InputError(c.file, p + "/@range", "a limited joint needs a range");
+          if (j.type != JointType::Hinge && j.type != JointType::Slide)
+            throw InputError(c.file, p + "/@range", "only hinge and slide joints take a range");
+          const auto r = numbers(c, ch, p, "range", 2, 2);
+          if (!(r[0] < r[1])) throw InputError(c.file, p + "/@range", "lower bound must be below the upper bound");
+          const double scale = j.type == JointType::Hinge ? c.angle_scale : 1.0;
+          j.range_min = r[0] * scale;
+          j.range_max = r[1] * scale;
+        }
       }
       if (const auto* n = ch.attr("name")) j.name = *n;
       c.m.joints.push_back(j);
     } else if (ch.name == "geom") {
       read_geom(c, ch, p, id);
     } else if (ch.name == "inertial") {
-      check_attrs(c, ch, p, {"pos", "quat", "mass", "diaginertia", "fullinertia"});
+      check_attrs(c, ch, p, {"pos", "quat", "axisangle", "euler", "mass", "diaginertia", "fullinertia"});
       if (!ch.attr("mass")) throw InputError(c.file, p + "/@mass", "inertial needs a mass");
       Body& bd = c.m.bodies[id];
       bd.mass = number(c, ch, p, "mass", 0, 0);
@@ -198,9 +325,39 @@ void read_body(Ctx& c, const XmlElement& e, const std::string& path, int parent)
 }  // namespace
 
 Model model_from_mjcf(const std::string& text, const std::string& file) {
-  const XmlElement root = parse_xml(text, file);
+  XmlElement root = parse_xml(text, file);
   if (root.name != "mujoco") throw InputError(file, "/" + root.name, "root element must be <mujoco>");
   Ctx c{file};
+  // Compiler settings and default classes first: they apply wherever they appear.
+  Defaults defaults;
+  defaults["main"];
+  for (size_t k = 0; k < root.children.size(); ++k) {
+    const XmlElement& e = root.children[k];
+    const std::string p = child_path("/mujoco", root, k);
+    if (e.name == "compiler") {
+      check_attrs(c, e, p, {"angle", "inertiafromgeom", "coordinate", "autolimits", "eulerseq"});
+      if (e.attr("coordinate") && *e.attr("coordinate") != "local")
+        throw InputError(file, p + "/@coordinate", "only local coordinates are supported");
+      if (const auto* a = e.attr("angle")) {
+        if (*a != "degree" && *a != "radian") throw InputError(file, p + "/@angle", "expected degree or radian");
+        c.angle_scale = *a == "radian" ? 1.0 : M_PI / 180;
+      }
+      if (const auto* q = e.attr("eulerseq")) {
+        bool ok = q->size() == 3;
+        for (char ch : *q) ok = ok && std::string("xyzXYZ").find(ch) != std::string::npos;
+        if (!ok) throw InputError(file, p + "/@eulerseq", "expected three of x y z X Y Z, got \"" + *q + "\"");
+        c.eulerseq = *q;
+      }
+      if (const auto* a = e.attr("autolimits")) c.autolimits = *a != "false";
+    } else if (e.name == "default") {
+      read_default(c, e, p, "", true, &defaults);
+    }
+  }
+  for (size_t k = 0; k < root.children.size(); ++k) {
+    XmlElement& e = root.children[k];
+    if (e.name == "worldbody" || e.name == "actuator")
+      apply_defaults(c, e, child_path("/mujoco", root, k), defaults, "main");
+  }
   Body world;
   world.name = "world";
   c.m.bodies.push_back(world);
@@ -209,10 +366,8 @@ Model model_from_mjcf(const std::string& text, const std::string& file) {
   for (size_t k = 0; k < root.children.size(); ++k) {
     const XmlElement& e = root.children[k];
     const std::string p = child_path(rp, root, k);
-    if (e.name == "compiler") {
-      check_attrs(c, e, p, {"angle", "inertiafromgeom", "coordinate", "autolimits"});
-      if (e.attr("coordinate") && *e.attr("coordinate") != "local")
-        throw InputError(file, p + "/@coordinate", "only local coordinates are supported");
+    if (e.name == "compiler" || e.name == "default") {
+      continue;  // read above
     } else if (e.name == "option") {
       check_attrs(c, e, p, {"timestep", "gravity", "integrator", "iterations", "solver"});
       c.m.timestep = number(c, e, p, "timestep", 0.002, 1e-9);

@@ -20,6 +20,14 @@ Quat quat(JsonReader& r) {
   return q.normalized();
 }
 
+VecX read_range(JsonReader& r) {
+  const auto v = r.numbers("range", {}, 2, 2);
+  if (!(v[0] < v[1])) r.fail("range", "lower bound must be below the upper bound");
+  VecX out(2);
+  out << v[0], v[1];
+  return out;
+}
+
 Geom read_geom(JsonReader& r, int body) {
   Geom g;
   g.body = body;
@@ -100,6 +108,14 @@ Model model_from_json(JsonReader& r) {
         jt.pos = vec3(j, "pos", Vec3::Zero());
         jt.damping = j.number("damping", 0, 0);
         jt.armature = j.number("armature", 0, 0);
+        if (j.has("range")) {
+          if (jt.type == JointType::Ball || jt.type == JointType::Free)
+            j.fail("range", "only hinge and slide joints take a range");
+          const VecX r = read_range(j);
+          jt.limited = true;
+          jt.range_min = r[0];
+          jt.range_max = r[1];
+        }
         j.finish();
         m.joints.push_back(jt);
       }

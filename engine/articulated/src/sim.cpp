@@ -22,6 +22,33 @@ void actuator_forces(const Model& m, const State& s, VecX* tau) {
   }
 }
 
+// Joint-range penalty 1/2 k (q - bound)^2 beyond each limited hinge/slide: returns the
+// energy; optionally its gradient and (diagonal) Hessian in joint space.
+double limit_terms(const Model& m, const SimOptions& o, const VecX& q, VecX* force, VecX* hdiag) {
+  const double k = o.contact.limit_stiffness;
+  if (force) force->setZero(m.nv);
+  if (hdiag) hdiag->setZero(m.nv);
+  double e = 0;
+  for (const Joint& j : m.joints) {
+    if (!j.limited) continue;
+    const double x = q[j.qadr];
+    const double d = x > j.range_max ? x - j.range_max : x < j.range_min ? x - j.range_min : 0;
+    if (d == 0) continue;
+    e += 0.5 * k * d * d;
+    if (force) (*force)[j.vadr] = k * d;
+    if (hdiag) (*hdiag)[j.vadr] = k;
+  }
+  return e;
+}
+
+bool any_limits(const Model& m) {
+  for (const Joint& j : m.joints)
+    if (j.limited) return true;
+  return false;
+}
+
+void lm_armature(const Model& m, const SimOptions& o, const PbadStep& p, double lambda, SimWorkspace& ws);
+
 // Energy of PBAD at q; with derivs also per-body wrenches (gradient) and Gauss-Newton
 // blocks in ws.w / ws.h and the generalized gradient in ws.grad.
 double pbad_energy(const Model& m, const SimOptions& o, const State& s, const PbadStep& p,
@@ -128,6 +155,7 @@ double pbad_energy(const Model& m, const SimOptions& o, const State& s, const Pb
       for (int i = 0; i < joint_nv(j.type); ++i)
         e += 0.5 * j.damping / o.dt * ws.dq[j.vadr + i] * ws.dq[j.vadr + i];
   }
+  if (p.any_limits) e += limit_terms(m, o, q, derivs ? &ws.limit_force : nullptr, derivs ? &ws.limit_h : nullptr);
   if (exact) {
     ws.h_exact.resize(nb);
     ws.h_exact[0].setZero();
@@ -135,6 +163,7 @@ double pbad_energy(const Model& m, const SimOptions& o, const State& s, const Pb
   }
   if (derivs) {
     wrenches_to_generalized(m, k, ws.w, &ws.grad);  // consumes ws.w
+    if (p.any_limits) ws.grad += ws.limit_force;
     if (joint_terms) {
       ws.grad -= ws.tau;
       for (const Joint& j : m.joints)
@@ -145,9 +174,13 @@ double pbad_energy(const Model& m, const SimOptions& o, const State& s, const Pb
 }
 
 // Generalized contact + actuator forces for explicit integrators at (k, qvel).
-void explicit_forces(const Model& m, const SimOptions& o, const State& s, const Kinematics& k,
+void explicit_forces(const Model& m, const SimOptions& o, const State& s, const Kinematics& k, const VecX& qpos,
                      const VecX& qvel, SimWorkspace& ws, VecX* tau, std::vector<Contact>* record) {
   actuator_forces(m, s, tau);
+  if (any_limits(m)) {
+    limit_terms(m, o, qpos, &ws.limit_force, nullptr);
+    *tau -= ws.limit_force;
+  }
   ws.contacts.clear();
   if (!o.contact.enabled || ws.points.empty() || ws.obstacles.empty()) return;
   find_contacts(m, k, ws.points, ws.obstacles, &ws.contacts);
@@ -186,7 +219,7 @@ void accel(const Model& m, const SimOptions& o, const State& s, const VecX& q, c
   kinematics(m, q, &ws.kin);
   ws.kin_at.resize(0);
   VecX tau;
-  explicit_forces(m, o, s, ws.kin, v, ws, &tau, nullptr);
+  explicit_forces(m, o, s, ws.kin, q, v, ws, &tau, nullptr);
   forward_dynamics(m, ws.kin, v, tau, a, &ws.tree);
 }
 
@@ -352,6 +385,7 @@ void pbad_begin(const Model& m, const SimOptions& o, State& s, PbadStep& p, SimW
   // Prediction: quadratic extrapolation q_i (+) (2 (q_i - q_{i-1}) - (q_{i-1} - q_{i-2})).
   p.any_damping = false;
   for (const Joint& j : m.joints) p.any_damping = p.any_damping || j.damping > 0;
+  p.any_limits = any_limits(m);
   p.q = s.qpos;
   qpos_integrate(m, p.q, 2 * qpos_difference(m, s.qpos, q1) - qpos_difference(m, q1, q2), 1.0);
   p.q_pred = p.q;
@@ -388,10 +422,7 @@ bool lbfgs_iterate(const Model& m, const SimOptions& o, const State& s, PbadStep
     q -= alpha[i] * p.y_hist[i];
   }
   tree_diagonal(m, ws.kin, ws.h, &ws.diag, &ws.tree);
-  ws.arm = 1e-9 * ws.diag;
-  if (p.any_damping)
-    for (const Joint& j : m.joints)
-      for (int i = 0; i < joint_nv(j.type); ++i) ws.arm[j.vadr + i] += j.damping / o.dt;
+  lm_armature(m, o, p, 1e-9, ws);
   tree_solve(m, ws.kin, ws.h, ws.arm, q, &ws.step, &ws.tree);
   for (int i = 0; i < hist; ++i) {
     const double beta = p.y_hist[i].dot(ws.step) / p.y_hist[i].dot(p.s_hist[i]);
@@ -439,6 +470,16 @@ bool lbfgs_iterate(const Model& m, const SimOptions& o, const State& s, PbadStep
 
 namespace {
 
+// Joint-space diagonal of the LM matrix: damping lambda * diag(Gauss-Newton), the
+// joints' viscous damping (dissipation potential / dt) and active range penalties.
+void lm_armature(const Model& m, const SimOptions& o, const PbadStep& p, double lambda, SimWorkspace& ws) {
+  ws.arm = lambda * ws.diag;
+  if (p.any_damping)
+    for (const Joint& j : m.joints)
+      for (int i = 0; i < joint_nv(j.type); ++i) ws.arm[j.vadr + i] += j.damping / o.dt;
+  if (p.any_limits) ws.arm += ws.limit_h;
+}
+
 // Accuracy-aware stop: solves for the next step at the new iterate (the solve the
 // next iteration would start with). If it is below lm_relative_tolerance times the
 // step's correction to the quadratic predictor (a measure of the step's truncation
@@ -448,10 +489,7 @@ namespace {
 bool final_correction(const Model& m, const SimOptions& o, PbadStep& p, SimWorkspace& ws) {
   tree_diagonal(m, ws.kin, ws.h, &ws.diag, &ws.tree);
   ws.rhs = -ws.grad;
-  ws.arm = p.lambda * ws.diag;
-  if (p.any_damping)
-    for (const Joint& j : m.joints)
-      for (int i = 0; i < joint_nv(j.type); ++i) ws.arm[j.vadr + i] += j.damping / o.dt;
+  lm_armature(m, o, p, p.lambda, ws);
   if (!tree_solve(m, ws.kin, o.exact_hessian ? ws.h_exact : ws.h, ws.arm, ws.rhs, &ws.step, &ws.tree))
     return false;  // the next iteration damps and solves again
   const double correction = qpos_difference(m, p.q, p.q_pred).lpNorm<Eigen::Infinity>();
@@ -481,10 +519,7 @@ bool pbad_iterate(const Model& m, const SimOptions& o, const State& s, PbadStep&
   }
   for (int tries = 0; tries < 12; ++tries) {
     if (!(p.step_ready && tries == 0)) {
-      ws.arm = p.lambda * ws.diag;
-      if (p.any_damping)
-        for (const Joint& j : m.joints)
-          for (int i = 0; i < joint_nv(j.type); ++i) ws.arm[j.vadr + i] += j.damping / o.dt;
+      lm_armature(m, o, p, p.lambda, ws);
       // An indefinite Newton model (compressed chain, contact) could lead to a saddle:
       // damp more until the matrix is positive definite.
       if (!tree_solve(m, ws.kin, blocks, ws.arm, ws.rhs, &ws.step, &ws.tree)) {
@@ -605,7 +640,7 @@ Energy state_energy(const Model& m, const SimOptions& o, const State& s, SimWork
   ws.kin_at.resize(0);
   Energy e;
   e.kinetic = kinetic_energy(m, ws.kin, s.qvel);
-  e.potential = potential_energy(m, ws.kin);
+  e.potential = potential_energy(m, ws.kin) + limit_terms(m, o, s.qpos, nullptr, nullptr);
   if (o.contact.enabled) {
     find_contacts(m, ws.kin, ws.points, ws.obstacles, &ws.contacts);
     for (const Contact& c : ws.contacts) e.potential += 0.5 * o.contact.stiffness * c.depth * c.depth;

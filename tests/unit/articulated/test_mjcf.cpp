@@ -44,6 +44,52 @@ TEST(Mjcf, MalformedInputNamesTheElement) {
             std::string::npos);
 }
 
+TEST(Mjcf, DefaultsOrientationsAndRanges) {
+  const Model m = model_from_mjcf(R"(<mujoco><compiler angle="radian"/>
+    <default><geom type="sphere" size="0.1"/><default class="big"><geom size="0.2"/><joint range="-0.5 0.5"/></default></default>
+    <worldbody><body childclass="big" euler="0 0 1.5707963267948966"><joint/><geom/>
+      <body><joint range="-1 2" class="main"/><geom class="main"/></body></body></worldbody></mujoco>)",
+                                 "d.xml");
+  EXPECT_NEAR(m.bodies[1].mass, 1000 * 4.0 / 3.0 * M_PI * 0.008, 1e-9);
+  EXPECT_NEAR(m.bodies[2].mass, 1000 * 4.0 / 3.0 * M_PI * 0.001, 1e-9);
+  EXPECT_TRUE(m.joints[0].limited);
+  EXPECT_DOUBLE_EQ(m.joints[0].range_max, 0.5);
+  EXPECT_DOUBLE_EQ(m.joints[1].range_min, -1);
+  EXPECT_NEAR((m.bodies[1].quat.toRotationMatrix() * Vec3::UnitX() - Vec3::UnitY()).norm(), 0, 1e-12);
+  const Model deg = model_from_mjcf(
+      "<mujoco><worldbody><body axisangle=\"0 0 1 90\"><joint range=\"-90 45\"/><geom size=\"0.1\"/></body></worldbody></mujoco>", "d.xml");
+  EXPECT_NEAR(deg.joints[0].range_min, -M_PI / 2, 1e-12);
+  EXPECT_NEAR((deg.bodies[1].quat.toRotationMatrix() * Vec3::UnitX() - Vec3::UnitY()).norm(), 0, 1e-12);
+}
+
+TEST(Mjcf, MalformedDefaultsOrientationsAndRangesNameTheField) {
+  const std::string w = "<mujoco><worldbody><body>";
+  const std::string e = "<geom size=\"0.1\"/></body></worldbody></mujoco>";
+  EXPECT_NE(error_of("<mujoco><default><default class=\"leg\"/></default><worldbody><body><geom class=\"lge\" size=\"1\"/></body></worldbody></mujoco>")
+                .find("/mujoco/worldbody[0]/body[0]/geom[0]/@class | no default class \"lge\"; did you mean \"leg\""),
+            std::string::npos);
+  EXPECT_NE(error_of("<mujoco><worldbody><body childclass=\"x\"><geom size=\"1\"/></body></worldbody></mujoco>")
+                .find("/mujoco/worldbody[0]/body[0]/@childclass"),
+            std::string::npos);
+  EXPECT_NE(error_of("<mujoco><default><default/></default></mujoco>").find("/mujoco/default[0]/default[0]/@class"),
+            std::string::npos);
+  EXPECT_NE(error_of("<mujoco><default><tendon/></default></mujoco>").find("/mujoco/default[0]/tendon[0]"),
+            std::string::npos);
+  EXPECT_NE(error_of(w + "<joint range=\"1 -1\"/>" + e).find("joint[0]/@range | lower bound"), std::string::npos);
+  EXPECT_NE(error_of(w + "<joint limited=\"true\"/>" + e).find("joint[0]/@range | a limited joint needs a range"),
+            std::string::npos);
+  EXPECT_NE(error_of(w + "<joint type=\"ball\" range=\"0 1\"/>" + e).find("joint[0]/@range"), std::string::npos);
+  EXPECT_NE(error_of(w + "<joint limited=\"yes\" range=\"0 1\"/>" + e).find("joint[0]/@limited"), std::string::npos);
+  EXPECT_NE(error_of("<mujoco><worldbody><body euler=\"1 2\">" + e).find("body[0]/@euler | expected 3 numbers"),
+            std::string::npos);
+  EXPECT_NE(error_of("<mujoco><worldbody><body euler=\"1 2 3\" quat=\"1 0 0 0\">" + e).find("body[0]/@euler | give one"),
+            std::string::npos);
+  EXPECT_NE(error_of("<mujoco><worldbody><body axisangle=\"0 0 0 1\">" + e).find("body[0]/@axisangle | axis is zero"),
+            std::string::npos);
+  EXPECT_NE(error_of("<mujoco><compiler eulerseq=\"xyw\"/><worldbody/></mujoco>").find("compiler[0]/@eulerseq"),
+            std::string::npos);
+}
+
 TEST(Mjcf, ActuatorsFollowJointReordering) {
   const Model m = model_from_mjcf(
       "<mujoco><worldbody><body name=\"a\"><joint name=\"ja\"/><geom size=\"0.1\"/>"

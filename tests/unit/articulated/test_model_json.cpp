@@ -23,7 +23,7 @@ TEST(ModelJson, BodiesJointsGeomsAndObstacles) {
          {"geoms", {{{"type", "box"}, {"size", {0.1, 0.2, 0.3}}, {"mass", 2}}}}},
         {{"name", "leg"},
          {"parent", "torso"},
-         {"joints", {{{"type", "hinge"}, {"axis", {0, 1, 0}}, {"name", "hip"}}}},
+         {"joints", {{{"type", "hinge"}, {"axis", {0, 1, 0}}, {"name", "hip"}, {"range", {-0.5, 1.0}}}}},
          {"inertial", {{"mass", 1.5}, {"pos", {0, 0, -0.2}}, {"diaginertia", {0.1, 0.1, 0.01}}}}}}},
       {"actuators", {{{"joint", "hip"}, {"gear", 5}}}},
       {"obstacles", {{{"type", "plane"}}}}};
@@ -35,6 +35,10 @@ TEST(ModelJson, BodiesJointsGeomsAndObstacles) {
   EXPECT_EQ(m.gravity.z(), -10);
   EXPECT_EQ(m.geoms.back().body, 0);
   EXPECT_EQ(m.actuators[0].gear, 5);
+  EXPECT_FALSE(m.joints[0].limited);
+  EXPECT_TRUE(m.joints[1].limited);
+  EXPECT_EQ(m.joints[1].range_min, -0.5);
+  EXPECT_EQ(m.joints[1].range_max, 1.0);
 }
 
 TEST(ModelJson, ErrorsNameTheField) {
@@ -50,6 +54,9 @@ TEST(ModelJson, ErrorsNameTheField) {
   EXPECT_EQ(pointer_of({{"bodies", {{{"name", "a"}, {"geoms", {{{"type", "cone"}}}}}}}}), "/bodies/0/geoms/0/type");
   EXPECT_EQ(pointer_of({{"bodies", {{{"name", "a"}, {"jionts", nlohmann::json::array()}}}}}), "/bodies/0/jionts");
   EXPECT_EQ(pointer_of({{"chain", {{"links", 0}}}}), "/chain/links");
+  EXPECT_EQ(pointer_of({{"bodies", {{{"name", "a"}, {"joints", {{{"range", {1, 0}}}}}}}}}), "/bodies/0/joints/0/range");
+  EXPECT_EQ(pointer_of({{"bodies", {{{"name", "a"}, {"joints", {{{"type", "ball"}, {"range", {0, 1}}}}}}}}}),
+            "/bodies/0/joints/0/range");
 }
 
 TEST(ModelJson, ChainGeneratorMatchesMjcf) {

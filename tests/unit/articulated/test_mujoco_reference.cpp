@@ -92,5 +92,62 @@ TEST(MujocoReference, MassMatrixMatches) {
   mj_deleteModel(mj);
 }
 
+// <default> classes (nested, class=, childclass=), euler (both eulerseq cases) and
+// axisangle in degrees, and joint ranges compile as MuJoCo compiles them: same masses,
+// same body poses at a configuration, same ranges.
+void expect_same_poses_and_ranges(const std::string& xml) {
+  expect_same_mass_properties(xml);
+  const Model ours = model_from_mjcf(xml, "model.xml");
+  mjModel* mj = load_mujoco(xml);
+  ASSERT_NE(mj, nullptr);
+  mjData* d = mj_makeData(mj);
+  VecX q(ours.nq);
+  for (int i = 0; i < ours.nq; ++i) q[i] = 0.4 * std::sin(1.3 * i + 0.2);
+  for (int i = 0; i < ours.nq; ++i) d->qpos[i] = q[i];
+  mj_forward(mj, d);
+  Kinematics k;
+  kinematics(ours, q, &k);
+  for (int b = 1; b < mj->nbody; ++b)
+    for (int a = 0; a < 3; ++a) {
+      EXPECT_NEAR(k.xpos[b][a], d->xpos[3 * b + a], 1e-9) << "body " << b;
+      for (int c = 0; c < 3; ++c) EXPECT_NEAR(k.xmat[b](a, c), d->xmat[9 * b + 3 * a + c], 1e-9) << "body " << b;
+    }
+  for (int j = 0; j < mj->njnt; ++j) {
+    EXPECT_EQ(ours.joints[j].limited, mj->jnt_limited[j] != 0) << "joint " << j;
+    EXPECT_NEAR(ours.joints[j].damping, mj->dof_damping[mj->jnt_dofadr[j]], 1e-12) << "joint " << j;
+    if (ours.joints[j].limited) {
+      EXPECT_NEAR(ours.joints[j].range_min, mj->jnt_range[2 * j], 1e-12);
+      EXPECT_NEAR(ours.joints[j].range_max, mj->jnt_range[2 * j + 1], 1e-12);
+    }
+  }
+  mj_deleteData(d);
+  mj_deleteModel(mj);
+}
+
+TEST(MujocoReference, DefaultsEulerAxisangleAndRangesMatch) {
+  const std::string body = R"(<default>
+      <joint damping="0.3"/>
+      <geom type="capsule" size="0.03" density="800"/>
+      <default class="leg"><joint range="-40 60" limited="true"/><geom size="0.02"/>
+        <default class="foot"><geom type="sphere" size="0.05" density="2000"/></default>
+      </default>
+    </default>
+    <worldbody>
+      <body pos="0 0 1" euler="10 20 30"><joint type="slide" axis="0 0 1"/>
+        <geom type="box" size="0.1 0.05 0.03" axisangle="1 1 0 35"/>
+        <body pos="0.1 0 0" childclass="leg" axisangle="0 1 1 -50"><joint axis="0 1 0"/>
+          <geom fromto="0 0 0 0 0 -0.3"/>
+          <body pos="0 0 -0.3" euler="0 -15 5"><joint axis="1 0 0" range="-10 10"/>
+            <geom class="foot" pos="0 0 -0.1"/>
+            <geom class="main" fromto="0 0 0 0.1 0 0" euler="0 0 0"/>
+          </body>
+        </body>
+      </body>
+    </worldbody></mujoco>)";
+  expect_same_poses_and_ranges("<mujoco>" + body);
+  expect_same_poses_and_ranges("<mujoco><compiler eulerseq=\"ZYX\"/>" + body);
+  expect_same_poses_and_ranges("<mujoco><compiler eulerseq=\"xZy\"/>" + body);
+}
+
 }  // namespace
 }  // namespace pliant::articulated

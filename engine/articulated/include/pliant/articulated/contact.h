@@ -28,6 +28,7 @@ struct ContactOptions {
   double mu = 0.5;
   double ck = 10;                // s/m
   double slip_eps = 1e-7;        // m per step
+  double limit_stiffness = 1e3;  // N m/rad (hinge) or N/m (slide) beyond a joint's range
 };
 
 // A contact candidate: one body point, one obstacle.

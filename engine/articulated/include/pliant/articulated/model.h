@@ -32,6 +32,11 @@ struct Joint {
   int qadr = 0, vadr = 0;
   double damping = 0;   // N m s / rad (viscous, explicit integrators and PBAD alike)
   double armature = 0;  // added rotor inertia (diagonal of M)
+  // Joint range (hinge rad, slide m): a one-sided penalty 1/2 k (q - bound)^2 outside
+  // it (k = ContactOptions::limit_stiffness), in PBAD's energy and as a force in the
+  // explicit integrators. Ball and free joints have no limits.
+  bool limited = false;
+  double range_min = 0, range_max = 0;
 };
 
 enum class GeomType { Plane, Sphere, Capsule, Box };

@@ -74,7 +74,7 @@ struct PbadStep {
   VecX q_pred;          // predictor (quadratic extrapolation)
   bool step_ready = false;  // ws.step/diag/rhs already hold the next LM solve
   double energy = 0, lambda = 1e-6, weight = 0.5;
-  bool any_damping = false;
+  bool any_damping = false, any_limits = false;
   double grad_tol = 0;
   std::vector<VecX> s_hist, y_hist;  // L-BFGS pairs
   int iterations = 0;
@@ -95,6 +95,7 @@ struct SimWorkspace {
   std::vector<Mat3> moment;   // per body sum x f^T of the energy's point gradients
   std::vector<Vec3> force;    // per body sum f
   std::vector<Vec6> w;
+  VecX limit_force, limit_h;  // joint-range penalty gradient and Hessian diagonal
   VecX grad, step, q_trial, diag, arm, rhs, tau, dq;
   std::vector<Contact> contacts;
   std::vector<ContactPoint> points;  // cached from the model on first use
