@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 
 #include "pliant/liquid/feedback.h"
 
@@ -84,8 +86,8 @@ MpcAction mpc_decide(const FeedbackContext& c, const FeedbackPredictor& net, con
       const double disc = vy * vy + 2 * g * (ey - rim);
       const double land = disc >= 0 ? ex + vx * (vy + std::sqrt(disc)) / g : ex;
       const double d = std::abs(land - centre) / inner;
-      const double spill = std::clamp((d - 0.5) / 0.35, 0.0, 1.0);
-      cost[i] += 4 * dv * spill - dv * (1 - spill) + 0.3 * std::max(dv, 0.002) * d * d;
+      const double spill = std::clamp((d - 0.25) / 0.4, 0.0, 1.0);
+      cost[i] += 6 * dv * spill - dv * (1 - spill) + 1.0 * std::max(dv, 0.01) * d * d;
       r.fraction -= dv;
       r.tilt = std::min(max_tilt, r.tilt + w * dt);
       r.x += a.vx * dt, r.y += a.vy * dt;
@@ -96,7 +98,7 @@ MpcAction mpc_decide(const FeedbackContext& c, const FeedbackPredictor& net, con
         // Liquid still in the source weighs more as the pour's time runs out;
         // a little tilt progress gets the flow started at all.
         const double late = std::clamp(t_end / m.planner.pour_time_s, 0.0, 1.0);
-        cost[i] += (0.3 + 1.5 * late) * r.fraction + 0.03 * r.fraction * (max_tilt - r.tilt) / max_tilt;
+        cost[i] += (0.5 + 3 * late) * r.fraction + 0.4 * r.fraction * (max_tilt - r.tilt) / max_tilt;
       }
     }
   }
@@ -107,6 +109,10 @@ MpcAction mpc_decide(const FeedbackContext& c, const FeedbackPredictor& net, con
                        100 * (std::pow(a.vx - committed.vx, 2) + std::pow(a.vy - committed.vy, 2)));
     if (cost[i] < cost[best]) best = i;  // first minimum: deterministic
   }
+  if (std::getenv("PLIANT_MPC_DEBUG"))
+    std::fprintf(stderr, "t %.2f tilt %.2f x %.3f frac %.3f -> w %.2f vx %.2f vy %.2f cost %.4f\n", time_s,
+                 pose.tilt_rad, pose.position_m[0], fraction, cand[best].tilt_rate, cand[best].vx, cand[best].vy,
+                 cost[best]);
   return cand[best];
 }
 

@@ -135,7 +135,8 @@ std::vector<FeedbackSample> gather_samples(const std::filesystem::path& dir, int
   std::vector<FeedbackSample> out;
   int used = 0;
   for (const auto& d : dirs) {
-    const Manifest& man = TakeReader(d).manifest();
+    const TakeReader reader(d);
+    const Manifest& man = reader.manifest();
     if (man.status != "done" || !man.metrics.contains("samples")) continue;
     const auto s = SampleRecorder::from_json(man.metrics["samples"]);
     out.insert(out.end(), s.begin(), s.end());
