@@ -1,0 +1,141 @@
+// Objective gizmos of soft scenes, drawn with ImGui over a rendered image:
+// the position target (green, dragged in its horizontal plane), the heading
+// arrow's tip (blue, turns the direction in the ground plane) and the jump
+// height (pink, dragged up and down). Each drag is one undo step: the edits of
+// one drag share a merge key, and the canvas under the gizmo stays the active
+// item for the whole drag (its camera orbit is undone while a handle is held).
+#include <imgui.h>
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+
+#include "doc/soft_scene.h"
+#include "ui/app.h"
+#include "ui/soft_ui.h"
+
+namespace pliant::editor {
+
+namespace {
+
+struct Screen {
+  float x = 0, y = 0;
+  bool ok = false;
+};
+
+Screen project(const Mat4& m, const Vec3& p, float x0, float y0, int w, int h) {
+  const auto c = mat4_apply(m, {p[0], p[1], p[2], 1.0f});
+  if (!(c[3] > 1e-6f)) return {};
+  return {x0 + 0.5f * (c[0] / c[3] + 1.0f) * float(w), y0 + 0.5f * (1.0f - c[1] / c[3]) * float(h), true};
+}
+
+// The point where the mouse ray meets the plane y = plane_y (false if parallel).
+bool ray_plane(const Mat4& m, float sx, float sy, float x0, float y0, int w, int h, float plane_y, Vec3* hit) {
+  const Mat4 inv = mat4_inverse(m);
+  const float nx = 2.0f * (sx - x0) / float(w) - 1.0f, ny = 1.0f - 2.0f * (sy - y0) / float(h);
+  auto unproject = [&](float z) {
+    const auto p = mat4_apply(inv, {nx, ny, z, 1.0f});
+    return Vec3{p[0] / p[3], p[1] / p[3], p[2] / p[3]};
+  };
+  const Vec3 a = unproject(-1.0f), b = unproject(1.0f);
+  const float dy = b[1] - a[1];
+  if (std::abs(dy) < 1e-9f) return false;
+  const float t = (plane_y - a[1]) / dy;
+  if (!(t >= 0.0f)) return false;
+  *hit = {a[0] + t * (b[0] - a[0]), plane_y, a[2] + t * (b[2] - a[2])};
+  return true;
+}
+
+uint64_t drag_key(uint64_t serial) { return (std::hash<std::string>{}("soft_gizmo") ^ (serial * 0x9e3779b97f4a7c15ull)) | 1; }
+
+}  // namespace
+
+void soft_gizmos(App& app, const Mat4& m, const Vec3& base, float size, float x, float y, int w, int h) {
+  SoftUi& ui = soft_ui(app);
+  ui.handles.clear();
+  if (w <= 0 || h <= 0) return;
+  const SoftSceneInfo info = soft_scene_info(app.doc.scene());
+  ImDrawList* dl = ImGui::GetWindowDrawList();
+  dl->PushClipRect(ImVec2(x, y), ImVec2(x + w, y + h), true);
+  const float len = 0.8f * size;
+  struct Drawn {
+    int id;
+    Screen at;
+    ImU32 color;
+    const char* label;
+  };
+  std::vector<Drawn> drawn;
+  if (info.has_position) {
+    const Vec3 t{float(info.position_target[0]), float(info.position_target[1]), float(info.position_target[2])};
+    drawn.push_back({1, project(m, t, x, y, w, h), IM_COL32(90, 240, 110, 255), "target"});
+  }
+  const Screen sb = project(m, base, x, y, w, h);
+  if (info.has_heading) {
+    const auto& d = info.heading_direction;
+    const Vec3 tip{base[0] + len * float(d[0]), base[1] + len * float(d[1]), base[2] + len * float(d[2])};
+    const Screen st = project(m, tip, x, y, w, h);
+    if (sb.ok && st.ok) dl->AddLine(ImVec2(sb.x, sb.y), ImVec2(st.x, st.y), IM_COL32(80, 200, 255, 200), 2.0f);
+    drawn.push_back({2, st, IM_COL32(80, 200, 255, 255), "heading"});
+  }
+  if (info.has_jump) {
+    const Vec3 top{base[0], base[1] + float(info.jump_height), base[2]};
+    const Screen st = project(m, top, x, y, w, h);
+    if (sb.ok && st.ok) dl->AddLine(ImVec2(sb.x, sb.y), ImVec2(st.x, st.y), IM_COL32(255, 110, 215, 200), 2.0f);
+    drawn.push_back({3, st, IM_COL32(255, 110, 215, 255), "jump"});
+  }
+  const ImGuiIO& io = ImGui::GetIO();
+  const ImVec2 mouse = io.MousePos;
+  const bool inside = mouse.x >= x && mouse.x < x + w && mouse.y >= y && mouse.y < y + h;
+  int hovered = 0;
+  for (const Drawn& d : drawn) {
+    if (!d.at.ok) continue;
+    ui.handles.push_back({d.id, d.at.x, d.at.y});
+    const float dx = mouse.x - d.at.x, dy = mouse.y - d.at.y;
+    if (inside && dx * dx + dy * dy < 10.0f * 10.0f) hovered = d.id;
+  }
+  // Start, continue and end a drag.
+  if (ui.drag_handle == 0 && hovered && ImGui::IsMouseClicked(ImGuiMouseButton_Left)) {
+    ui.drag_handle = hovered;
+    ++ui.drag_serial;
+    ui.drag_start_y = mouse.y;
+    ui.drag_start_value = info.jump_height;
+  } else if (ui.drag_handle && !ImGui::IsMouseDown(ImGuiMouseButton_Left)) {
+    ui.drag_handle = 0;
+  }
+  if (ui.drag_handle) {
+    // The canvas orbits on a left drag; keep the view still while a handle is held.
+    if (ImGui::IsMouseClicked(ImGuiMouseButton_Left)) ui.drag_camera = app.viewport.camera;
+    app.viewport.camera = ui.drag_camera;
+    const uint64_t key = drag_key(ui.drag_serial);
+    Vec3 hit;
+    if (ui.drag_handle == 1 && ray_plane(m, mouse.x, mouse.y, x, y, w, h, float(info.position_target[1]), &hit)) {
+      const nlohmann::json v = {hit[0], info.position_target[1], hit[2]};
+      if (v != app.doc.scene()["objectives"]["position"]["target_m"]) app.doc.set("/objectives/position/target_m", v, key);
+    } else if (ui.drag_handle == 2 && ray_plane(m, mouse.x, mouse.y, x, y, w, h, base[1], &hit)) {
+      const float dx = hit[0] - base[0], dz = hit[2] - base[2], n = std::sqrt(dx * dx + dz * dz);
+      if (n > 1e-6f) {
+        const nlohmann::json v = {std::round(1e4 * dx / n) / 1e4, 0.0, std::round(1e4 * dz / n) / 1e4};
+        if (v != app.doc.scene()["objectives"]["heading"]["direction"]) app.doc.set("/objectives/heading/direction", v, key);
+      }
+    } else if (ui.drag_handle == 3) {
+      // Metres per pixel along the screen's vertical at the base.
+      const Screen up = project(m, {base[0], base[1] + size, base[2]}, x, y, w, h);
+      const float px_per_m = sb.ok && up.ok ? std::abs(sb.y - up.y) / size : 0.0f;
+      if (px_per_m > 1e-3f) {
+        double hgt = ui.drag_start_value + double(ui.drag_start_y - mouse.y) / px_per_m;
+        hgt = std::max(0.0, std::round(hgt * 1e4) / 1e4);
+        if (hgt != info.jump_height) app.doc.set("/objectives/jump/height_m", hgt, key);
+      }
+    }
+  }
+  for (const Drawn& d : drawn) {
+    if (!d.at.ok) continue;
+    const bool hot = d.id == hovered || d.id == ui.drag_handle;
+    dl->AddCircleFilled(ImVec2(d.at.x, d.at.y), hot ? 8.0f : 6.0f, d.color);
+    dl->AddCircle(ImVec2(d.at.x, d.at.y), hot ? 9.0f : 7.0f, IM_COL32(20, 20, 20, 255), 0, 1.5f);
+    if (hot) dl->AddText(ImVec2(d.at.x + 10, d.at.y - 8), d.color, d.label);
+  }
+  dl->PopClipRect();
+}
+
+}  // namespace pliant::editor

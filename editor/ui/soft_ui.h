@@ -1,0 +1,99 @@
+// Soft character workflow (issue 5): UI state that is not document data and
+// the pieces the soft panels share (soft_panels.cpp: inspector, jobs, timeline;
+// soft_character_view.cpp: the Character edit mode; soft_gizmos.cpp: target,
+// heading and jump handles).
+#pragma once
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "render/line_drawer.h"
+#include "render/mat4.h"
+#include "render/mesh_drawer.h"
+#include "render/orbit_camera.h"
+#include "render/soft_drawer.h"
+#include "ui/kind_panels.h"
+
+namespace pliant::soft {
+struct SoftModel;
+}
+
+namespace pliant::editor {
+
+class App;
+
+// The body compiled from the document (character + material only: no
+// cubature, no objectives), recompiled when those sections change.
+struct SoftPreviewModel {
+  uint64_t key = 0;  // hash of the sections it was compiled from ("" = none)
+  std::shared_ptr<soft::SoftModel> model;  // null when the compile failed
+  std::string error;
+  double compile_s = 0;
+};
+
+struct SoftUi : KindUiState {
+  bool character_mode = false;  // the Character edit mode replaces the result view
+  bool show_lattice = true;
+  std::vector<float> amplitude_m;  // mode slider values (largest node displacement)
+  SoftPreviewModel preview;
+  int hovered_vertex = -1;
+  std::string last_pick;  // "vertex 12 pinned at frame 5" (shown in the mode's toolbar)
+  // Character-mode drawing (own framebuffer; the Renderer shows takes).
+  bool gl_ready = false;
+  unsigned fbo = 0, color_tex = 0, depth_rb = 0;
+  int fbo_w = 0, fbo_h = 0;
+  MeshDrawer mesh;
+  LineDrawer lines;
+  std::vector<float> drawn_state;
+  uint64_t redraws = 0;  // character-mode framebuffer redraws (tests)
+  Mat4 world_to_clip = mat4_identity();
+  std::vector<float> surface;  // the previewed surface (xyz), for picking
+  // Take data handed to the drawer (triangles, trail): the shown take and B.
+  struct TakeSync {
+    std::string dir;
+    size_t frames = 0;
+    SoftTakeData data;
+  };
+  TakeSync shown, compared;
+  // Gizmo drag: which handle (0 none, 1 target, 2 heading, 3 jump), merge key,
+  // the camera to hold still while dragging, where the drag started.
+  int drag_handle = 0;
+  uint64_t drag_serial = 0;
+  OrbitCamera drag_camera;
+  float drag_start_y = 0;
+  double drag_start_value = 0;
+  // Screen positions of the handles drawn last frame (scripts and tests drag them).
+  struct Handle {
+    int id = 0;  // 1 target, 2 heading tip, 3 jump
+    float x = 0, y = 0;
+  };
+  std::vector<Handle> handles;
+  ~SoftUi() override;
+};
+
+SoftUi& soft_ui(App& app);
+
+// Compiles the preview body when the document's character changed (cheap when not).
+const SoftPreviewModel& soft_preview_model(App& app);
+
+// The Character edit mode (viewport_editor): true when it drew the viewport.
+bool soft_character_view(App& app);
+
+// Target, heading and jump handles over an image rectangle whose world -> clip
+// matrix is given; drags edit the document (one undo step per drag).
+// `base`: the character's centre at the start (heading arrow and jump height
+// start there); `size`: its extent (handle lengths).
+void soft_gizmos(App& app, const Mat4& world_to_clip, const Vec3& base, float size, float x, float y, int w,
+                 int h);
+
+// The pin frame for the shown take frame: clamped to [1, horizon].
+int soft_pin_frame(App& app);
+
+// Dropping a mesh file on a soft scene (KindPanels::on_drop): sets
+// /character/mesh (relative to the scene's folder when saved), one undo step.
+// False for other kinds/extensions.
+bool soft_on_drop(App& app, const std::filesystem::path& path);
+
+}  // namespace pliant::editor
