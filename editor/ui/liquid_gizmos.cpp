@@ -1,0 +1,194 @@
+// Viewport gizmos for liquid scenes: a round handle at each container's origin
+// moves it in the x-y plane (the source's key poses move with it), a square
+// handle at its upper outer corner sets the cavity radius and height (a file
+// container is inlined first). One undo step per drag (a fresh merge key).
+// The document's container outlines are drawn over the result, so an edit
+// shows before the next run. World <-> screen through the liquid drawer's last
+// world -> clip transform (render/liquid_drawer.h); in 3D the drag runs in the
+// plane z = the container's z.
+#include <imgui.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "doc/liquid_scene_edit.h"
+#include "ui/app.h"
+#include "ui/liquid_ui.h"
+
+namespace pliant::editor {
+
+using nlohmann::json;
+
+namespace {
+
+constexpr float kHandlePx = 7.0f;
+
+struct ScreenMap {
+  const LiquidViewTransform& v;
+  float x, y, w, h;
+  bool to_screen(double wx, double wy, double wz, ImVec2* out) const {
+    const auto c = mat4_apply(v.world_to_clip, {float(wx), float(wy), float(wz), 1.0f});
+    if (!(c[3] > 1e-9f)) return false;
+    out->x = x + (0.5f * c[0] / c[3] + 0.5f) * w;
+    out->y = y + (0.5f - 0.5f * c[1] / c[3]) * h;
+    return true;
+  }
+  // The mouse ray hits the plane z = z0 at (*wx, *wy).
+  bool to_plane(ImVec2 p, double z0, double* wx, double* wy) const {
+    const Mat4 inv = mat4_inverse(v.world_to_clip);
+    const float nx = 2.0f * (p.x - x) / w - 1.0f, ny = 1.0f - 2.0f * (p.y - y) / h;
+    auto un = [&](float nz) {
+      const auto q = mat4_apply(inv, {nx, ny, nz, 1.0f});
+      return std::array<double, 3>{q[0] / q[3], q[1] / q[3], q[2] / q[3]};
+    };
+    const auto a = un(-1.0f), b = un(1.0f);
+    const double dz = b[2] - a[2];
+    const double t = std::abs(dz) > 1e-12 ? (z0 - a[2]) / dz : 0.0;
+    *wx = a[0] + t * (b[0] - a[0]);
+    *wy = a[1] + t * (b[1] - a[1]);
+    return std::isfinite(*wx) && std::isfinite(*wy);
+  }
+};
+
+struct Placement {
+  bool present = false;
+  double pos[3] = {0, 0, 0};
+  double tilt_rad = 0;
+  double radius = 0.05, height = 0.1, wall = 0.01;
+};
+
+Placement placement(const json& scene, ContainerRole role, const LiquidContainerGeometry* g) {
+  Placement p;
+  if (!scene.contains(role) || !scene[role].is_object()) return p;
+  const json& c = scene[role];
+  p.present = true;
+  const json pos = c.value("position_m", json::array());
+  for (size_t i = 0; i < 3 && i < pos.size(); ++i) p.pos[i] = pos[i].is_number() ? pos[i].get<double>() : 0.0;
+  p.tilt_rad = c.value("tilt_deg", 0.0) * 3.14159265358979 / 180.0;
+  const json& shape = c.value("container", json());
+  if (shape.is_object()) {
+    p.radius = shape.value("radius_m", p.radius);
+    p.height = shape.value("height_m", p.height);
+    p.wall = shape.value("wall_m", p.wall);
+  } else if (g && g->wall_sdf) {
+    // A file container: its size from the compiled geometry's box.
+    p.height = g->hi[1];
+    p.radius = g->hi[0] - p.wall;
+  }
+  return p;
+}
+
+// Local (container frame) -> world: rotation by -tilt about z, then the position.
+void local_to_world(const Placement& p, double lx, double ly, double* wx, double* wy) {
+  const double c = std::cos(p.tilt_rad), s = std::sin(p.tilt_rad);
+  *wx = c * lx + s * ly + p.pos[0];
+  *wy = -s * lx + c * ly + p.pos[1];
+}
+
+void draw_outline(ImDrawList* dl, const ScreenMap& m, const Placement& p, const std::vector<LineSegment2>& section,
+                  ImU32 col) {
+  for (const LineSegment2& s : section) {
+    double ax, ay, bx, by;
+    local_to_world(p, s.ax, s.ay, &ax, &ay);
+    local_to_world(p, s.bx, s.by, &bx, &by);
+    ImVec2 a, b;
+    if (m.to_screen(ax, ay, p.pos[2], &a) && m.to_screen(bx, by, p.pos[2], &b)) dl->AddLine(a, b, col, 1.0f);
+  }
+}
+
+}  // namespace
+
+void liquid_viewport_overlay(App& app, float x, float y, int w, int h) {
+  const LiquidViewTransform& view = liquid_last_view();
+  if (!view.valid || app.renderer.drawer_name() != "liquid" || w <= 0 || h <= 0) return;
+  LiquidUiState& ui = liquid_ui(app);
+  const bool have_geo = liquid_doc_geometry(app);
+  const ScreenMap m{view, x, y, float(w), float(h)};
+  ImDrawList* dl = ImGui::GetWindowDrawList();
+  dl->PushClipRect(ImVec2(x, y), ImVec2(x + w, y + h), true);
+  const json& scene = app.doc.scene();
+  const ImGuiIO& io = ImGui::GetIO();
+  const bool hovered_view = io.MousePos.x >= x && io.MousePos.x < x + w && io.MousePos.y >= y && io.MousePos.y < y + h &&
+                            ImGui::IsWindowHovered();
+
+  struct HandleSpot {
+    LiquidUiState::Handle kind;
+    ContainerRole role;
+    bool size;
+    ImVec2 at;
+  };
+  std::vector<HandleSpot> spots;
+  for (ContainerRole role : {"source", "target"}) {
+    const bool is_source = std::string(role) == "source";
+    const LiquidContainerGeometry* g = have_geo ? (is_source ? &ui.geo.source : &ui.geo.target) : nullptr;
+    const Placement p = placement(scene, role, g);
+    if (!p.present) continue;
+    const ImU32 col = is_source ? IM_COL32(235, 200, 90, 230) : IM_COL32(120, 230, 120, 230);
+    if (have_geo && view.dim == 2) draw_outline(dl, m, p, is_source ? ui.source_section : ui.target_section, col);
+    ImVec2 origin, corner;
+    double cx, cy;
+    local_to_world(p, p.radius + p.wall, p.height, &cx, &cy);
+    if (!m.to_screen(p.pos[0], p.pos[1], p.pos[2], &origin) || !m.to_screen(cx, cy, p.pos[2], &corner)) continue;
+    dl->AddCircleFilled(origin, kHandlePx, col);
+    dl->AddCircle(origin, kHandlePx + 1, IM_COL32(20, 20, 20, 255));
+    dl->AddRectFilled(ImVec2(corner.x - kHandlePx, corner.y - kHandlePx), ImVec2(corner.x + kHandlePx, corner.y + kHandlePx), col);
+    const std::string name = std::string("liquid_") + role;
+    ui_mark_rect(name + "_move", origin.x - kHandlePx, origin.y - kHandlePx, origin.x + kHandlePx, origin.y + kHandlePx);
+    ui_mark_rect(name + "_size", corner.x - kHandlePx, corner.y - kHandlePx, corner.x + kHandlePx, corner.y + kHandlePx);
+    spots.push_back({is_source ? LiquidUiState::Handle::MoveSource : LiquidUiState::Handle::MoveTarget, role, false, origin});
+    spots.push_back({is_source ? LiquidUiState::Handle::SizeSource : LiquidUiState::Handle::SizeTarget, role, true, corner});
+  }
+  dl->PopClipRect();
+
+  // Start a drag on a handle; the viewport's own drag would orbit the 3D
+  // camera meanwhile, so the camera is held where it was.
+  if (ui.drag == LiquidUiState::Handle::None && hovered_view && ImGui::IsMouseClicked(ImGuiMouseButton_Left)) {
+    for (const HandleSpot& s : spots) {
+      if (std::hypot(io.MousePos.x - s.at.x, io.MousePos.y - s.at.y) > kHandlePx + 3) continue;
+      json start = scene;
+      std::string err;
+      if (s.size && !liquid_container_is_inline(start, s.role) &&
+          !liquid_inline_container(&start, s.role, app.doc.has_path() ? app.doc.path().parent_path() : std::filesystem::current_path(), &err)) {
+        app.set_status(err, true);
+        break;
+      }
+      const Placement p = placement(start, s.role, nullptr);
+      double wx, wy;
+      if (!m.to_plane(io.MousePos, p.pos[2], &wx, &wy)) break;
+      ui.drag = s.kind;
+      ui.drag_scene = std::move(start);
+      ui.drag_start[0] = wx;
+      ui.drag_start[1] = wy;
+      ui.drag_key = liquid_next_merge_key();
+      ui.camera_at_drag = app.viewport.camera;
+      break;
+    }
+  }
+  if (ui.drag == LiquidUiState::Handle::None) return;
+  app.viewport.camera = ui.camera_at_drag;
+  const bool source = ui.drag == LiquidUiState::Handle::MoveSource || ui.drag == LiquidUiState::Handle::SizeSource;
+  const bool size = ui.drag == LiquidUiState::Handle::SizeSource || ui.drag == LiquidUiState::Handle::SizeTarget;
+  ContainerRole role = source ? "source" : "target";
+  const Placement p0 = placement(ui.drag_scene, role, nullptr);
+  double wx, wy;
+  if (m.to_plane(io.MousePos, p0.pos[2], &wx, &wy)) {
+    const double dx = wx - ui.drag_start[0], dy = wy - ui.drag_start[1];
+    json next;
+    if (size) {
+      // The drag in the container's frame (undo the tilt).
+      const double c = std::cos(p0.tilt_rad), s = std::sin(p0.tilt_rad);
+      const double lx = c * dx - s * dy, ly = s * dx + c * dy;
+      next = liquid_resize_container(ui.drag_scene, role, std::max(0.005, p0.radius + lx), std::max(0.01, p0.height + ly));
+    } else {
+      next = liquid_move_container(ui.drag_scene, role, dx, dy);
+    }
+    if (next != app.doc.scene())
+      app.doc.edit(std::string(size ? "Size " : "Move ") + role, std::move(next), ui.drag_key);
+  }
+  if (!ImGui::IsMouseDown(ImGuiMouseButton_Left)) {
+    ui.drag = LiquidUiState::Handle::None;
+    ui.drag_scene = json();
+  }
+}
+
+}  // namespace pliant::editor
