@@ -22,6 +22,9 @@ std::vector<ContactPoint> contact_points(const Model& m) {
           pts.push_back({g.body, g.pos + r * corner, 0.0});
         }
         break;
+      case GeomType::Mesh:  // every vertex is a contact point
+        for (const Vec3& v : g.mesh->vertices) pts.push_back({g.body, g.pos + r * v, 0.0});
+        break;
       case GeomType::Plane: break;
     }
   }
@@ -34,6 +37,53 @@ std::vector<int> contact_obstacles(const Model& m) {
     if (m.geoms[i].body == 0 && m.geoms[i].contact) obs.push_back(static_cast<int>(i));
   return obs;
 }
+
+namespace {
+
+// Closest point to p on triangle (a, b, c) (Voronoi regions of vertices, edges, face).
+Vec3 closest_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0 && d2 <= 0) return a;
+  const Vec3 bp = p - b;
+  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0 && d4 <= d3) return b;
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + ab * (d1 / (d1 - d3));
+  const Vec3 cp = p - c;
+  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0 && d5 <= d6) return c;
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + ac * (d2 / (d2 - d6));
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0) return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
+  const double den = 1 / (va + vb + vc);
+  return a + ab * (vb * den) + ac * (vc * den);
+}
+
+// Signed distance to a closed mesh: the nearest triangle gives the distance; the
+// sign and normal come from that triangle's face normal (exact on faces, an
+// approximation near edges and vertices). O(triangles) per query.
+double mesh_distance(const MeshShape& mesh, const Vec3& p, Vec3* normal) {
+  double best = 1e300;
+  Vec3 best_q = Vec3::Zero(), best_n = Vec3::UnitZ();
+  for (const auto& t : mesh.triangles) {
+    const Vec3 &a = mesh.vertices[t[0]], &b = mesh.vertices[t[1]], &c = mesh.vertices[t[2]];
+    const Vec3 q = closest_on_triangle(p, a, b, c);
+    const double d = (p - q).squaredNorm();
+    if (d < best) {
+      best = d;
+      best_q = q;
+      best_n = (b - a).cross(c - a).normalized();
+    }
+  }
+  const double d = std::sqrt(best);
+  const bool inside = (p - best_q).dot(best_n) < 0;
+  *normal = d > 1e-12 ? Vec3((inside ? -1.0 : 1.0) * (p - best_q) / d) : best_n;
+  return inside ? -d : d;
+}
+
+}  // namespace
 
 double obstacle_distance(const Geom& g, const Vec3& x, Vec3* normal) {
   const Mat3 r = g.quat.toRotationMatrix();
@@ -67,6 +117,12 @@ double obstacle_distance(const Geom& g, const Vec3& x, Vec3* normal) {
       const double d = dp.norm();
       *normal = d > 1e-12 ? Vec3(r * dp / d) : Vec3(r.col(0));
       return d - g.size[0];
+    }
+    case GeomType::Mesh: {
+      Vec3 n;
+      const double d = mesh_distance(*g.mesh, p, &n);
+      *normal = r * n;
+      return d;
     }
   }
   return 1e300;

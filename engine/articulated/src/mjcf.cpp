@@ -14,6 +14,7 @@
 
 #include "pliant/articulated/io.h"
 #include "pliant/core/error.h"
+#include "pliant/geom/triangle_mesh.h"
 #include "xml.h"
 
 namespace pliant::articulated {
@@ -26,6 +27,8 @@ struct Ctx {
   double angle_scale = M_PI / 180;  // compiler angle="degree"
   std::string eulerseq = "xyz";
   bool autolimits = true;
+  std::filesystem::path mesh_dir;
+  std::map<std::string, std::shared_ptr<const MeshShape>> meshes;  // <asset><mesh name=...>
 };
 
 std::string child_path(const std::string& parent, const XmlElement& parent_el, size_t index) {
@@ -200,7 +203,7 @@ double number(const Ctx& c, const XmlElement& e, const std::string& path, const 
 
 void read_geom(Ctx& c, const XmlElement& e, const std::string& path, int body) {
   check_attrs(c, e, path,
-              {"name", "type", "size", "pos", "quat", "axisangle", "euler", "fromto", "density", "mass", "rgba", "contype",
+              {"name", "type", "size", "pos", "quat", "axisangle", "euler", "fromto", "density", "mass", "rgba", "contype", "mesh",
                "conaffinity", "friction", "condim", "material", "group", "margin"});
   Geom g;
   g.body = body;
@@ -209,17 +212,42 @@ void read_geom(Ctx& c, const XmlElement& e, const std::string& path, int body) {
   static const std::map<std::string, GeomType> types = {{"plane", GeomType::Plane},
                                                         {"sphere", GeomType::Sphere},
                                                         {"capsule", GeomType::Capsule},
-                                                        {"box", GeomType::Box}};
+                                                        {"box", GeomType::Box},
+                                                        {"mesh", GeomType::Mesh}};
   if (!types.count(type))
     throw InputError(c.file, path + "/@type", "unsupported geom type \"" + type +
-                                                  "\" (supported: plane, sphere, capsule, box)");
+                                                  "\" (supported: plane, sphere, capsule, box, mesh)");
   g.type = types.at(type);
   g.pos = vec3(c, e, path, "pos", Vec3::Zero());
   g.quat = quat(c, e, path);
   g.density = number(c, e, path, "density", 1000, 0);
   g.mass = number(c, e, path, "mass", -1, 0);
   const size_t need = g.type == GeomType::Box ? 3 : (g.type == GeomType::Capsule && !e.attr("fromto") ? 2 : 1);
-  if (g.type != GeomType::Plane) {
+  if (g.type == GeomType::Mesh) {
+    const auto* name = e.attr("mesh");
+    if (!name) throw InputError(c.file, path + "/@mesh", "a mesh geom needs mesh=\"<asset mesh name>\"");
+    const auto it = c.meshes.find(*name);
+    if (it == c.meshes.end()) {
+      std::vector<std::string> names;
+      for (const auto& kv : c.meshes) names.push_back(kv.first);
+      const std::string near = nearest_name(*name, names);
+      throw InputError(c.file, path + "/@mesh",
+                       "no mesh named \"" + *name + "\"" + (near.empty() ? "" : "; did you mean \"" + near + "\"?"));
+    }
+    // Re-centre at the mesh's centre of mass (vertices stay in the geom frame).
+    double volume;
+    Vec3 centre;
+    mesh_volume_moments(*it->second, &volume, &centre, nullptr);
+    if (!(volume > 0))
+      throw InputError(c.file, path + "/@mesh", "mesh \"" + *name + "\" has no positive volume (not closed or inward-facing)");
+    auto shifted = std::make_shared<MeshShape>(*it->second);
+    for (Vec3& v : shifted->vertices) v -= centre;
+    g.mesh = shifted;
+    g.pos += g.quat * centre;
+  } else if (e.attr("mesh")) {
+    throw InputError(c.file, path + "/@mesh", "mesh= needs type=\"mesh\"");
+  }
+  if (g.type != GeomType::Plane && g.type != GeomType::Mesh) {
     if (!e.attr("size")) throw InputError(c.file, path + "/@size", "geom needs a size");
     const auto s = numbers(c, e, path, "size", need, 3);
     for (size_t k = 0; k < s.size(); ++k) {
@@ -324,7 +352,35 @@ void read_body(Ctx& c, const XmlElement& e, const std::string& path, int parent)
 
 }  // namespace
 
-Model model_from_mjcf(const std::string& text, const std::string& file) {
+// <asset><mesh name file scale/>: triangle meshes through pliant_geom (assimp: OBJ,
+// STL, PLY, ...); textures and materials are ignored.
+void read_assets(Ctx& c, const XmlElement& e, const std::string& path, const std::filesystem::path& base_dir) {
+  for (size_t k = 0; k < e.children.size(); ++k) {
+    const XmlElement& ch = e.children[k];
+    const std::string p = child_path(path, e, k);
+    if (ch.name == "texture" || ch.name == "material") continue;
+    if (ch.name != "mesh") throw InputError(c.file, p, "unsupported element <" + ch.name + "> in <asset>");
+    check_attrs(c, ch, p, {"name", "file", "scale"});
+    if (!ch.attr("file")) throw InputError(c.file, p + "/@file", "mesh needs a file");
+    const std::filesystem::path file = base_dir / c.mesh_dir / *ch.attr("file");
+    std::string name = ch.attr("name") ? *ch.attr("name") : file.stem().string();
+    const Vec3 scale = vec3(c, ch, p, "scale", Vec3::Ones());
+    geom::TriangleMesh tm;
+    try {
+      tm = geom::load_mesh(file, file.string());
+    } catch (const std::exception& err) {
+      throw InputError(c.file, p + "/@file", err.what());
+    }
+    auto shape = std::make_shared<MeshShape>();
+    for (const auto& v : tm.vertices) shape->vertices.emplace_back(v[0] * scale.x(), v[1] * scale.y(), v[2] * scale.z());
+    for (const auto& t : tm.triangles)
+      shape->triangles.push_back({static_cast<int>(t[0]), static_cast<int>(t[1]), static_cast<int>(t[2])});
+    if (c.meshes.count(name)) throw InputError(c.file, p + "/@name", "mesh \"" + name + "\" defined twice");
+    c.meshes[name] = shape;
+  }
+}
+
+Model model_from_mjcf(const std::string& text, const std::string& file, const std::filesystem::path& base_dir) {
   XmlElement root = parse_xml(text, file);
   if (root.name != "mujoco") throw InputError(file, "/" + root.name, "root element must be <mujoco>");
   Ctx c{file};
@@ -335,7 +391,8 @@ Model model_from_mjcf(const std::string& text, const std::string& file) {
     const XmlElement& e = root.children[k];
     const std::string p = child_path("/mujoco", root, k);
     if (e.name == "compiler") {
-      check_attrs(c, e, p, {"angle", "inertiafromgeom", "coordinate", "autolimits", "eulerseq"});
+      check_attrs(c, e, p, {"angle", "inertiafromgeom", "coordinate", "autolimits", "eulerseq", "meshdir"});
+      if (const auto* d = e.attr("meshdir")) c.mesh_dir = *d;
       if (e.attr("coordinate") && *e.attr("coordinate") != "local")
         throw InputError(file, p + "/@coordinate", "only local coordinates are supported");
       if (const auto* a = e.attr("angle")) {
@@ -352,6 +409,10 @@ Model model_from_mjcf(const std::string& text, const std::string& file) {
     } else if (e.name == "default") {
       read_default(c, e, p, "", true, &defaults);
     }
+  }
+  for (size_t k = 0; k < root.children.size(); ++k) {
+    const XmlElement& e = root.children[k];
+    if (e.name == "asset") read_assets(c, e, child_path("/mujoco", root, k), base_dir);
   }
   for (size_t k = 0; k < root.children.size(); ++k) {
     XmlElement& e = root.children[k];
@@ -407,7 +468,7 @@ Model model_from_mjcf(const std::string& text, const std::string& file) {
         }
         c.m.actuators.push_back(act);
       }
-    } else if (e.name == "visual" || e.name == "asset" || e.name == "statistic" || e.name == "size") {
+    } else if (e.name == "visual" || e.name == "asset" || e.name == "statistic" || e.name == "size") {  // asset: above
       continue;
     } else {
       throw InputError(file, p, "unsupported element <" + e.name + "> in <mujoco>");
@@ -427,7 +488,7 @@ Model model_load_file(const std::filesystem::path& path, const std::string& labe
   std::stringstream ss;
   ss << in.rdbuf();
   const std::string text = ss.str();
-  if (path.extension() == ".xml") return model_from_mjcf(text, label);
+  if (path.extension() == ".xml") return model_from_mjcf(text, label, path.parent_path());
   nlohmann::json doc;
   try {
     doc = nlohmann::json::parse(text, nullptr, true, true);

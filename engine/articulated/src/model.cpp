@@ -28,6 +28,25 @@ int joint_nv(JointType t) {
   return 0;
 }
 
+void mesh_volume_moments(const MeshShape& mesh, double* volume, Vec3* centre, Mat3* second) {
+  // Signed tetrahedra (0, a, b, c): volume det/6, first moment (a+b+c)/4 vol, and
+  // second moment vol/20 (sum v v^T + (sum v)(sum v)^T) (exact for a tetrahedron).
+  double v = 0;
+  Vec3 first = Vec3::Zero();
+  Mat3 sec = Mat3::Zero();
+  for (const auto& t : mesh.triangles) {
+    const Vec3 &a = mesh.vertices[t[0]], &b = mesh.vertices[t[1]], &c = mesh.vertices[t[2]];
+    const double vol = a.dot(b.cross(c)) / 6;
+    v += vol;
+    first += vol * (a + b + c) / 4;
+    const Vec3 s = a + b + c;
+    sec += vol / 20 * (a * a.transpose() + b * b.transpose() + c * c.transpose() + s * s.transpose());
+  }
+  *volume = v;
+  if (centre) *centre = v != 0 ? Vec3(first / v) : Vec3::Zero();
+  if (second) *second = sec;
+}
+
 void geom_mass_properties(const Geom& g, double* mass, Mat3* inertia) {
   double volume = 0;
   Vec3 diag = Vec3::Zero();
@@ -41,6 +60,16 @@ void geom_mass_properties(const Geom& g, double* mass, Mat3* inertia) {
       break;
     }
     case GeomType::Box: volume = 8 * g.size[0] * g.size[1] * g.size[2]; break;
+    case GeomType::Mesh: {
+      // Re-centred at load: the tetrahedra from the origin give volume and second
+      // moment; inertia = tr(C) I - C per unit density.
+      Mat3 c;
+      mesh_volume_moments(*g.mesh, &volume, nullptr, &c);
+      const double m = g.mass >= 0 ? g.mass : g.density * volume;
+      *mass = m;
+      *inertia = volume > 0 ? Mat3((m / volume) * (c.trace() * Mat3::Identity() - c)) : Mat3::Zero();
+      return;
+    }
   }
   const double m = g.mass >= 0 ? g.mass : g.density * volume;
   switch (g.type) {
@@ -61,7 +90,8 @@ void geom_mass_properties(const Geom& g, double* mass, Mat3* inertia) {
              (m / 12);
       break;
     }
-    case GeomType::Plane: break;
+    case GeomType::Plane:
+    case GeomType::Mesh: break;
   }
   *mass = m;
   *inertia = diag.asDiagonal();

@@ -4,6 +4,7 @@
 
 #include "pliant/articulated/io.h"
 #include "pliant/articulated/sim.h"
+#include "mesh_fixture.h"
 
 namespace pliant::articulated {
 namespace {
@@ -27,6 +28,47 @@ State resting_box(const Model& m, double slope, double stiffness) {
   s.qpos.head<3>() = n * (0.1 - depth);
   s.qpos.segment<4>(3) << q.w(), q.x(), q.y(), q.z();
   return s;
+}
+
+TEST(Contact, MeshObstacleDistanceEqualsTheBoxOnFaces) {
+  // A static box mesh against the analytic box: same signed distance and normal for
+  // points outside (nearest a face, edge or corner) and inside near a face.
+  const std::string obj = test::write_box_obj("pliant_mesh_obstacle", 0.5, 0.4, 0.3);
+  const Model m = model_from_mjcf("<mujoco><asset><mesh name=\"b\" file=\"" + obj +
+                                      "\"/></asset><worldbody><geom type=\"mesh\" mesh=\"b\" euler=\"10 20 30\"/>"
+                                      "<geom type=\"box\" size=\"0.5 0.4 0.3\" euler=\"10 20 30\"/></worldbody></mujoco>",
+                                  "m.xml");
+  std::filesystem::remove(obj);
+  for (const Vec3& x : {Vec3(0.9, 0.1, 0), Vec3(0.7, 0.6, 0.5), Vec3(-0.1, 0.05, 0.28), Vec3(0, -0.35, 0.1)}) {
+    Vec3 nm, nb;
+    const Vec3 xw = m.geoms[1].quat * x;
+    // (assimp reads vertices in single precision)
+    EXPECT_NEAR(obstacle_distance(m.geoms[0], xw, &nm), obstacle_distance(m.geoms[1], xw, &nb), 1e-6) << x.transpose();
+    EXPECT_NEAR((nm - nb).norm(), 0, 1e-6) << x.transpose();
+  }
+}
+
+TEST(Contact, SphereRestsOnAStaticMeshAndAMeshBoxRestsOnAPlane) {
+  // Penalty equilibrium depth m g / k for both: a sphere dropped on a mesh block, and a
+  // mesh cube (8 vertex contact points) on the floor; PBAD3, 1 s.
+  const std::string obj = test::write_box_obj("pliant_mesh_rest", 0.1, 0.1, 0.1);
+  const Model m = model_from_mjcf(
+      "<mujoco><asset><mesh name=\"cube\" file=\"" + obj + "\"/></asset><worldbody>"
+      "<geom type=\"plane\"/><geom type=\"mesh\" mesh=\"cube\" pos=\"1 0 0.1\"/>"
+      "<body pos=\"1 0 0.35\"><joint type=\"slide\" axis=\"0 0 1\"/><geom type=\"sphere\" size=\"0.05\" mass=\"1\"/></body>"
+      "<body pos=\"0 0 0.15\"><joint type=\"slide\" axis=\"0 0 1\"/><geom type=\"mesh\" mesh=\"cube\" mass=\"2\"/></body>"
+      "</worldbody></mujoco>",
+      "m.xml");
+  std::filesystem::remove(obj);
+  SimOptions o;
+  o.dt = 0.01;
+  o.contact.friction = FrictionModel::None;
+  State s = state_init(m);
+  SimWorkspace ws;
+  for (int i = 0; i < 150; ++i) ASSERT_TRUE(sim_step(m, o, s, ws));
+  const double k = o.contact.stiffness;
+  EXPECT_NEAR(0.35 + s.qpos[0], 0.25 - 1 * 9.81 / k, 2e-4);      // sphere on the block top (z 0.2)
+  EXPECT_NEAR(0.15 + s.qpos[1], 0.1 - 2 * 9.81 / (4 * k), 2e-4);  // cube on the floor, 4 corners
 }
 
 TEST(Contact, ObstacleDistances) {

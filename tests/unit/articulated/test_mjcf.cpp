@@ -2,6 +2,7 @@
 
 #include "pliant/articulated/io.h"
 #include "pliant/core/error.h"
+#include "mesh_fixture.h"
 
 namespace pliant::articulated {
 namespace {
@@ -88,6 +89,46 @@ TEST(Mjcf, MalformedDefaultsOrientationsAndRangesNameTheField) {
             std::string::npos);
   EXPECT_NE(error_of("<mujoco><compiler eulerseq=\"xyw\"/><worldbody/></mujoco>").find("compiler[0]/@eulerseq"),
             std::string::npos);
+}
+
+TEST(Mjcf, MeshGeomMatchesTheEquivalentBox) {
+  // An off-centre box mesh: re-centred (geom pos moved), mass and inertia of the box.
+  const std::string obj = test::write_box_obj("pliant_mesh_box", 0.1, 0.2, 0.05, 0.3, 0, 0);
+  const Model mesh = model_from_mjcf("<mujoco><asset><mesh name=\"b\" file=\"" + obj +
+                                         "\"/></asset><worldbody><body><freejoint/><geom type=\"mesh\" mesh=\"b\" "
+                                         "pos=\"0 0 1\"/></body></worldbody></mujoco>",
+                                     "m.xml");
+  const Model box = model_from_mjcf("<mujoco><worldbody><body><freejoint/><geom type=\"box\" size=\"0.1 0.2 0.05\" "
+                                    "pos=\"0.3 0 1\"/></body></worldbody></mujoco>",
+                                    "b.xml");
+  std::filesystem::remove(obj);
+  // (assimp reads vertices in single precision: 1e-7 relative)
+  EXPECT_NEAR(mesh.bodies[1].mass, box.bodies[1].mass, 1e-6 * box.bodies[1].mass);
+  EXPECT_NEAR((mesh.bodies[1].com - box.bodies[1].com).norm(), 0, 1e-7);
+  EXPECT_NEAR((mesh.bodies[1].inertia - box.bodies[1].inertia).norm(), 0, 1e-6 * box.bodies[1].inertia.norm());
+  ASSERT_EQ(mesh.geoms[0].type, GeomType::Mesh);
+  EXPECT_NEAR((mesh.geoms[0].pos - Vec3(0.3, 0, 1)).norm(), 0, 1e-7);
+  EXPECT_EQ(mesh.geoms[0].mesh->vertices.size(), 8u);
+  double xmax = -1;
+  for (const Vec3& v : mesh.geoms[0].mesh->vertices) xmax = std::max(xmax, v.x());
+  EXPECT_NEAR(xmax, 0.1, 1e-7);  // re-centred
+}
+
+TEST(Mjcf, MalformedMeshesNameTheField) {
+  const std::string obj = test::write_box_obj("pliant_mesh_bad", 0.1, 0.1, 0.1);
+  const std::string a = "<mujoco><asset><mesh name=\"cube\" file=\"" + obj + "\"/></asset><worldbody><body>";
+  const std::string z = "</body></worldbody></mujoco>";
+  EXPECT_NE(error_of(a + "<geom type=\"mesh\" mesh=\"cub\"/>" + z).find("geom[0]/@mesh | no mesh named \"cub\"; did you mean \"cube\""),
+            std::string::npos);
+  EXPECT_NE(error_of(a + "<geom type=\"mesh\"/>" + z).find("geom[0]/@mesh"), std::string::npos);
+  EXPECT_NE(error_of(a + "<geom size=\"1\" mesh=\"cube\"/>" + z).find("geom[0]/@mesh | mesh= needs type"), std::string::npos);
+  EXPECT_NE(error_of("<mujoco><asset><mesh file=\"/nonexistent/x.obj\"/></asset></mujoco>").find("/mujoco/asset[0]/mesh[0]/@file"),
+            std::string::npos);
+  EXPECT_NE(error_of("<mujoco><asset><mesh/></asset></mujoco>").find("mesh[0]/@file | mesh needs a file"), std::string::npos);
+  EXPECT_NE(error_of("<mujoco><asset><mesh name=\"m\" file=\"" + obj + "\" scale=\"-1 1 1\"/></asset><worldbody><body>"
+                     "<geom type=\"mesh\" mesh=\"m\"/>" + z).find("no positive volume"),
+            std::string::npos);
+  std::filesystem::remove(obj);
 }
 
 TEST(Mjcf, ActuatorsFollowJointReordering) {

@@ -12,7 +12,10 @@
 
 namespace pliant::articulated {
 
-Model model_from_mjcf(const std::string& text, const std::string& file);
+// Mesh files (<asset><mesh file=.../>) are read relative to base_dir (the MJCF
+// file's folder; compiler meshdir is appended).
+Model model_from_mjcf(const std::string& text, const std::string& file,
+                      const std::filesystem::path& base_dir = {});
 Model model_from_json(JsonReader& r);
 // .xml -> MJCF, .json -> Pliant JSON model (the whole document is the model).
 Model model_load_file(const std::filesystem::path& path, const std::string& label);

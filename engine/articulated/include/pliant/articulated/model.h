@@ -7,6 +7,8 @@
 #pragma once
 #include <Eigen/Dense>
 #include <Eigen/Geometry>
+#include <array>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -39,7 +41,15 @@ struct Joint {
   double range_min = 0, range_max = 0;
 };
 
-enum class GeomType { Plane, Sphere, Capsule, Box };
+enum class GeomType { Plane, Sphere, Capsule, Box, Mesh };
+
+// Triangle mesh of a mesh geom, in the geom's frame (pos/quat of the Geom), re-centred
+// at its centre of mass when loaded (the geom's pos moved to compensate, as MuJoCo
+// does). Drawn as body pose * geom pose * vertex.
+struct MeshShape {
+  std::vector<Vec3> vertices;
+  std::vector<std::array<int, 3>> triangles;
+};
 
 struct Geom {
   std::string name;
@@ -53,6 +63,7 @@ struct Geom {
   double density = 1000;  // kg/m^3, used when mass < 0
   double mass = -1;       // explicit mass (MJCF "mass")
   bool contact = true;
+  std::shared_ptr<const MeshShape> mesh;  // GeomType::Mesh only
 };
 
 struct Body {
@@ -96,6 +107,9 @@ void model_finalize(Model& m, const std::vector<bool>& has_inertial);
 
 // Mass and inertia (about its centre, geom frame) of one geom.
 void geom_mass_properties(const Geom& g, double* mass, Mat3* inertia);
+// Volume, centre and second moment (integral p p^T) of a closed, outward-oriented
+// triangle mesh (divergence theorem over tetrahedra from the origin).
+void mesh_volume_moments(const MeshShape& mesh, double* volume, Vec3* centre, Mat3* second);
 
 // A chain of `links` capsules along +x, each body with two hinges (about y then
 // z: a 2-DOF ball joint) at its start; used by scenes, tests and the benchmark.
