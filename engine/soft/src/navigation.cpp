@@ -134,7 +134,7 @@ std::vector<Eigen::Vector3d> plan_dubins_path(const Eigen::Vector3d& start, cons
     ompl::RNG::setSeed(seed);
     seeded = true;
   }
-  auto space = std::make_shared<ob::DubinsStateSpace>(rho);
+  auto space = std::make_shared<ob::DubinsStateSpace>(rho, true);  // symmetric distance, as RRT* needs
   Eigen::Vector2d lo = start.head<2>().cwiseMin(nav.goal_m), hi = start.head<2>().cwiseMax(nav.goal_m);
   for (const auto& o : nav.obstacles) {
     lo = lo.cwiseMin(o.center_m - Eigen::Vector2d::Constant(o.radius_m));
@@ -164,7 +164,8 @@ std::vector<Eigen::Vector3d> plan_dubins_path(const Eigen::Vector3d& start, cons
       ob::timedPlannerTerminationCondition(nav.planning_time_s), ob::IterationTerminationCondition(4000));
   ss.solve(ptc);
   if (!ss.haveExactSolutionPath())
-    throw std::runtime_error("navigation: RRT* found no path to the goal around the obstacles");
+    throw std::runtime_error("navigation: RRT* found no path to the goal around the obstacles (turning radius " +
+                             std::to_string(rho) + " m, obstacles inflated by " + std::to_string(inflate) + " m)");
   og::PathGeometric path = ss.getSolutionPath();
   path.interpolate(std::max(50, int(path.length() / 0.01)));
   std::vector<Eigen::Vector3d> out;

@@ -78,13 +78,26 @@ nlohmann::json run_navigation(JobContext& ctx, SoftModel& m, std::chrono::steady
   nlohmann::json gait_json = nlohmann::json::object(), gait_theta = nlohmann::json::object();
   const auto t_opt = std::chrono::steady_clock::now();
   ctx.progress.stage("gaits", 3);
+  // Gaits cached in the take (one checkpoint after each optimized gait): --resume
+  // skips the ones already there.
+  Record cached;
+  if (ctx.resume) {
+    TakeReader reader(ctx.take.dir());
+    reader.latest(RecordKind::Checkpoint, &cached);
+  }
+  Record ck;
+  ck.kind = RecordKind::Checkpoint;
   for (int k = 0; k < 3; ++k) {
     Problem pk = m.problem;
     pk.obj = gait_objectives(nav, k);
     pk.obj.w_effort = m.problem.obj.w_effort;
     Eigen::VectorXd theta;
+    const Field* fc = cached.find(std::string("gait_theta_") + names[k]);
     if (!nav.cached_theta.empty()) {
       theta = nav.cached_theta[k];
+    } else if (fc && int(fc->data.size()) == pk.dmp.parameters()) {
+      theta.resize(pk.dmp.parameters());
+      for (int i = 0; i < theta.size(); ++i) theta[i] = fc->data[i];
     } else {
       OptimizerState st;
       st.theta = initial_theta(pk);
@@ -95,6 +108,10 @@ nlohmann::json run_navigation(JobContext& ctx, SoftModel& m, std::chrono::steady
       });
       theta = st.theta;
     }
+    ck.index = k;
+    ck.fields.push_back(vector_field(std::string("gait_theta_") + names[k],
+                                     std::vector<double>(theta.data(), theta.data() + theta.size())));
+    ctx.take.append(ck);
     gaits.push_back(measure_gait(pk, names[k], theta, nav.body_axis));
     const Gait& g = gaits.back();
     gait_json[names[k]] = {{"forward_m", g.forward_m}, {"side_m", g.side_m}, {"yaw_rad", g.yaw_rad}};
@@ -110,7 +127,9 @@ nlohmann::json run_navigation(JobContext& ctx, SoftModel& m, std::chrono::steady
   ctx.events.frame(0);
   int frame = 0;
   const auto t_nav = std::chrono::steady_clock::now();
-  const NavResult res = navigate(m.problem, gaits, nav, [&](const SoftState& s, int gait) {
+  NavResult res;
+  try {
+    res = navigate(m.problem, gaits, nav, [&](const SoftState& s, int gait) {
     ++frame;
     Record r = soft_frame_record(m, s, frame, false);
     r.fields.push_back(Field{"gait", {1}, {float(gait)}});
@@ -118,7 +137,10 @@ nlohmann::json run_navigation(JobContext& ctx, SoftModel& m, std::chrono::steady
     ctx.events.frame(frame);
     ctx.progress.report(frame);
     ctx.progress.check_cancelled();
-  });
+    });
+  } catch (const std::runtime_error& e) {
+    throw std::runtime_error(std::string(e.what()) + "; gait primitives per period: " + gait_json.dump());
+  }
   std::vector<std::vector<double>> planned;
   for (const auto& q : res.planned) planned.push_back({q[0], q[1], q[2]});
   return {{"navigation", true},

@@ -63,7 +63,17 @@ void soft_playback_step(const SoftModel& m, SoftPlayback& pb) {
   const Problem& p = m.problem;
   const Character& ch = m.character;
   const Eigen::VectorXd& y = dmp_step(p.dmp, pb.theta, p.sim.dt_s, pb.dmp);
-  const Eigen::VectorXd u = control_force(ch, y, max_activation_m(ch, p.dmp));
+  Eigen::VectorXd u = control_force(ch, y, max_activation_m(ch, p.dmp));
+  const int f = pb.state.frame;
+  if ((pb.track_kp > 0 || pb.track_kd > 0) && f >= 1 && f < int(pb.q_ref.size())) {
+    // Explicit PD on the current error (state and reference at frame f); gains
+    // relative to each mode's stiffness so one pair of numbers suits every mode.
+    for (int k = 0; k < std::min(p.dmp.modes, ch.basis.r()); ++k) {
+      const double e = pb.q_ref[f][k] - pb.state.q[k];
+      const double edot = (pb.q_ref[f][k] - pb.q_ref[f - 1][k]) - (pb.state.q[k] - pb.state.q_prev[k]);
+      u[k] += ch.basis.omega2[k] * (pb.track_kp * e + pb.track_kd * edot);
+    }
+  }
   if (pb.push_n.squaredNorm() > 0) {
     const int n = ch.lattice.nodes();
     Eigen::VectorXd f(3 * n);
@@ -73,6 +83,16 @@ void soft_playback_step(const SoftModel& m, SoftPlayback& pb) {
   } else {
     reduced_step(ch, p.env, p.sim, u, pb.state, &pb.last);
   }
+}
+
+std::vector<Eigen::VectorXd> soft_reference_q(const SoftModel& m, const Eigen::VectorXd& theta, int frames) {
+  SoftPlayback pb = soft_playback_start(m, theta);
+  std::vector<Eigen::VectorXd> out{pb.state.q};
+  for (int f = 0; f < frames; ++f) {
+    soft_playback_step(m, pb);
+    out.push_back(pb.state.q);
+  }
+  return out;
 }
 
 }  // namespace pliant::soft

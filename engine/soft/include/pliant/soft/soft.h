@@ -90,7 +90,16 @@ struct SoftPlayback {
   // Optional push for the next step (world force in N on every lattice node,
   // scaled by node mass / total mass); cleared after each step.
   Eigen::Vector3d push_n = Eigen::Vector3d::Zero();
+  // Tracking feedback (0: open loop): PD on the controlled modal coordinates toward
+  // q_ref (per frame, from soft_reference_q), added to the DMP force:
+  //   u_k += omega_k^2 (kp (q_ref_k - q_k) + kd dt (qdot_ref_k - qdot_k)) at frame f.
+  double track_kp = 0, track_kd = 0;
+  std::vector<Eigen::VectorXd> q_ref;
 };
+
+// Modal coordinates q of frames 0..frames of the open-loop playback of theta (the
+// trajectory the tracking controller follows).
+std::vector<Eigen::VectorXd> soft_reference_q(const SoftModel& m, const Eigen::VectorXd& theta, int frames);
 SoftPlayback soft_playback_start(const SoftModel& m, const Eigen::VectorXd& theta);
 // Advances one frame (open loop DMP). Throws std::runtime_error naming the frame on NaN.
 void soft_playback_step(const SoftModel& m, SoftPlayback& pb);
