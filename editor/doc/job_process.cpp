@@ -148,7 +148,17 @@ void JobProcess::apply_line(const std::string& line, JobStatus& st, std::vector<
     st.frames_expected = static_cast<int>(num("frames", 0));
   } else if (ev == "progress") {
     st.state = JobState::Running;
-    st.stage = str("stage");
+    const std::string stage = str("stage");
+    // A stage on another grid level ("admm 32x32" -> "admm"; the level is what
+    // follows the first blank) starts a new objective curve: objectives of
+    // different resolutions are not comparable. "admm" -> "lbfgs" (the polish
+    // on the same grid) continues it.
+    auto level = [](const std::string& s) {
+      const size_t b = s.find(' ');
+      return b == std::string::npos ? std::string() : s.substr(b + 1);
+    };
+    if (j.contains("objective") && !st.stage.empty() && level(stage) != level(st.stage)) st.objective.clear();
+    st.stage = stage;
     st.iter = static_cast<int>(num("iter", 0));
     st.of = static_cast<int>(num("of", 0));
     st.eta_s = num("eta_s", -1);

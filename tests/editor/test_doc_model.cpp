@@ -95,6 +95,30 @@ TEST(JobProcess, ParsesProtocolLines) {
   EXPECT_EQ(log[1].level, "error");
 }
 
+// Coarse-to-fine solves report one stage per grid level; the objective curve
+// restarts on a new level and continues from ADMM into its polish.
+TEST(JobProcess, ObjectiveCurveRestartsPerGridLevel) {
+  JobStatus st;
+  std::vector<JobLogLine> log;
+  auto progress = [&](const char* stage, double f) {
+    JobProcess::apply_line(std::string(R"({"event":"progress","stage":")") + stage +
+                               R"(","iter":1,"of":5,"objective":)" + std::to_string(f) + "}",
+                           st, log);
+  };
+  progress("admm 32x32", 10);
+  progress("admm 32x32", 8);
+  ASSERT_EQ(st.objective.size(), 2u);
+  progress("admm 64x64", 40);
+  ASSERT_EQ(st.objective.size(), 1u);
+  EXPECT_FLOAT_EQ(st.objective[0], 40.0f);
+  progress("admm", 160);
+  progress("admm", 120);
+  progress("lbfgs", 110);  // the polish on the same grid
+  ASSERT_EQ(st.objective.size(), 3u);
+  EXPECT_FLOAT_EQ(st.objective[2], 110.0f);
+  EXPECT_EQ(st.stage, "lbfgs");
+}
+
 TEST(JobProcess, MissingBinaryFailsWithoutBlocking) {
   EditorHarness h("nobin");
   JobProcess j;

@@ -103,7 +103,7 @@ void admm_run(const ControlModel& m, ControlState& s, Progress& progress, const 
   AoSolver ao(m, ops);
   NsoSolver nso(m, ops);
   nso.set_damping(s.nso_damping);
-  progress.stage("admm", m.max_iterations);
+  progress.stage(m.stage_label.empty() ? "admm" : "admm " + m.stage_label, m.max_iterations);
   while (s.iteration < m.max_iterations) {
     // Stopping rule on the stored residuals, so a run resumed from the checkpoint
     // of the last iteration makes the same decision.

@@ -1,5 +1,6 @@
 #include "control_coarse_to_fine.h"
 
+#include <string>
 #include <vector>
 
 #include "../smoke_workspace.h"
@@ -42,6 +43,10 @@ bool control_coarse_to_fine(const ControlModel& m, ControlState& s, int levels, 
   for (int l = int(chain.size()) - 1; l >= 1; --l) {
     ControlModel cm = chain[l];
     cm.progressive_preview = false;
+    // Each level reports its own stage ("admm 32x32"), so a progress curve can
+    // tell the scales apart (objectives differ by the cell count).
+    cm.stage_label = std::to_string(cm.sim.n[0]) + "x" + std::to_string(cm.sim.n[1]) +
+                     (cm.sim.dim == 3 ? "x" + std::to_string(cm.sim.n[2]) : std::string());
     ControlState cs = control_init(cm);
     if (!force.empty()) cs.force = force;
     ControlCallbacks level_cb;

@@ -89,7 +89,7 @@ void control_solve_lbfgs(const ControlModel& m, ControlState& s, Progress& progr
   LbfgsObjective obj(m, ops, progress, T, nf);
   obj.best_x = x;
   obj.history = &s.objective_history;
-  progress.stage("lbfgs", m.max_iterations);
+  progress.stage(m.stage_label.empty() ? "lbfgs" : "lbfgs " + m.stage_label, m.max_iterations);
 
   while (s.iteration < m.max_iterations) {
     // The objective at the end of the previous chunk (from the state, so a resumed

@@ -62,6 +62,7 @@ struct ControlModel {
   // polish makes the re-simulated keyframes exact up to what the discretisation allows.
   int polish_iterations = 0;
   bool progressive_preview = true;     // write coarse-level previews first
+  std::string stage_label;             // progress stage suffix ("32x32" on coarse levels)
 };
 
 // Parses the scene's "control" section (kind "smoke"); keyframe targets come from
