@@ -1,4 +1,5 @@
 // Job kind "articulated": scene compile, frame records, the simulation and MPC jobs.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 
@@ -166,13 +167,26 @@ nlohmann::json articulated_run_job(JobContext& ctx) {
   if (a.mpc) {
     ctx.progress.stage("mpc", a.steps);
     write(a.initial);
+    int airborne = 0, executed = 0;  // frames with no contact: flight phases of a hop
+    double torso_min_z = 1e300, torso_max_tilt = 0;
     const MpcResult res = run_cem_mpc(m, o, a.initial, *a.mpc, [&](int i, const State& s) {
       ctx.progress.check_cancelled();
       if (!s.qpos.allFinite()) throw std::runtime_error("MPC trajectory became non-finite at step " + std::to_string(i));
-      write(s);
+      write(s);  // leaves the frame's contacts in ws
+      airborne += ws.contacts.empty() ? 1 : 0;
+      ++executed;
+      if (m.bodies.size() > 1) {  // body 1's posture: tells a hop from a crawl or a tumble
+        torso_min_z = std::min(torso_min_z, ws.kin.xcom[1].z());
+        torso_max_tilt = std::max(torso_max_tilt, std::acos(std::clamp(ws.kin.xmat[1](2, 2), -1.0, 1.0)));
+      }
       ctx.progress.report(i);
     });
     metrics["distance_m"] = res.distance;
+    metrics["airborne_fraction"] = executed > 0 ? double(airborne) / executed : 0.0;
+    if (m.bodies.size() > 1) {
+      metrics["body1_min_height_m"] = torso_min_z;
+      metrics["body1_max_tilt_rad"] = torso_max_tilt;
+    }
     metrics["steps"] = static_cast<int>(res.trajectory.size()) - 1;
   } else {
     ctx.progress.stage("simulate", a.steps);

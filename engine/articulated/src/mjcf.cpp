@@ -26,7 +26,7 @@ struct Ctx {
   std::vector<bool> has_inertial{false};
   double angle_scale = M_PI / 180;  // compiler angle="degree"
   std::string eulerseq = "xyz";
-  bool autolimits = true;
+  bool autolimits = false;  // MuJoCo 2.2.2's default
   std::filesystem::path mesh_dir;
   std::map<std::string, std::shared_ptr<const MeshShape>> meshes;  // <asset><mesh name=...>
 };
@@ -308,6 +308,9 @@ void read_body(Ctx& c, const XmlElement& e, const std::string& path, int parent)
         const std::string limited = ch.attr("limited") ? *ch.attr("limited") : "auto";
         if (limited != "true" && limited != "false" && limited != "auto")
           throw InputError(c.file, p + "/@limited", "expected true, false or auto, got \"" + limited + "\"");
+        if (limited == "auto" && ch.attr("range") && !c.autolimits)
+          throw InputError(c.file, p + "/@limited",
+                           "joint has a range but no limited=\"true\"/\"false\" (or <compiler autolimits=\"true\"/>), as MuJoCo requires");
         j.limited = limited == "true" || (limited == "auto" && c.autolimits && ch.attr("range"));
         if (j.limited) {
           if (!ch.attr("range")) throw InputError(c.file, p + "/@range", "a limited joint needs a range");
@@ -405,7 +408,7 @@ Model model_from_mjcf(const std::string& text, const std::string& file, const st
         if (!ok) throw InputError(file, p + "/@eulerseq", "expected three of x y z X Y Z, got \"" + *q + "\"");
         c.eulerseq = *q;
       }
-      if (const auto* a = e.attr("autolimits")) c.autolimits = *a != "false";
+      if (const auto* a = e.attr("autolimits")) c.autolimits = *a == "true";
     } else if (e.name == "default") {
       read_default(c, e, p, "", true, &defaults);
     }

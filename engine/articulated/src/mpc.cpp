@@ -82,19 +82,23 @@ MpcResult run_cem_mpc(const Model& m, const SimOptions& o, const State& initial,
       for (int k = 0; k < c.samples; ++k) {
         Environment e(m, o, s, c.substeps, c.ctrl_cost);
         double total = 0;
+        Kinematics kk;
+        // Stay upright: penalise a torso (body 1) lower than 80% of its start height
+        // and tilted away from its start orientation, at every control step of the
+        // horizon (averaged) so that a dive that pays off only later is seen early.
+        auto posture = [&]() {
+          kinematics(m, e.state().qpos, &kk, true);
+          const double tilt = 1 - kk.xmat[1].col(2).dot(up0);
+          return c.height_weight * std::max(0.0, 0.8 * z0 - kk.xcom[1].z()) + c.upright_weight * tilt;
+        };
         for (int j = 0; j < h; ++j) {
           if (!e.step(plans[k].col(j))) {
             total = -1e9;
             break;
           }
-          total += e.reward();
+          total += e.reward() - posture() / h;
         }
-        // Stay upright: penalise a torso (body 1) lower than 80% of its start height
-        // and tilted away from its start orientation.
-        Kinematics kk;
-        kinematics(m, e.state().qpos, &kk, true);
-        const double tilt = 1 - kk.xmat[1].col(2).dot(up0);
-        score[k] = total - c.height_weight * std::max(0.0, 0.8 * z0 - kk.xcom[1].z()) - c.upright_weight * tilt;
+        score[k] = total - posture();
       }
       std::vector<int> order(c.samples);
       std::iota(order.begin(), order.end(), 0);

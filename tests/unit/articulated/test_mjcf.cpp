@@ -46,7 +46,7 @@ TEST(Mjcf, MalformedInputNamesTheElement) {
 }
 
 TEST(Mjcf, DefaultsOrientationsAndRanges) {
-  const Model m = model_from_mjcf(R"(<mujoco><compiler angle="radian"/>
+  const Model m = model_from_mjcf(R"(<mujoco><compiler angle="radian" autolimits="true"/>
     <default><geom type="sphere" size="0.1"/><default class="big"><geom size="0.2"/><joint range="-0.5 0.5"/></default></default>
     <worldbody><body childclass="big" euler="0 0 1.5707963267948966"><joint/><geom/>
       <body><joint range="-1 2" class="main"/><geom class="main"/></body></body></worldbody></mujoco>)",
@@ -58,7 +58,7 @@ TEST(Mjcf, DefaultsOrientationsAndRanges) {
   EXPECT_DOUBLE_EQ(m.joints[1].range_min, -1);
   EXPECT_NEAR((m.bodies[1].quat.toRotationMatrix() * Vec3::UnitX() - Vec3::UnitY()).norm(), 0, 1e-12);
   const Model deg = model_from_mjcf(
-      "<mujoco><worldbody><body axisangle=\"0 0 1 90\"><joint range=\"-90 45\"/><geom size=\"0.1\"/></body></worldbody></mujoco>", "d.xml");
+      "<mujoco><worldbody><body axisangle=\"0 0 1 90\"><joint limited=\"true\" range=\"-90 45\"/><geom size=\"0.1\"/></body></worldbody></mujoco>", "d.xml");
   EXPECT_NEAR(deg.joints[0].range_min, -M_PI / 2, 1e-12);
   EXPECT_NEAR((deg.bodies[1].quat.toRotationMatrix() * Vec3::UnitX() - Vec3::UnitY()).norm(), 0, 1e-12);
 }
@@ -76,10 +76,12 @@ TEST(Mjcf, MalformedDefaultsOrientationsAndRangesNameTheField) {
             std::string::npos);
   EXPECT_NE(error_of("<mujoco><default><tendon/></default></mujoco>").find("/mujoco/default[0]/tendon[0]"),
             std::string::npos);
-  EXPECT_NE(error_of(w + "<joint range=\"1 -1\"/>" + e).find("joint[0]/@range | lower bound"), std::string::npos);
+  EXPECT_NE(error_of(w + "<joint limited=\"true\" range=\"1 -1\"/>" + e).find("joint[0]/@range | lower bound"), std::string::npos);
+  EXPECT_NE(error_of(w + "<joint range=\"-1 1\"/>" + e).find("joint[0]/@limited | joint has a range but no limited"),
+            std::string::npos);
   EXPECT_NE(error_of(w + "<joint limited=\"true\"/>" + e).find("joint[0]/@range | a limited joint needs a range"),
             std::string::npos);
-  EXPECT_NE(error_of(w + "<joint type=\"ball\" range=\"0 1\"/>" + e).find("joint[0]/@range"), std::string::npos);
+  EXPECT_NE(error_of(w + "<joint type=\"ball\" limited=\"true\" range=\"0 1\"/>" + e).find("joint[0]/@range"), std::string::npos);
   EXPECT_NE(error_of(w + "<joint limited=\"yes\" range=\"0 1\"/>" + e).find("joint[0]/@limited"), std::string::npos);
   EXPECT_NE(error_of("<mujoco><worldbody><body euler=\"1 2\">" + e).find("body[0]/@euler | expected 3 numbers"),
             std::string::npos);
