@@ -1,0 +1,226 @@
+// The soft character workflow in the editor (issue 5): load a small spider
+// scene (lattice resolution 4, 4 modes, 1 LM iteration over 8 frames, 16
+// frames 0..15, --threads 1), Optimize, scrub to the end and match a golden
+// screenshot; export the take as OBJ files through the "obj" plugin; in the
+// Character mode a mode slider deforms the preview (pixels change) without
+// editing the document; a vertex pin and a gizmo drag are one undo step each.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+#include "doc/soft_scene.h"
+#include "editor_harness.h"
+#include "pliant/core/take.h"
+#include "render/image_compare.h"
+#include "render/screenshot.h"
+#include "ui/soft_ui.h"
+
+namespace pliant::editor::test {
+
+using nlohmann::json;
+
+namespace {
+
+// The test scene with the spider mesh's absolute path (jobs of unsaved edits
+// run a copy of the scene from another folder).
+fs::path spider_scene(EditorHarness& h) {
+  fs::path scene = h.copy_scene("soft_spider.json");
+  json s = json::parse(std::ifstream(scene));
+  s["character"]["mesh"] = fs::absolute(test_data("../../assets/characters/spider.obj")).lexically_normal().string();
+  std::ofstream(scene) << s.dump(2);
+  return scene;
+}
+
+void match_golden(const fs::path& shot_file, const std::string& golden_name) {
+  std::string err;
+  Image shot = read_png(shot_file.string(), &err);
+  ASSERT_FALSE(shot.empty()) << err;
+  fs::path golden = test_data("golden/" + golden_name);
+  if (std::getenv("PLIANT_UPDATE_GOLDEN")) {
+    ASSERT_TRUE(write_png(golden.string(), shot, &err)) << err;
+  }
+  Image want = read_png(golden.string(), &err);
+  ASSERT_FALSE(want.empty()) << err << " (generate with PLIANT_UPDATE_GOLDEN=1)";
+  CompareResult c = compare(shot, want, /*max_tol=*/48, /*mean_tol=*/1.0);
+  if (!c.pass) {
+    fs::path diff = fs::temp_directory_path() / ("pliant_diff_" + golden_name);
+    write_png(diff.string(), diff_image(shot, want, 48));
+    ADD_FAILURE() << golden_name << ": " << c.message << "; diff image: " << diff;
+  }
+}
+
+// Pixels inside `r` (window coordinates) that differ by more than 24 in any channel.
+int changed_pixels(const Image& a, const Image& b, const UiRect& r) {
+  int n = 0;
+  for (int y = int(r.y0); y < int(r.y1); ++y)
+    for (int x = int(r.x0); x < int(r.x1); ++x)
+      for (int c = 0; c < 3; ++c)
+        if (std::abs(int(a.pixel(x, y)[c]) - int(b.pixel(x, y)[c])) > 24) {
+          ++n;
+          break;
+        }
+  return n;
+}
+
+Image shot(EditorHarness& h, const std::string& name) {
+  EXPECT_EQ(h.run("wait 3\nscreenshot $TMP/" + name + "\n"), "");
+  std::string err;
+  Image img = read_png((h.dir / name).string(), &err);
+  EXPECT_FALSE(img.empty()) << err;
+  return img;
+}
+
+std::string num(float v) { return std::to_string(int(std::lround(v))); }
+
+}  // namespace
+
+TEST(EditorSoft, OptimizeWalkMatchesGoldenAndExportsObj) {
+  EditorHarness h("soft_walk");
+  h.start(spider_scene(h), /*gl=*/true, 1280, 720);
+  ASSERT_EQ(h.run("wait 2\n"
+                  "click_item soft_optimize\n"
+                  "wait_job 90\n"
+                  "expect \"Job 1: done\"\n"
+                  "wait_frames 16 10\n"
+                  "set_frame 15\n"
+                  "wait 3\nmove 2 2\nwait 3\n"
+                  "screenshot $TMP/walk15.png viewport\n"),
+            "");
+  EXPECT_EQ(h.app->take.status(), "done");
+  EXPECT_EQ(h.app->take.frame, 15);
+  EXPECT_EQ(h.app->renderer.drawer_name(), "soft");
+  TakeReader take(h.app->take.dir());
+  const json& metrics = take.manifest().metrics;
+  ASSERT_TRUE(metrics.contains("objective_history"));
+  EXPECT_EQ(metrics["objective_history"].size(), 2u);  // initial + 1 iteration
+  // The optimizer never accepts an increase.
+  EXPECT_LE(metrics["objective_final"].get<double>(), metrics["objective_initial"].get<double>());
+  // The live plot saw the objective.
+  EXPECT_FALSE(h.app->newest_job()->snapshot().objective.empty());
+  match_golden(h.dir / "walk15.png", "soft_walk_frame15.png");
+
+  // OBJ export: one file per frame, frame 0's triangles in every file.
+  const fs::path plugin = fs::path(PLIANT_BIN).parent_path() / "plugins" / "libobj_sequence.so";
+  if (!fs::exists(plugin)) GTEST_SKIP() << "obj_sequence plugin not built: " << plugin;
+  const fs::path out = h.dir / "obj";
+  const std::string cmd = std::string("\"") + PLIANT_BIN + "\" export \"" + h.app->take.dir().string() +
+                          "\" --format obj --out \"" + out.string() + "\" > \"" + (h.dir / "export.log").string() +
+                          "\" 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << std::ifstream(h.dir / "export.log").rdbuf();
+  const Record f0 = take.read_frame_at(0), f15 = take.read_frame_at(15);
+  const size_t nverts = f0.find("vertices")->shape[0], ntris = f0.find("triangles")->shape[0];
+  int files = 0;
+  for (const auto& e : fs::directory_iterator(out)) files += e.path().extension() == ".obj";
+  EXPECT_EQ(files, 16);
+  std::ifstream obj(out / "frame_00015.obj");
+  ASSERT_TRUE(obj.good());
+  size_t v = 0, f = 0;
+  double x0 = 0;
+  std::string line;
+  while (std::getline(obj, line)) {
+    if (line.rfind("v ", 0) == 0) {
+      if (v == 0) x0 = std::stod(line.substr(2));
+      ++v;
+    }
+    f += line.rfind("f ", 0) == 0;
+  }
+  EXPECT_EQ(v, nverts);
+  EXPECT_EQ(f, ntris);
+  EXPECT_NEAR(x0, f15.find("vertices")->data[0], 1e-5);  // frame 15's positions, not frame 0's
+}
+
+TEST(EditorSoft, ModeSliderDeformsPreviewAndPinsAndGizmosAreOneUndoStep) {
+  EditorHarness h("soft_character");
+  h.start(spider_scene(h), /*gl=*/true, 1280, 720);
+  ASSERT_EQ(h.run("wait 2\nclick_item soft_character\nwait 3\n"), "");
+  SoftUi& ui = soft_ui(*h.app);
+  ASSERT_TRUE(ui.character_mode);
+  ASSERT_TRUE(ui.preview.model) << ui.preview.error;
+  ASSERT_GE(ui.amplitude_m.size(), 1u);
+  const UiRect* canvas = h.app->marks.find("soft_character_canvas");
+  ASSERT_NE(canvas, nullptr);
+  const UiRect area = *canvas;
+
+  // A mode slider deforms the preview, the document stays as it was.
+  const json scene0 = h.app->doc.scene();
+  const size_t steps0 = h.app->doc.history().size();
+  Image before = shot(h, "rest.png");
+  ASSERT_EQ(h.run("drag_item_at mode_slider_0 0.5 0.5 0.98 0.5 6\nwait 3\n"), "");
+  EXPECT_GT(std::abs(ui.amplitude_m[0]), 1e-4f);
+  Image after = shot(h, "mode0.png");
+  EXPECT_GT(changed_pixels(before, after, area), 200);
+  EXPECT_EQ(h.app->doc.scene(), scene0);
+  EXPECT_EQ(h.app->doc.history().size(), steps0);
+  ASSERT_EQ(h.run("click_item soft_rest_shape\nwait 3\n"), "");
+
+  // Clicking a surface vertex pins it at frame 1 (no take yet): one undo step.
+  // Aim at the vertex nearest the canvas centre.
+  int best = -1;
+  float bx = 0, by = 0, bd = 1e30f;
+  for (size_t i = 0; 3 * i + 2 < ui.surface.size(); ++i) {
+    const auto c = mat4_apply(ui.world_to_clip, {ui.surface[3 * i], ui.surface[3 * i + 1], ui.surface[3 * i + 2], 1});
+    const float sx = area.x0 + 0.5f * (c[0] / c[3] + 1) * (area.x1 - area.x0);
+    const float sy = area.y0 + 0.5f * (1 - c[1] / c[3]) * (area.y1 - area.y0);
+    const float d = std::hypot(sx - area.cx(), sy - area.cy());
+    if (d < bd) {
+      bd = d;
+      best = int(i);
+      bx = sx;
+      by = sy;
+    }
+  }
+  ASSERT_GE(best, 0);
+  ASSERT_EQ(h.run("move " + num(bx) + " " + num(by) + "\nwait 2\nclick " + num(bx) + " " + num(by) + "\nwait 3\n"), "");
+  auto pins = soft_pins(h.app->doc.scene());
+  ASSERT_EQ(pins.size(), 1u);
+  EXPECT_EQ(pins[0].frame, 1);
+  EXPECT_EQ(h.app->doc.history().size(), steps0 + 1);
+  h.app->cmd_undo();
+  EXPECT_TRUE(soft_pins(h.app->doc.scene()).empty());
+  EXPECT_EQ(h.app->doc.scene(), scene0);
+  h.app->cmd_redo();
+  EXPECT_EQ(soft_pins(h.app->doc.scene()).size(), 1u);
+
+  // Dragging the heading arrow's tip turns the heading: one undo step.
+  ASSERT_EQ(h.run("wait 2\n"), "");
+  const SoftUi::Handle* heading = nullptr;
+  for (const auto& hd : ui.handles)
+    if (hd.id == 2) heading = &hd;
+  ASSERT_NE(heading, nullptr);
+  const float hx = heading->x, hy = heading->y;
+  const json dir0 = h.app->doc.scene()["objectives"]["heading"]["direction"];
+  const size_t steps1 = h.app->doc.history().size();
+  const OrbitCamera cam0 = h.app->viewport.camera;
+  ASSERT_EQ(h.run("drag " + num(hx) + " " + num(hy) + " " + num(hx - 10) + " " + num(hy + 60) + " 8\nwait 3\n"), "");
+  EXPECT_NE(h.app->doc.scene()["objectives"]["heading"]["direction"], dir0);
+  EXPECT_EQ(h.app->doc.history().size(), steps1 + 1);
+  EXPECT_EQ(h.app->viewport.camera.yaw_deg, cam0.yaw_deg) << "the camera stays while a handle is dragged";
+  h.app->cmd_undo();
+  EXPECT_EQ(h.app->doc.scene()["objectives"]["heading"]["direction"], dir0);
+}
+
+}  // namespace pliant::editor::test
+
+namespace pliant::editor::test {
+
+TEST(EditorSoft, DroppedMeshBecomesTheCharacter) {
+  EditorHarness h("soft_drop");
+  h.start(spider_scene(h), /*gl=*/false);
+  const fs::path mesh = h.dir / "meshes" / "bunny.obj";
+  fs::create_directories(mesh.parent_path());
+  fs::copy_file(test_data("../../assets/characters/worm.obj"), mesh);
+  const size_t steps = h.app->doc.history().size();
+  h.app->handle_drops({mesh.string()});
+  EXPECT_EQ(h.app->doc.scene()["character"]["mesh"], "meshes/bunny.obj");  // relative to the scene
+  EXPECT_EQ(h.app->doc.history().size(), steps + 1);
+  // Not a mesh: left to the generic handling, the character stays.
+  const fs::path txt = h.dir / "notes.txt";
+  std::ofstream(txt) << "x";
+  h.app->handle_drops({txt.string()});
+  EXPECT_EQ(h.app->doc.scene()["character"]["mesh"], "meshes/bunny.obj");
+  EXPECT_EQ(h.app->doc.history().size(), steps + 1);
+}
+
+}  // namespace pliant::editor::test
