@@ -254,11 +254,13 @@ class ArticulatedDrawer final : public FrameDrawer {
 
   void add_contacts(const float* d, int n, const Vec3& shift, float force_scale, float max_force) {
     const float size = longest_side();
-    // Arrow length: 0.3 x the view for a force equal to the model's weight
-    // (a stable scale over the take; the largest force of the frame otherwise).
+    // Arrow length grows with the force and saturates at 0.4 x the view, so an
+    // impact many times the weight stays on screen: a force equal to the model's
+    // weight (x force_scale) is 0.25 x the view. Without a mass, the frame's
+    // largest force is the unit.
     const double weight = model_.ok ? model_.total_mass * model_.gravity : 0;
-    const float per_newton =
-        force_scale * 0.3f * size / float(weight > 1e-9 ? weight : std::max(max_force, 1e-6f));
+    const float unit = float(weight > 1e-9 ? weight : std::max(max_force, 1e-6f));
+    auto arrow_length = [&](float f) { return 0.4f * size * (1.0f - std::exp(-force_scale * f / unit)); };
     const LineDrawer::Color point_color{1.0f, 0.92f, 0.3f, 1}, arrow_color{1.0f, 0.35f, 0.25f, 1};
     const float cross = 0.012f * size;
     for (int c = 0; c < n; ++c) {
@@ -270,13 +272,14 @@ class ArticulatedDrawer final : public FrameDrawer {
         b[axis] += cross;
         segments_.push_back({a, b, point_color});
       }
-      const Vec3 f = to_display({e[3] * per_newton, e[4] * per_newton, e[5] * per_newton});
-      const float len = std::sqrt(dot(f, f));
-      if (len < 1e-6f * size) continue;
-      const Vec3 tip = add(p, f);
+      const Vec3 f = to_display({e[3], e[4], e[5]});
+      const float fn = std::sqrt(dot(f, f));
+      const float len = arrow_length(fn);
+      if (len < 1e-4f * size) continue;
+      const Vec3 dir{f[0] / fn, f[1] / fn, f[2] / fn};
+      const Vec3 tip{p[0] + len * dir[0], p[1] + len * dir[1], p[2] + len * dir[2]};
       segments_.push_back({p, tip, arrow_color});
       // Arrow head: two short strokes back from the tip, in a plane holding the arrow.
-      const Vec3 dir{f[0] / len, f[1] / len, f[2] / len};
       Vec3 side = std::fabs(dir[1]) < 0.9f ? Vec3{-dir[2], 0, dir[0]} : Vec3{0, dir[2], -dir[1]};
       const float sl = std::sqrt(dot(side, side));
       const float head = std::min(0.25f * len, 0.04f * size);

@@ -22,7 +22,9 @@ namespace pliant::editor {
 struct ArticulatedDrawOptions {
   bool show_contacts = true;
   bool follow = true;        // floating models: keep the root body centred horizontally
-  float force_scale = 1.0f;  // arrow length = force_scale * |f| / (total weight) * 0.3 * view size
+  // Arrow length 0.4 * view * (1 - exp(-force_scale * |f| / weight)): the weight
+  // is 0.25 of the view, impacts saturate at 0.4.
+  float force_scale = 1.0f;
 };
 ArticulatedDrawOptions& articulated_draw_options();
 

@@ -40,8 +40,8 @@ Scene make_scene(const json& doc, const fs::path& dir) {
   return s;
 }
 
-// The drawer's geometry source: the engine's own compile of the take's scene.
 bool compile_geometry(const json& scene, const fs::path& dir, ArticulatedGeometry* out, std::string* err) {
+  *out = ArticulatedGeometry{};
   try {
     const articulated::ArticulatedScene a = articulated::articulated_compile(make_scene(scene, dir));
     const articulated::Model& m = a.model;
@@ -74,12 +74,13 @@ bool compile_geometry(const json& scene, const fs::path& dir, ArticulatedGeometr
   }
 }
 
+#endif
+
 // Registered at start-up: render/ does not link the engine module.
 const bool kGeometryRegistered = [] {
-  articulated_drawer_set_geometry_source(&compile_geometry);
+  articulated_drawer_set_geometry_source(&articulated_scene_geometry);
   return true;
 }();
-#endif
 
 fs::path document_folder(const App& app) {
   std::error_code ec;
@@ -362,7 +363,7 @@ void draw_toolbar(App& app) {
   ImGui::SetNextItemWidth(110);
   changed |= ImGui::SliderFloat("force scale", &o.force_scale, 0.05f, 20.0f, "%.2f", ImGuiSliderFlags_Logarithmic);
   if (ImGui::IsItemHovered())
-    ImGui::SetTooltip("contact force arrows: 1 = the model's weight drawn at 0.3 x the view");
+    ImGui::SetTooltip("contact force arrows: at 1 the model's weight is 0.25 x the view (impacts saturate at 0.4)");
   // Upload the frame again so the drawer applies the new options.
   if (changed) app.viewport.shown_frame = -1;
 }
@@ -414,6 +415,17 @@ void draw_timeline(App& app) {
 
 }  // namespace
 
+bool articulated_scene_geometry(const json& scene, const fs::path& dir, ArticulatedGeometry* out,
+                                std::string* err) {
+#ifdef PLIANT_HAVE_ARTICULATED
+  return compile_geometry(scene, dir, out, err);
+#else
+  (void)scene, (void)dir, (void)out;
+  *err = "this editor was built without the articulated engine";
+  return false;
+#endif
+}
+
 bool articulated_on_drop(App& app, const std::string& path) {
   const json& s = app.doc.scene();
   if (!s.is_object() || s.value("kind", std::string()) != "articulated") return false;
@@ -438,17 +450,34 @@ bool articulated_on_drop(App& app, const std::string& path) {
   }
   json next = s;
   next["model"] = model.generic_string();
+  bool reset_initial = false;
 #ifdef PLIANT_HAVE_ARTICULATED
-  try {
-    articulated::articulated_compile(make_scene(next, document_folder(app)));
-  } catch (const std::exception& e) {
-    app.set_status(std::string("Model not loaded: ") + e.what(), true);
-    app.log.error(app.status());
-    return true;  // ours, but rejected: the document is unchanged
+  auto loads = [&](const json& scene, std::string* err) {
+    try {
+      articulated::articulated_compile(make_scene(scene, document_folder(app)));
+      return true;
+    } catch (const std::exception& e) {
+      *err = e.what();
+      return false;
+    }
+  };
+  std::string err;
+  if (!loads(next, &err)) {
+    // The old model's initial qpos/qvel rarely fit a new one: retry without them.
+    json bare = next;
+    bare.erase("initial");
+    std::string err2;
+    if (!next.contains("initial") || !loads(bare, &err2)) {
+      app.set_status("Model not loaded: " + err, true);
+      app.log.error(app.status());
+      return true;  // ours, but rejected: the document is unchanged
+    }
+    next = std::move(bare);
+    reset_initial = true;
   }
 #endif
   app.doc.edit("Set model " + p.filename().string(), next);
-  app.set_status("Model " + model.generic_string());
+  app.set_status("Model " + model.generic_string() + (reset_initial ? " (initial state reset to the model's)" : ""));
   app.log.info(app.status());
   return true;
 }

@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "ui/kind_panels.h"
 
 namespace pliant::editor {
@@ -59,6 +61,14 @@ void articulated_poll_compare(App& app);
 // model path is made absolute first when the scene has to be copied beside the
 // take (an unsaved document), where the relative path would no longer resolve.
 bool articulated_simulate(App& app);
+
+// The drawer's geometry source (render/articulated_drawer.h): compiles an
+// articulated scene (model paths relative to `dir`) with the engine into the
+// geoms, body count, mass and floating flag the drawer draws from. false + *err
+// on an invalid scene or in a build without the articulated engine.
+struct ArticulatedGeometry;
+bool articulated_scene_geometry(const nlohmann::json& scene, const std::filesystem::path& dir,
+                                ArticulatedGeometry* out, std::string* err);
 
 // A dropped model file (.xml MJCF, or a .json that is a model, not a scene) on
 // an articulated document becomes its "model" (path relative to the scene's

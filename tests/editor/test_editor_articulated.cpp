@@ -1,0 +1,205 @@
+// Articulated scenes in the editor (issue 6): a chain swinging onto a floor is
+// simulated from the jobs panel and its contact frame matches a golden
+// screenshot; "Compare integrators" runs one job per integrator and reads every
+// run's energy curve; the hopper MPC scene (MJCF model by relative path, edited
+// so the job runs from a copy) simulates and plays; a dropped model file becomes
+// the scene's model in one undo step.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <fstream>
+#include <thread>
+
+#include "editor_harness.h"
+#include "pliant/core/take.h"
+#include "render/articulated_drawer.h"
+#include "render/image_compare.h"
+#include "render/screenshot.h"
+#include "ui/articulated_panels.h"
+
+namespace pliant::editor::test {
+
+using nlohmann::json;
+
+namespace {
+
+void match_golden(const fs::path& shot_file, const std::string& golden_name) {
+  std::string err;
+  Image shot = read_png(shot_file.string(), &err);
+  ASSERT_FALSE(shot.empty()) << err;
+  fs::path golden = test_data("golden/" + golden_name);
+  if (std::getenv("PLIANT_UPDATE_GOLDEN")) ASSERT_TRUE(write_png(golden.string(), shot, &err)) << err;
+  Image want = read_png(golden.string(), &err);
+  ASSERT_FALSE(want.empty()) << err << " (generate with PLIANT_UPDATE_GOLDEN=1)";
+  CompareResult c = compare(shot, want, /*max_tol=*/48, /*mean_tol=*/1.0);
+  if (!c.pass) {
+    fs::path diff = fs::temp_directory_path() / ("pliant_diff_" + golden_name);
+    write_png(diff.string(), diff_image(shot, want, 48));
+    ADD_FAILURE() << golden_name << ": " << c.message << "; diff image: " << diff;
+  }
+}
+
+fs::path source_asset(const std::string& rel) { return test_data("../../assets/" + rel); }
+
+// A short hopper MPC scene beside a copy of the hopper MJCF (relative path).
+fs::path write_hopper_scene(const fs::path& dir) {
+  fs::copy_file(source_asset("models/hopper2d.xml"), dir / "hopper2d.xml", fs::copy_options::overwrite_existing);
+  json s = {{"pliant", 1},
+            {"kind", "articulated"},
+            {"name", "hopper MPC (short)"},
+            {"model", "hopper2d.xml"},
+            {"integrator", "pbad2"},
+            {"dt", 0.01},
+            {"duration_s", 0.3},
+            {"contact", {{"stiffness", 50000}, {"friction", "coulomb"}, {"mu", 0.9}}},
+            {"mpc",
+             {{"horizon", 4}, {"substeps", 2}, {"samples", 8}, {"elites", 2}, {"iterations", 1}, {"noise", 0.6},
+              {"seed", 1}}}};
+  fs::path p = dir / "hopper_short.json";
+  std::ofstream(p) << s.dump(2);
+  return p;
+}
+
+bool all_jobs_ended(App& app) {
+  for (const auto& j : app.jobs) {
+    JobStatus st = j->snapshot();
+    if (!st.ended() || st.exit_code < 0) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+TEST(EditorArticulated, SimulateChainAndContactFrameMatchesGolden) {
+  EditorHarness h("art_chain");
+  fs::path scene = h.copy_scene("articulated_chain.json");
+  h.start(scene, /*gl=*/true, 1280, 720);
+  ASSERT_EQ(h.run("wait 2\n"
+                  "click_item Simulate\n"
+                  "wait_job 60\n"
+                  "expect \": done\"\n"
+                  "wait_frames 61 10\n"
+                  "set_frame 21\n"
+                  "wait 3\n"
+                  "screenshot $TMP/chain21.png viewport\n"),
+            "");
+  EXPECT_EQ(h.app->take.status(), "done");
+  EXPECT_EQ(h.app->take.frame, 21);
+  EXPECT_EQ(h.app->renderer.drawer_name(), "articulated");
+  const ArticulatedFrameInfo& info = articulated_last_frame_info();
+  EXPECT_EQ(info.model_error, "");
+  EXPECT_EQ(info.bodies, 3);
+  EXPECT_EQ(info.geoms, 4);  // three capsules and the box at the tip
+  EXPECT_GE(info.contacts, 1);  // the box hits the floor at frame 20-22
+  EXPECT_GT(info.max_force, 1.0f);
+  EXPECT_TRUE(info.has_energy);
+  match_golden(h.dir / "chain21.png", "articulated_chain_frame21.png");
+
+  // Contacts off: the frame is uploaded again and the arrow (red-orange lines) goes.
+  std::string err;
+  Image with = read_png((h.dir / "chain21.png").string(), &err);
+  ASSERT_EQ(h.run("click_item show_contacts\nwait 3\nscreenshot $TMP/chain21_off.png viewport\n"), "");
+  EXPECT_FALSE(articulated_draw_options().show_contacts);
+  Image without = read_png((h.dir / "chain21_off.png").string(), &err);
+  ASSERT_FALSE(without.empty()) << err;
+  auto arrow_pixels = [](const Image& img) {
+    int n = 0;
+    for (int y = 0; y < img.height; ++y)
+      for (int x = 0; x < img.width; ++x) {
+        const auto* p = img.pixel(x, y);
+        n += p[0] > 230 && p[1] > 60 && p[1] < 120 && p[2] < 90;  // (255, 89, 64)
+      }
+    return n;
+  };
+  EXPECT_GT(arrow_pixels(with), 10);
+  EXPECT_EQ(arrow_pixels(without), 0);
+  articulated_draw_options() = ArticulatedDrawOptions{};
+}
+
+TEST(EditorArticulated, CompareIntegratorsReadsAnEnergyCurvePerIntegrator) {
+  EditorHarness h("art_compare");
+  fs::path scene = h.copy_scene("articulated_chain.json");
+  h.start(scene, /*gl=*/false);
+  // Untick rk4: three runs (pbad2, pbad3, euler).
+  ASSERT_EQ(h.run("wait 2\nclick_item pick_rk4\nwait 2\nclick_item compare_integrators\nwait 2\n"), "");
+  auto& st = h.app->kind_ui.get<ArticulatedUiState>("articulated");
+  ASSERT_EQ(st.compare_error, "");
+  ASSERT_EQ(st.runs.size(), 3u);
+  EXPECT_EQ(h.app->jobs.size(), 3u);
+  const auto t0 = std::chrono::steady_clock::now();
+  while (!all_jobs_ended(*h.app) && std::chrono::steady_clock::now() - t0 < std::chrono::seconds(60))
+    ASSERT_EQ(h.run("wait 5\n"), "");
+  ASSERT_TRUE(all_jobs_ended(*h.app));
+  ASSERT_EQ(h.run("wait 3\n"), "");  // the jobs panel reads the last frames
+  const char* names[] = {"pbad2", "pbad3", "euler"};
+  for (size_t i = 0; i < 3; ++i) {
+    const IntegratorRun& r = st.runs[i];
+    EXPECT_EQ(r.integrator, names[i]);
+    EXPECT_EQ(r.job->snapshot().state, JobState::Done) << r.job->snapshot().error;
+    EXPECT_EQ(r.total.size(), 61u) << r.integrator;
+    EXPECT_GE(r.drift_percent(), 0) << r.integrator;
+    EXPECT_NE(h.app->marks.find("legend_" + r.integrator), nullptr);
+    // The variant beside the take runs this integrator.
+    std::ifstream in(r.take.string() + ".scene.json");
+    EXPECT_EQ(json::parse(in)["integrator"], names[i]);
+    TakeReader take(r.take);
+    EXPECT_EQ(take.manifest().metrics["integrator"], names[i]);
+  }
+  EXPECT_NE(h.app->marks.find("energy_plot"), nullptr);
+  // Same initial state, different schemes: equal first energy, different curves.
+  EXPECT_FLOAT_EQ(st.runs[0].total.front(), st.runs[2].total.front());
+  EXPECT_NE(st.runs[0].total[15], st.runs[2].total[15]);
+  // A legend click shows that run's take.
+  ASSERT_EQ(h.run("click_item legend_euler\nwait 2\n"), "");
+  EXPECT_EQ(h.app->take.dir(), st.runs[2].take);
+}
+
+TEST(EditorArticulated, HopperMpcFromAnEditedSceneSimulatesAndPlays) {
+  EditorHarness h("art_hopper");
+  fs::path scene = write_hopper_scene(h.dir);
+  h.start(scene, /*gl=*/true, 1280, 720);
+  // An unsaved edit: the job runs a copy beside its take, with the model path made absolute.
+  h.app->doc.set("/mpc/seed", 2);
+  ASSERT_TRUE(h.app->doc.dirty());
+  ASSERT_EQ(h.run("wait 2\nclick_item Simulate\nwait_job 60\nexpect \": done\"\nwait_frames 31 10\n"
+                  "click_item play_from_start\nwait 12\n"),
+            "");
+  EXPECT_EQ(h.app->take.status(), "done");
+  EXPECT_TRUE(h.app->take.playing);
+  EXPECT_GT(h.app->take.frame, 0);
+  EXPECT_EQ(h.app->doc.scene()["model"], "hopper2d.xml");  // the document keeps its relative path
+  TakeReader take(h.app->take.dir());
+  EXPECT_TRUE(take.manifest().metrics.contains("distance_m"));
+  const ArticulatedFrameInfo& info = articulated_last_frame_info();
+  EXPECT_EQ(info.model_error, "");
+  EXPECT_EQ(info.bodies, 4);
+  EXPECT_EQ(info.geoms, 4);
+  EXPECT_EQ(h.app->renderer.drawer_name(), "articulated");
+}
+
+TEST(EditorArticulated, DroppedModelFileBecomesTheModel) {
+  EditorHarness h("art_drop");
+  fs::path scene = h.copy_scene("articulated_chain.json");
+  fs::create_directories(h.dir / "models");
+  fs::copy_file(source_asset("models/hopper2d.xml"), h.dir / "models" / "hopper2d.xml");
+  std::ofstream(h.dir / "models" / "broken.xml") << "<mujoco><worldbody><body><geom type=\"box\"/></body>";
+  h.start(scene, /*gl=*/false);
+  const json before = h.app->doc.scene()["model"];
+  EXPECT_TRUE(articulated_on_drop(*h.app, (h.dir / "models" / "hopper2d.xml").string()));
+  EXPECT_EQ(h.app->doc.scene()["model"], "models/hopper2d.xml");
+  // The chain's initial qvel (4 values) does not fit the hopper (6): dropped with it.
+  EXPECT_FALSE(h.app->doc.scene().contains("initial"));
+  EXPECT_EQ(h.app->scene_error(), "");
+  h.app->cmd_undo();
+  EXPECT_EQ(h.app->doc.scene()["model"], before);
+  EXPECT_TRUE(h.app->doc.scene().contains("initial"));
+  // A broken model is refused with a message; the document is unchanged.
+  EXPECT_TRUE(articulated_on_drop(*h.app, (h.dir / "models" / "broken.xml").string()));
+  EXPECT_TRUE(h.app->status_is_error());
+  EXPECT_EQ(h.app->doc.scene()["model"], before);
+  // Scenes are not models: the App opens them itself.
+  EXPECT_FALSE(articulated_on_drop(*h.app, scene.string()));
+}
+
+}  // namespace pliant::editor::test
