@@ -61,7 +61,7 @@ inline nlohmann::json bench_feedback(int count) {
   const FeedbackPredictor net = FeedbackPredictor::load(default_feedback_network());
   const auto problems = held_out_problems(count, 2026);
   int success = 0;
-  double transfer = 0, wall = 0, step_ms = 0, step_max = 0, plan_s = 0;
+  double transfer = 0, wall = 0, step_ms = 0, step_cpu_ms = 0, step_max = 0, plan_s = 0;
   nlohmann::json per = nlohmann::json::array();
   for (const auto& p : problems) {
     const double t0 = omp_get_wtime();
@@ -73,6 +73,7 @@ inline nlohmann::json bench_feedback(int count) {
     transfer += fr[0];
     success += fr[1] < 0.05;
     step_ms += run.mpc_step_ms_mean;
+    step_cpu_ms += run.mpc_step_cpu_ms_mean;
     plan_s += run.mpc_step_ms_mean * run.mpc_steps * 1e-3;  // all decisions of the pour
     step_max = std::max(step_max, run.mpc_step_ms_max);
     per.push_back({{"id", p.id}, {"in_target", fr[0]}, {"spilled", fr[1]}, {"in_source", fr[2]},
@@ -88,6 +89,7 @@ inline nlohmann::json bench_feedback(int count) {
           {"plan_s", plan_s / count},
           {"mpc_step_ms", step_ms / count},
           {"mpc_step_ms_max", step_max},
+          {"mpc_step_cpu_ms", step_cpu_ms / count},
           {"closed_loop_wall_s", wall / count},
           {"threads", omp_get_max_threads()},
           {"per_problem", per}};

@@ -2,9 +2,8 @@
 // predictions, interleaved with the full simulator (feedback.h).
 #include <algorithm>
 #include <chrono>
+#include <ctime>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 
 #include "pliant/liquid/feedback.h"
 
@@ -14,6 +13,14 @@ namespace {
 struct Rollout {
   double tilt, x, y, fraction;
 };
+
+// CPU time of this thread: on a shared machine wall-clock time per decision
+// mostly measures the other processes.
+double thread_cpu_ms() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
+}
 
 double gravity_norm(const LiquidModel& m) {
   const auto& g = m.gravity_m_per_s2;
@@ -109,10 +116,6 @@ MpcAction mpc_decide(const FeedbackContext& c, const FeedbackPredictor& net, con
                        100 * (std::pow(a.vx - committed.vx, 2) + std::pow(a.vy - committed.vy, 2)));
     if (cost[i] < cost[best]) best = i;  // first minimum: deterministic
   }
-  if (std::getenv("PLIANT_MPC_DEBUG"))
-    std::fprintf(stderr, "t %.2f tilt %.2f x %.3f frac %.3f -> w %.2f vx %.2f vy %.2f cost %.4f\n", time_s,
-                 pose.tilt_rad, pose.position_m[0], fraction, cand[best].tilt_rate, cand[best].vx, cand[best].vy,
-                 cost[best]);
   return cand[best];
 }
 
@@ -126,12 +129,13 @@ FeedbackRun run_feedback(const LiquidModel& model, const FeedbackPredictor& net,
   m.source_path = path;
   FeedbackContext c(m);
   FeedbackRun run;
-  double total_ms = 0;
+  double total_ms = 0, total_cpu_ms = 0;
   for (int f = s.frame; f < m.frames; ++f) {
     auto& keys = m.source_path.keys;
     // At the start of each interval the key two intervals ahead is chosen.
     if (f % K == 0 && keys.back().time_s < f * m.dt_s + 2 * dt - 1e-9) {
       const auto t0 = std::chrono::steady_clock::now();
+      const double c0 = thread_cpu_ms();
       const KeyPose& a = keys[keys.size() - 2];
       const KeyPose& b = keys.back();
       const double span = b.time_s - a.time_s;
@@ -149,6 +153,7 @@ FeedbackRun run_feedback(const LiquidModel& model, const FeedbackPredictor& net,
       keys.push_back(next);
       const double ms_step = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
       total_ms += ms_step;
+      total_cpu_ms += thread_cpu_ms() - c0;
       run.mpc_step_ms_max = std::max(run.mpc_step_ms_max, ms_step);
       ++run.mpc_steps;
     }
@@ -156,6 +161,7 @@ FeedbackRun run_feedback(const LiquidModel& model, const FeedbackPredictor& net,
     if (on_frame) on_frame(m, s);
   }
   run.mpc_step_ms_mean = run.mpc_steps ? total_ms / run.mpc_steps : 0;
+  run.mpc_step_cpu_ms_mean = run.mpc_steps ? total_cpu_ms / run.mpc_steps : 0;
   run.path = m.source_path;
   run.final_state = std::move(s);
   return run;

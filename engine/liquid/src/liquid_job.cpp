@@ -171,6 +171,7 @@ nlohmann::json liquid_run_job(JobContext& ctx) {
     }
     metrics["mpc_step_ms"] = run.mpc_step_ms_mean;
     metrics["mpc_step_ms_max"] = run.mpc_step_ms_max;
+    metrics["mpc_step_cpu_ms"] = run.mpc_step_cpu_ms_mean;
     metrics["mpc_steps"] = run.mpc_steps;
   } else {
     for (int f = s.frame; f < m.frames; ++f) {

@@ -90,9 +90,9 @@ TEST(LiquidJob, TakeHasTheDocumentedFieldsAndResumeEndsTheSame) {
   fs::remove_all(base);
 }
 
-TEST(LiquidJob, FeedbackPlannerIsRefusedAsInvalidInput) {
+TEST(LiquidJob, FeedbackPlannerWithoutNetworkIsInvalidInput) {
   auto doc = nlohmann::json::parse(kScene);
-  doc["planner"] = {{"mode", "feedback"}};
+  doc["planner"] = {{"mode", "feedback"}, {"network", "no_such_network.json"}};
   const Scene scene = parse_scene(doc.dump(), "job.json");
   const fs::path dir = fs::temp_directory_path() / ("pliant_liquid_fb_" + std::to_string(::getpid()));
   fs::remove_all(dir);

@@ -135,7 +135,8 @@ MpcAction mpc_decide(const FeedbackContext& c, const FeedbackPredictor& net, con
 struct FeedbackRun {
   Trajectory path;          // key poses every interval (reproduces the run)
   LiquidState final_state;
-  double mpc_step_ms_mean = 0, mpc_step_ms_max = 0;
+  double mpc_step_ms_mean = 0, mpc_step_ms_max = 0;  // wall clock per decision
+  double mpc_step_cpu_ms_mean = 0;                     // CPU time per decision
   int mpc_steps = 0;
 };
 
