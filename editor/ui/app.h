@@ -67,7 +67,7 @@ struct PanelVisibility {
 
 // The path-entry popup that stands in for native file dialogs.
 struct FileDialog {
-  enum class Mode { None, Open, SaveAs, OpenTake, ExportPng, ExportMp4, ExportVdb, ImportImage } mode = Mode::None;
+  enum class Mode { None, Open, SaveAs, OpenTake, ExportPng, ExportMp4, ExportVdb, ExportParticles, ExportObj, ImportImage } mode = Mode::None;
   bool open_requested = false;
   char path[1024] = {};
   std::string error;
@@ -102,7 +102,8 @@ class App {
   bool cmd_run(const std::filesystem::path& take_dir = {}, bool resume = false);
   // Continues the newest job's take from its last checkpoint (`pliant run --resume`).
   bool cmd_resume();
-  // Exports the shown take: "png" (plugin), "mp4" (PNGs then ffmpeg), "vdb" (plugin).
+  // Exports the shown take: "png" (plugin, or the viewport's rendering for kind-drawer
+  // takes), "mp4" (PNGs then ffmpeg), "vdb", "particles" (PLY per frame), "obj" (plugins).
   bool cmd_export(const std::string& format, const std::filesystem::path& out);
   void poll_export();  // logs the end of an export once
   // Every frame of the shown take rendered by the viewport (camera, settings,

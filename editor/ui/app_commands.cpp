@@ -148,6 +148,8 @@ void App::open_file_dialog(FileDialog::Mode mode) {
     if (mode == FileDialog::Mode::ExportPng) init = take.dir().string() + "-png";
     if (mode == FileDialog::Mode::ExportMp4) init = take.dir().string() + "-mp4";
     if (mode == FileDialog::Mode::ExportVdb) init = take.dir().string() + "-vdb";
+    if (mode == FileDialog::Mode::ExportParticles) init = take.dir().string() + "-particles";
+    if (mode == FileDialog::Mode::ExportObj) init = take.dir().string() + "-obj";
   }
   std::snprintf(file_dialog.path, sizeof file_dialog.path, "%s", init.c_str());
 }

@@ -26,6 +26,8 @@ void draw_file_dialog(App& app) {
                      : d.mode == M::ExportPng   ? "Export PNG sequence to folder"
                      : d.mode == M::ExportMp4   ? "Export MP4 (take.mp4 and frames/) to folder"
                      : d.mode == M::ExportVdb   ? "Export OpenVDB density (3D) to folder"
+                     : d.mode == M::ExportParticles ? "Export particle positions (PLY per frame) to folder"
+                     : d.mode == M::ExportObj   ? "Export surface meshes (OBJ per frame) to folder"
                      : d.mode == M::ImportImage ? "Import image as a new keyframe at the current frame"
                                                 : "Open take folder";
   ImGui::TextUnformatted(what);
@@ -46,6 +48,8 @@ void draw_file_dialog(App& app) {
     else if (d.mode == M::ExportPng) done = app.cmd_export("png", d.path);
     else if (d.mode == M::ExportMp4) done = app.cmd_export("mp4", d.path);
     else if (d.mode == M::ExportVdb) done = app.cmd_export("vdb", d.path);
+    else if (d.mode == M::ExportParticles) done = app.cmd_export("particles", d.path);
+    else if (d.mode == M::ExportObj) done = app.cmd_export("obj", d.path);
     else if (d.mode == M::ImportImage) done = import_image_keyframe(app, d.path, true);
     else done = app.cmd_open_take(d.path);
     if (done) {

@@ -1,6 +1,7 @@
 #include <imgui.h>
 
 #include "ui/app.h"
+#include "ui/kind_panels.h"
 #include "ui/panels.h"
 
 namespace pliant::editor {
@@ -36,6 +37,13 @@ void draw_menu_bar(App& app) {
     if (ImGui::MenuItem("Export OpenVDB (3D)...", nullptr, false, has_frames))
       app.open_file_dialog(FileDialog::Mode::ExportVdb);
     ui_mark("Export VDB");
+    const std::string kind = scene_kind(app);
+    if (kind == "liquid" && ImGui::MenuItem("Export Particles (PLY per frame)...", nullptr, false, has_frames))
+      app.open_file_dialog(FileDialog::Mode::ExportParticles);
+    ui_mark("Export Particles");
+    if (kind == "soft" && ImGui::MenuItem("Export OBJ Sequence...", nullptr, false, has_frames))
+      app.open_file_dialog(FileDialog::Mode::ExportObj);
+    ui_mark("Export OBJ");
     ImGui::Separator();
     if (ImGui::MenuItem("Quit")) app.request_quit();
     ImGui::EndMenu();

@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 #include <fstream>
 #include <map>
+#include <set>
 #include <sstream>
 
 #include "ui/ui_script.h"
@@ -124,8 +125,9 @@ Script parse_script(const std::string& text, const std::string& file_label,
       need_num(0, n);
     if (c.op == "drag_item" || c.op == "drag_item_at" || c.op == "click_item_at") need_num(1, n);
     if (c.op == "wait_export") need_num(0, n);
-    if (c.op == "export" && c.args[0] != "png" && c.args[0] != "mp4" && c.args[0] != "vdb")
-      fail("export: unknown format '" + c.args[0] + "' (png, mp4 or vdb)");
+    static const std::set<std::string> kFormats = {"png", "mp4", "vdb", "particles", "obj"};
+    if (c.op == "export" && !kFormats.count(c.args[0]))
+      fail("export: unknown format '" + c.args[0] + "' (png, mp4, vdb, particles or obj)");
     if (c.op == "click") {
       int first = 0;
       if (n == 1 || n == 3) {

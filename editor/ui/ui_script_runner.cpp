@@ -282,9 +282,11 @@ bool ScriptRunner::run_command(App& app, const ScriptCommand& c) {
   if (c.op == "export") {
     // Through the menu's dialog: the same path a person takes.
     if (phase_ == 0) {
-      app.open_file_dialog(a[0] == "png" ? FileDialog::Mode::ExportPng
-                           : a[0] == "mp4" ? FileDialog::Mode::ExportMp4
-                                           : FileDialog::Mode::ExportVdb);
+      app.open_file_dialog(a[0] == "png"         ? FileDialog::Mode::ExportPng
+                           : a[0] == "mp4"       ? FileDialog::Mode::ExportMp4
+                           : a[0] == "particles" ? FileDialog::Mode::ExportParticles
+                           : a[0] == "obj"       ? FileDialog::Mode::ExportObj
+                                                 : FileDialog::Mode::ExportVdb);
       std::snprintf(app.file_dialog.path, sizeof app.file_dialog.path, "%s", resolve(a[1]).c_str());
       return false;
     }
