@@ -101,6 +101,32 @@ TEST(EditorSoft, OptimizeWalkMatchesGoldenAndExportsObj) {
   EXPECT_FALSE(h.app->newest_job()->snapshot().objective.empty());
   match_golden(h.dir / "walk15.png", "soft_walk_frame15.png");
 
+  // A/B: a second optimization beside the first draws a character in each half.
+  const fs::path first_take = h.app->take.dir();
+  ASSERT_EQ(h.run("click_item soft_optimize\nwait_job 90\nexpect \"Job 2: done\"\nwait_frames 16 10\n"
+                  "click_item ab_compare\nwait 2\n"),
+            "");
+  ASSERT_TRUE(h.app->compare.enabled);
+  EXPECT_EQ(h.app->compare.dir, first_take);
+  ASSERT_EQ(h.run("set_frame 15\nwait 3\nscreenshot $TMP/ab.png\nclick_item ab_compare\nwait 2\n"), "");
+  {
+    const UiRect* vr = h.app->marks.find("viewport");
+    ASSERT_NE(vr, nullptr);
+    std::string err;
+    Image ab = read_png((h.dir / "ab.png").string(), &err);
+    ASSERT_FALSE(ab.empty()) << err;
+    int body[2] = {0, 0};  // the character's orange
+    const int xm = int(vr->cx());
+    for (int y = int(vr->y0); y < int(vr->y1); ++y)
+      for (int x = int(vr->x0); x < int(vr->x1); ++x) {
+        const auto* p = ab.pixel(x, y);
+        if (p[0] > 120 && p[0] > p[2] + 50) ++body[x < xm ? 0 : 1];
+      }
+    EXPECT_GT(body[0], 300);
+    EXPECT_GT(body[1], 300);
+    EXPECT_NEAR(double(body[1]) / body[0], 1.0, 0.35);
+  }
+
   // OBJ export: one file per frame, frame 0's triangles in every file.
   const fs::path plugin = fs::path(PLIANT_BIN).parent_path() / "plugins" / "libobj_sequence.so";
   if (!fs::exists(plugin)) GTEST_SKIP() << "obj_sequence plugin not built: " << plugin;
