@@ -332,7 +332,6 @@ int main(int argc, char** argv) {
   if (!only_links.empty()) link_counts = only_links;
   if (!only_dts.empty()) dts = only_dts;
   // Matched accuracy bookkeeping: best wall per simulated second at drift <= 1%.
-  std::map<std::string, std::map<int, std::map<std::string, std::pair<double, double>>>> best;  // case, links, method -> (wall, dt)
   for (const char* chain_case : {"chain_swing", "chain_tilt"}) {
     const bool tilt = std::string(chain_case) == "chain_tilt";
     if (!only_case.empty() && only_case != chain_case) continue;
@@ -341,11 +340,10 @@ int main(int argc, char** argv) {
       const Model m = model_from_mjcf(xml, "chain.xml");
       const double range = chain_range(m, links, 0.1);
       const State init = chain_initial(m, tilt);
+      // Every run within the drift bound is a candidate for the matched comparison.
+      std::vector<std::pair<std::string, double>> candidates;
       auto note = [&](const std::string& method, double dt, const Outcome& o) {
-        if (!o.stable || o.drift > 0.01) return;
-        auto& slot = best[chain_case][links][method];
-        const double w = o.wall / o.sim_time;
-        if (slot.first == 0 || w < slot.first) slot = {w, dt};  // cheapest run within the bound
+        if (o.stable && o.drift <= 0.01) candidates.emplace_back(method, dt);
       };
       for (double dt : dts) {
         for (Integrator integ : {Integrator::Pbad2, Integrator::Pbad3, Integrator::Euler, Integrator::Rk4}) {
@@ -370,17 +368,44 @@ int main(int argc, char** argv) {
         if (mm) mj_deleteModel(mm);
 #endif
       }
-      // Matched accuracy: each family's cheapest run (wall per simulated s) in the sweep
-      // with drift <= 1%.
+      // Matched accuracy: each family's cheapest run (wall per simulated s) with drift
+      // <= 1%. Single runs on a shared machine are noisy, so every candidate is re-timed
+      // three times, alternating between the families, and its fastest time counts.
+      std::map<std::pair<std::string, double>, double> fastest;
+#ifdef PLIANT_HAVE_MUJOCO
+      std::string mj_err;
+      mjModel* mm = mujoco_load(xml, &mj_err);
+#endif
+      for (int rep = 0; rep < 3; ++rep)
+        for (const auto& [meth, dt] : candidates) {
+          double w = 0;
+          if (meth.rfind("mujoco_", 0) == 0) {
+#ifdef PLIANT_HAVE_MUJOCO
+            if (!mm) continue;
+            const int integ = meth == "mujoco_euler" ? mjINT_EULER : meth == "mujoco_rk4" ? mjINT_RK4 : mjINT_IMPLICIT;
+            const Outcome o = run_mujoco(mm, m, integ, dt, duration, init, range);
+            w = o.wall / o.sim_time;
+#endif
+          } else {
+            const Outcome o = run_ours(m, integrator_from_name(meth), dt, duration, init, range);
+            w = o.wall / o.sim_time;
+          }
+          auto it = fastest.find({meth, dt});
+          if (it == fastest.end() || w < it->second) fastest[{meth, dt}] = w;
+        }
+#ifdef PLIANT_HAVE_MUJOCO
+      if (mm) mj_deleteModel(mm);
+#endif
       auto best_of = [&](std::initializer_list<const char*> methods, std::string* which, double* dt) {
         double w = 0;
-        for (const char* meth : methods) {
-          auto it = best[chain_case][links].find(meth);
-          if (it == best[chain_case][links].end()) continue;
-          if (w == 0 || it->second.first < w) {
-            w = it->second.first;
-            *which = meth;
-            *dt = it->second.second;
+        for (const auto& [key, wall] : fastest) {
+          bool in = false;
+          for (const char* meth : methods) in = in || key.first == meth;
+          if (!in) continue;
+          if (w == 0 || wall < w) {
+            w = wall;
+            *which = key.first;
+            *dt = key.second;
           }
         }
         return w;
@@ -389,16 +414,16 @@ int main(int argc, char** argv) {
       double ours_dt = 0, mj_dt = 0;
       const double ours_w = best_of({"pbad2", "pbad3"}, &ours_m, &ours_dt);
       const double mj_w = best_of({"mujoco_euler", "mujoco_rk4", "mujoco_implicit"}, &mj_m, &mj_dt);
-      nlohmann::json j = {{"case", std::string("matched_") + chain_case}, {"links", links}, {"drift_bound", 0.01}};
+      nlohmann::json j = {{"case", std::string("matched_") + chain_case}, {"links", links}, {"drift_bound", 0.01},
+                          {"timing", "fastest of 3 alternating re-runs per candidate"}};
       j["pliant_method"] = ours_w > 0 ? nlohmann::json(ours_m) : nlohmann::json("none reached 1%");
       j["mujoco_method"] = mj_w > 0 ? nlohmann::json(mj_m) : nlohmann::json("none reached 1%");
       if (ours_w > 0) j["pliant_dt"] = ours_dt, j["pliant_wall_per_sim_s"] = ours_w;
       if (mj_w > 0) j["mujoco_dt"] = mj_dt, j["mujoco_wall_per_sim_s"] = mj_w;
       if (ours_w > 0 && mj_w > 0) j["ratio_vs_mujoco"] = ours_w / mj_w;
-      double ex_w = 0;
       std::string ex_m;
       double ex_dt = 0;
-      ex_w = best_of({"euler", "rk4"}, &ex_m, &ex_dt);
+      const double ex_w = best_of({"euler", "rk4"}, &ex_m, &ex_dt);
       if (ex_w > 0) j["pliant_explicit_method"] = ex_m, j["pliant_explicit_dt"] = ex_dt, j["pliant_explicit_wall_per_sim_s"] = ex_w;
       emit(j);
     }
