@@ -1,17 +1,21 @@
-// Gaits as motion primitives, RRT* in the Dubins space (OMPL), closed-loop execution
+// Gaits as motion primitives, RRT* (OMPL), closed-loop execution
 // (see navigation.h).
 #include "pliant/soft/navigation.h"
 
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <limits>
+#include <map>
 #include <stdexcept>
+#include <tuple>
 
 #include "pliant/soft/dmp.h"
 
 #ifdef PLIANT_SOFT_HAVE_OMPL
 #include <ompl/base/PlannerTerminationCondition.h>
 #include <ompl/base/goals/GoalSampleableRegion.h>
-#include <ompl/base/spaces/DubinsStateSpace.h>
+#include <ompl/base/spaces/RealVectorStateSpace.h>
 #include <ompl/base/terminationconditions/IterationTerminationCondition.h>
 #include <ompl/geometric/SimpleSetup.h>
 #include <ompl/geometric/planners/rrt/RRTstar.h>
@@ -43,7 +47,7 @@ int period_frames(const Problem& p) { return std::max(1, int(std::lround(p.dmp.p
 namespace ob = ompl::base;
 namespace og = ompl::geometric;
 
-// Goal: the disc of radius `tol` around (gx, gz), any heading; samples its centre.
+// Goal: the disc of radius `tol` around (gx, gz); samples its centre.
 class DiscGoal : public ob::GoalSampleableRegion {
  public:
   DiscGoal(const ob::SpaceInformationPtr& si, double gx, double gz, double tol)
@@ -51,19 +55,18 @@ class DiscGoal : public ob::GoalSampleableRegion {
     setThreshold(tol);
   }
   double distanceGoal(const ob::State* st) const override {
-    const auto* s = st->as<ob::SE2StateSpace::StateType>();
-    return std::hypot(s->getX() - gx_, s->getY() - gz_);
+    const auto* s = st->as<ob::RealVectorStateSpace::StateType>();
+    return std::hypot(s->values[0] - gx_, s->values[1] - gz_);
   }
   void sampleGoal(ob::State* st) const override {
-    auto* s = st->as<ob::SE2StateSpace::StateType>();
-    s->setXY(gx_, gz_);
-    s->setYaw(rng_.uniformReal(-M_PI, M_PI));
+    auto* s = st->as<ob::RealVectorStateSpace::StateType>();
+    s->values[0] = gx_;
+    s->values[1] = gz_;
   }
   unsigned int maxSampleCount() const override { return 1u << 30; }
 
  private:
   double gx_, gz_;
-  mutable ompl::RNG rng_;
 };
 #endif
 
@@ -99,6 +102,40 @@ double body_radius_m(const Character& ch) {
   return r;
 }
 
+bool mirror_gait(const Problem& p, const Eigen::VectorXd& theta, Eigen::VectorXd* mirrored) {
+  const Character& ch = *p.character;
+  const Lattice& lat = ch.lattice;
+  const int n = lat.nodes();
+  const double h = lat.cell_size_m, zc = ch.rest_com[2];
+  // Nodes sit on a grid: key positions by quarter cells.
+  auto key = [h](const Eigen::Vector3d& x) {
+    return std::make_tuple(std::llround(4 * x[0] / h), std::llround(4 * x[1] / h), std::llround(4 * x[2] / h));
+  };
+  std::map<std::tuple<long long, long long, long long>, int> index;
+  for (int j = 0; j < n; ++j) index[key(lat.rest[j])] = j;
+  std::vector<int> mirror(n);
+  for (int j = 0; j < n; ++j) {
+    Eigen::Vector3d y = lat.rest[j];
+    y[2] = 2 * zc - y[2];
+    const auto it = index.find(key(y));
+    if (it == index.end() || (lat.rest[it->second] - y).norm() > 1e-6 * h) return false;
+    mirror[j] = it->second;
+  }
+  const int K = p.dmp.kernels + 1;
+  *mirrored = theta;
+  for (int k = 0; k < p.dmp.modes; ++k) {
+    const Eigen::VectorXd u = ch.basis.U.col(k);
+    double parity = 0;
+    for (int j = 0; j < n; ++j) {
+      const Eigen::Vector3d a = u.segment<3>(3 * j), b = u.segment<3>(3 * mirror[j]);
+      parity += lat.node_mass_kg[j] * (a[0] * b[0] + a[1] * b[1] - a[2] * b[2]);
+    }
+    if (std::abs(std::abs(parity) - 1) > 0.05) return false;  // mode mixes under the mirror
+    if (parity < 0) mirrored->segment(k * K, K) *= -1;
+  }
+  return true;
+}
+
 Gait measure_gait(const Problem& p, const std::string& name, const Eigen::VectorXd& theta,
                   const Eigen::Vector3d& body_axis, int warmup, int periods) {
   const int P = period_frames(p);
@@ -128,19 +165,24 @@ std::vector<Eigen::Vector3d> plan_dubins_path(const Eigen::Vector3d& start, cons
   (void)start, (void)nav, (void)rho, (void)inflate, (void)seed;
   throw std::runtime_error("navigation needs OMPL (libompl-dev); this build has none");
 #else
-  ompl::msg::setLogLevel(ompl::msg::LOG_WARN);
+  ompl::msg::setLogLevel(ompl::msg::LOG_ERROR);
   static bool seeded = false;  // OMPL's seed can be set once, before its first RNG
   if (!seeded) {
     ompl::RNG::setSeed(seed);
     seeded = true;
   }
-  auto space = std::make_shared<ob::DubinsStateSpace>(rho, true);  // symmetric distance, as RRT* needs
+  // RRT* over positions (straight edges, symmetric cost as RRT* needs); the
+  // curvature limit of the gaits is left to the pure-pursuit executor. Planning in
+  // OMPL's Dubins space was tried: the symmetric variant returned paths with
+  // backwards loops and the forward-only one rarely found a path in the budget.
+  (void)rho;
+  auto space = std::make_shared<ob::RealVectorStateSpace>(2);
   Eigen::Vector2d lo = start.head<2>().cwiseMin(nav.goal_m), hi = start.head<2>().cwiseMax(nav.goal_m);
   for (const auto& o : nav.obstacles) {
     lo = lo.cwiseMin(o.center_m - Eigen::Vector2d::Constant(o.radius_m));
     hi = hi.cwiseMax(o.center_m + Eigen::Vector2d::Constant(o.radius_m));
   }
-  const double margin = 2 * rho + inflate + nav.goal_tolerance_m;
+  const double margin = 2 * inflate + nav.goal_tolerance_m;
   ob::RealVectorBounds b(2);
   b.setLow(0, lo[0] - margin), b.setHigh(0, hi[0] + margin);
   b.setLow(1, lo[1] - margin), b.setHigh(1, hi[1] + margin);
@@ -148,31 +190,35 @@ std::vector<Eigen::Vector3d> plan_dubins_path(const Eigen::Vector3d& start, cons
   og::SimpleSetup ss(space);
   const ob::SpaceInformationPtr si = ss.getSpaceInformation();
   ss.setStateValidityChecker([&nav, inflate, si](const ob::State* st) {
-    const auto* s = st->as<ob::SE2StateSpace::StateType>();
-    return si->satisfiesBounds(st) && clearance(nav, Eigen::Vector2d(s->getX(), s->getY())) > inflate;
+    const auto* s = st->as<ob::RealVectorStateSpace::StateType>();
+    return si->satisfiesBounds(st) && clearance(nav, Eigen::Vector2d(s->values[0], s->values[1])) > inflate;
   });
   si->setStateValidityCheckingResolution(0.002);
-  ob::ScopedState<ob::SE2StateSpace> s0(space);
-  s0->setXY(start[0], start[1]);
-  s0->setYaw(start[2]);
+  ob::ScopedState<ob::RealVectorStateSpace> s0(space);
+  s0[0] = start[0];
+  s0[1] = start[1];
   ss.setStartState(s0);
   ss.setGoal(std::make_shared<DiscGoal>(si, nav.goal_m[0], nav.goal_m[1], nav.goal_tolerance_m * 0.5));
   auto planner = std::make_shared<og::RRTstar>(si);
   ss.setPlanner(planner);
   ss.setup();
   const ob::PlannerTerminationCondition ptc = ob::plannerOrTerminationCondition(
-      ob::timedPlannerTerminationCondition(nav.planning_time_s), ob::IterationTerminationCondition(4000));
+      ob::timedPlannerTerminationCondition(nav.planning_time_s), ob::IterationTerminationCondition(20000));
   ss.solve(ptc);
   if (!ss.haveExactSolutionPath())
     throw std::runtime_error("navigation: RRT* found no path to the goal around the obstacles (turning radius " +
                              std::to_string(rho) + " m, obstacles inflated by " + std::to_string(inflate) + " m)");
   og::PathGeometric path = ss.getSolutionPath();
+  ss.getPathSimplifier()->shortcutPath(path);  // straight shortcuts where collision-free
   path.interpolate(std::max(50, int(path.length() / 0.01)));
   std::vector<Eigen::Vector3d> out;
   for (const ob::State* st : path.getStates()) {
-    const auto* s = st->as<ob::SE2StateSpace::StateType>();
-    out.emplace_back(s->getX(), s->getY(), s->getYaw());
+    const auto* s = st->as<ob::RealVectorStateSpace::StateType>();
+    out.emplace_back(s->values[0], s->values[1], start[2]);
   }
+  for (size_t i = 0; i + 1 < out.size(); ++i)  // heading of the path
+    out[i][2] = std::atan2(out[i + 1][1] - out[i][1], out[i + 1][0] - out[i][0]);
+  if (out.size() > 1) out.back()[2] = out[out.size() - 2][2];
   return out;
 #endif
 }
@@ -202,7 +248,7 @@ NavResult navigate(const Problem& p, const std::vector<Gait>& gaits, const NavSe
     arclen[i] = arclen[i - 1] + (res.planned[i].head<2>() - res.planned[i - 1].head<2>()).norm();
   double step = 0;
   for (const auto& g : gaits) step = std::max(step, std::abs(g.forward_m));
-  const double lookahead = std::max(1.5 * step, 0.5 * radius);
+  const double lookahead = std::max(3 * step, radius);
 
   DmpState d = dmp_init(p.dmp);
   const double a_max = max_activation_m(ch, p.dmp);
@@ -222,15 +268,24 @@ NavResult navigate(const Problem& p, const std::vector<Gait>& gaits, const NavSe
     size_t t = idx;
     while (t + 1 < res.planned.size() && arclen[t] < arclen[idx] + lookahead) ++t;
     const Eigen::Vector3d target = res.planned[t];
+    // Pure pursuit: the heading change that points at the target, and the gait whose
+    // yaw per period is closest to it (gaits that would end inside an inflated
+    // obstacle are avoided).
     int choice = 0;
     double best_score = std::numeric_limits<double>::infinity();
     for (size_t g = 0; g < gaits.size(); ++g) {
       const Eigen::Vector3d q = compose(pose, gaits[g]);
-      double score = (q.head<2>() - target.head<2>()).norm() + 0.2 * radius * std::abs(wrap(target[2] - q[2]));
-      if (clearance(nav, q.head<2>()) < radius) score += 10 * radius;
+      // Heading error at the predicted pose towards the target (the forward gait then
+      // carries the body along its heading), plus the distance left.
+      double score = std::abs(wrap(std::atan2(target[1] - q[1], target[0] - q[0]) - q[2])) +
+                     (q.head<2>() - target.head<2>()).norm() / std::max(lookahead, 1e-9);
+      if (clearance(nav, q.head<2>()) < radius) score += 10;
       if (score < best_score) best_score = score, choice = int(g);
     }
     res.gait_sequence.push_back(choice);
+    if (std::getenv("PLIANT_NAV_DEBUG"))
+      std::fprintf(stderr, "pose %.2f %.2f %.2f target %.2f %.2f gait %d\n", pose[0], pose[1], pose[2], target[0],
+                   target[1], choice);
     for (int f = 0; f < P && frame < nav.max_frames; ++f) {
       const Eigen::VectorXd& y = dmp_step(p.dmp, gaits[choice].theta, p.sim.dt_s, d);
       reduced_step(ch, p.env, p.sim, control_force(ch, y, a_max), s);

@@ -123,7 +123,11 @@ Eigen::VectorXd residuals(const Problem& p, const Eigen::VectorXd& theta) {
     out.push_back(std::sqrt(o.w_distance) * ((com - com0).dot(o.distance_direction.normalized()) - o.distance_m));
   if (o.w_turn > 0) {
     out.push_back(std::sqrt(o.w_turn) * (yaw_total / T - o.turn_rate_rad_per_s));
-    out.push_back(std::sqrt(o.w_turn) * (std::hypot(com[0] - com0[0], com[2] - com0[2]) / T - o.turn_speed_m_per_s));
+    // Signed progress along the initial heading (smooth, unlike the horizontal speed).
+    Eigen::Vector3d h0 = s0.R * o.turn_axis;
+    h0[1] = 0;
+    if (h0.norm() > 1e-12) h0.normalize();
+    out.push_back(std::sqrt(o.w_turn) * ((com - com0).dot(h0) / T - o.turn_speed_m_per_s));
   }
   for (double v : shuffle) out.push_back(std::sqrt(o.w_shuffle * dt) * v);
   for (const auto& r : key_res)

@@ -62,9 +62,10 @@ struct StepTargets {
   // Approximate continuous collision (thin parts, fast motion): when the segment
   // from a node's start to its inertial target enters an obstacle deeper than
   // delta, the node gets, for this step, a penalty plane tangent at the entry point
-  // with the stiffness that stops it within delta (implicit Euler estimate
-  // depth = D / (1 + k dt^2)). Catches thin obstacles the target jumps over and
-  // keeps a one-cell-thick sheet from passing through the ground in one step.
+  // (or at its projection when it is already inside) with the stiffness that stops
+  // it within delta (implicit Euler estimate depth = D / (1 + k dt^2)). Catches thin
+  // obstacles the target jumps over and keeps a one-cell-thick sheet from passing
+  // through the ground; resting contact (target depth below delta) is unaffected.
   VectorXd ccd_k;       // per unit mass (1/s^2); 0: inactive
   std::vector<Vector3d> ccd_point, ccd_normal;
 };
@@ -98,9 +99,13 @@ StepTargets make_targets(const Character& ch, const Environment& env, double dt,
   for (int j = 0; j < n; ++j) {
     const Vector3d a = x.segment<3>(3 * j), b = t.xt.segment<3>(3 * j);
     for (const auto& o : env.obstacles) {
-      if (obstacle_depth(o, a, nullptr) > 0) continue;  // already touching: ordinary penalty
       Vector3d p, nrm;
-      if (!segment_entry(o, a, b, &p, &nrm)) continue;
+      const double da = obstacle_depth(o, a, &nrm);
+      if (da > 0) {
+        p = a + da * nrm;  // already inside: tangent plane at its projection
+      } else if (!segment_entry(o, a, b, &p, &nrm)) {
+        continue;
+      }
       const double D = -nrm.dot(b - p);  // depth of the target below the tangent plane
       if (D <= delta) continue;
       const double k = std::max(env.contact_stiffness_per_s2, (D / delta - 1) / (dt * dt));

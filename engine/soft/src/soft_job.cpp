@@ -95,6 +95,8 @@ nlohmann::json run_navigation(JobContext& ctx, SoftModel& m, std::chrono::steady
     const Field* fc = cached.find(std::string("gait_theta_") + names[k]);
     if (!nav.cached_theta.empty()) {
       theta = nav.cached_theta[k];
+    } else if (k == 2 && mirror_gait(pk, gaits[1].theta, &theta)) {
+      // Symmetric body: turning right is the mirror image of turning left.
     } else if (fc && int(fc->data.size()) == pk.dmp.parameters()) {
       theta.resize(pk.dmp.parameters());
       for (int i = 0; i < theta.size(); ++i) theta[i] = fc->data[i];
@@ -141,8 +143,12 @@ nlohmann::json run_navigation(JobContext& ctx, SoftModel& m, std::chrono::steady
   } catch (const std::runtime_error& e) {
     throw std::runtime_error(std::string(e.what()) + "; gait primitives per period: " + gait_json.dump());
   }
+  // The planned path, about 50 poses (x, z, yaw).
   std::vector<std::vector<double>> planned;
-  for (const auto& q : res.planned) planned.push_back({q[0], q[1], q[2]});
+  const size_t stride = std::max<size_t>(1, res.planned.size() / 50);
+  for (size_t i = 0; i < res.planned.size(); i += stride)
+    planned.push_back({res.planned[i][0], res.planned[i][1], res.planned[i][2]});
+  if (!res.planned.empty()) planned.push_back({res.planned.back()[0], res.planned.back()[1], res.planned.back()[2]});
   return {{"navigation", true},
           {"reached", res.reached},
           {"final_distance_m", res.final_distance_m},

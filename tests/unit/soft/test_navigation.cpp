@@ -1,4 +1,4 @@
-// Navigation: RRT* in the Dubins space ends in the goal disc without touching the
+// Navigation: RRT* (OMPL) ends in the goal disc without touching the
 // inflated obstacles; the turn objective measures yaw rate; a gait primitive of a
 // straight gait has no yaw; the cached gaits of soft_navigate.json reach the goal
 // around the obstacle in re-simulation. Without OMPL the planner tests skip and a
@@ -12,7 +12,7 @@
 using namespace pliant;
 using namespace pliant::soft;
 
-TEST(Navigation, DubinsPathAvoidsObstaclesAndEndsAtGoal) {
+TEST(Navigation, RrtStarPathAvoidsObstaclesAndEndsAtGoal) {
   if (!navigation_available()) GTEST_SKIP() << "built without OMPL";
   NavSettings nav;
   nav.goal_m = {3, 0};
@@ -26,12 +26,7 @@ TEST(Navigation, DubinsPathAvoidsObstaclesAndEndsAtGoal) {
   double len = 0;
   for (size_t i = 0; i < path.size(); ++i) {
     EXPECT_GT((path[i].head<2>() - nav.obstacles[0].center_m).norm(), nav.obstacles[0].radius_m + inflate - 1e-6);
-    if (i > 0) {
-      const double ds = (path[i].head<2>() - path[i - 1].head<2>()).norm();
-      len += ds;
-      // Curvature bounded by 1 / rho (Dubins): heading change <= ds / rho.
-      EXPECT_LE(std::abs(std::remainder(path[i][2] - path[i - 1][2], 2 * M_PI)), ds / rho + 1e-6);
-    }
+    if (i > 0) len += (path[i].head<2>() - path[i - 1].head<2>()).norm();
   }
   EXPECT_GT(len, 3.0);  // it had to go around
 }
@@ -52,4 +47,29 @@ TEST(Navigation, SceneWithoutOmplIsInputErrorAndBadGaitsAreRejected) {
       EXPECT_NE(msg.find("OMPL"), std::string::npos) << msg;
     }
   }
+}
+
+// Re-simulates the whole plan (about 30 s of spider walking): label slow.
+// NOTE: the spider does not reach the goal yet (after the turns the forward gait,
+// optimized from rest, stalls), so this checks the plan, the gaits and that the
+// COM never enters an obstacle, not arrival (see engine/soft/README.md, Missing).
+TEST(NavigationSlow, CachedGaitsPlanAroundTheObstacle) {
+  if (!navigation_available()) GTEST_SKIP() << "built without OMPL";
+  SoftModel m = soft_compile(load_scene(std::string(PLIANT_ASSETS_DIR) + "/scenes/soft_navigate.json"));
+  soft_bind(m);
+  const NavSettings& nav = m.navigation;
+  ASSERT_TRUE(nav.enabled);
+  ASSERT_EQ(nav.cached_theta.size(), 3u) << "soft_navigate.json should carry its optimized gaits";
+  std::vector<Gait> gaits;
+  for (int k = 0; k < 3; ++k) gaits.push_back(measure_gait(m.problem, "g", nav.cached_theta[k], nav.body_axis));
+  EXPECT_GT(gaits[0].forward_m, 0.02);  // forward walks forward
+  EXPECT_GT(gaits[1].yaw_rad, 0.05);    // left turns left
+  EXPECT_LT(gaits[2].yaw_rad, -0.05);   // right (the mirrored left gait) turns right
+  Eigen::VectorXd mirrored;
+  ASSERT_TRUE(mirror_gait(m.problem, nav.cached_theta[1], &mirrored));
+  EXPECT_LT((mirrored - nav.cached_theta[2]).norm(), 1e-4 * mirrored.norm());
+  const NavResult r = navigate(m.problem, gaits, nav);
+  ASSERT_FALSE(r.planned.empty());
+  EXPECT_LE((r.planned.back().head<2>() - nav.goal_m).norm(), nav.goal_tolerance_m);
+  EXPECT_GT(r.min_clearance_m, 0.0);  // the COM never entered an obstacle's footprint
 }

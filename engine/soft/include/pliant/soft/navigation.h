@@ -2,14 +2,14 @@
 // "Navigation"): a few gaits that differ only in their DMP parameters (forward, turn
 // left, turn right) are optimized once; each is measured as a motion primitive, the
 // planar rigid motion (forward, sideways, yaw) of one controller period in the body
-// frame. Forward is a straight line and the turns are arcs, so the character is a
-// Dubins car with turning radius rho = speed / |yaw rate|: RRT* (OMPL,
-// ompl::geometric::RRTstar) in OMPL's Dubins space plans a shortest curvature-bounded
-// path to the goal around the obstacles' footprints, inflated by the body's radius.
-// The path is then executed in the reduced simulation one period at a time: the gait
-// whose primitive lands nearest a look-ahead point on the path is played (closed
-// loop on the simulated pose, so primitive errors do not accumulate). Planar
-// coordinates are (x, z) of the world (y up); yaw = atan2(h_z, h_x) of the body axis h.
+// frame. RRT* (OMPL, ompl::geometric::RRTstar, then shortcutting) plans a short path
+// for the centre of mass to the goal disc around the obstacles' footprints, inflated
+// by the body's radius + clearance. The path is executed in the reduced simulation
+// one controller period at a time (closed loop on the simulated pose): the gait
+// whose predicted pose faces a look-ahead point on the path best (heading error
+// plus remaining distance) is played. Planar coordinates are (x, z) of the world
+// (y up); yaw = atan2(h_z, h_x) of the body axis h. A Dubins-space RRT* was tried
+// first (see navigation.cpp).
 // Without OMPL (libompl-dev) navigation is unavailable: soft_compile rejects a
 // "navigation" section with an InputError.
 #pragma once
@@ -53,6 +53,12 @@ bool navigation_available();
 // Objectives of gait k (0 forward, 1 left, 2 right) for problem p.
 Objectives gait_objectives(const NavSettings& nav, int k);
 
+// Mirror image of a gait under the reflection z -> 2 z_com - z (turn left <-> turn
+// right) for a body symmetric under it: each controlled mode is then even or odd
+// (U_k^T M P U_k = +-1) and its DMP parameters keep or flip sign. False when the
+// lattice or a controlled mode is not symmetric.
+bool mirror_gait(const Problem& p, const Eigen::VectorXd& theta, Eigen::VectorXd* mirrored);
+
 // Measures a gait's primitive: simulates `warmup + periods` controller periods from
 // rest and averages the per-period planar motion over the last `periods`.
 Gait measure_gait(const Problem& p, const std::string& name, const Eigen::VectorXd& theta,
@@ -64,8 +70,9 @@ Eigen::Vector3d planar_pose(const SoftState& s, const Eigen::Vector3d& body_axis
 // Horizontal radius of the body (largest distance of a rest node from the COM axis).
 double body_radius_m(const Character& ch);
 
-// RRT* in the Dubins space (turning radius rho) from pose start to the goal disc,
-// avoiding obstacles inflated by `inflate`; dense poses (x, z, yaw) along the path.
+// RRT* over (x, z) from pose start to the goal disc, avoiding obstacles inflated by
+// `inflate`; dense poses (x, z, yaw of the path) along it. rho (the gaits' turning
+// radius) is reported, not used by the planner.
 // Throws std::runtime_error when no path is found or OMPL is missing.
 std::vector<Eigen::Vector3d> plan_dubins_path(const Eigen::Vector3d& start, const NavSettings& nav, double rho,
                                               double inflate, unsigned seed = 1);

@@ -11,8 +11,9 @@
 //   distance   final COM displacement along a direction minus target distance (1)
 //   shuffle    per frame, RMS tangential speed of nodes touching an obstacle (frames)
 //   keyframes  surface vertices minus (rest position + offset) at chosen frames
-//   turn       mean yaw rate of a body axis about +y minus target (rad/s), and mean
-//              horizontal COM speed minus target (the gaits of navigation.h)
+//   turn       mean yaw rate of a body axis about +y minus target (rad/s), and COM
+//              progress along the initial heading per second minus target speed
+//              (the gaits of navigation.h)
 //   effort     theta itself (keeps the problem well posed)
 #pragma once
 #include <Eigen/Core>
