@@ -90,6 +90,37 @@ TEST(LiquidJob, TakeHasTheDocumentedFieldsAndResumeEndsTheSame) {
   fs::remove_all(base);
 }
 
+// The feedback closed loop cancelled mid-way and resumed from its checkpoint
+// (state + the key poses decided so far) ends exactly like an uninterrupted run.
+TEST(LiquidJob, FeedbackResumeEndsTheSame) {
+  auto doc = nlohmann::json::parse(kScene);
+  doc["source"].erase("trajectory");
+  doc["planner"] = {{"mode", "feedback"},
+                    {"network", (fs::path(PLIANT_ASSETS_DIR) / "sweeps/liquid_dataset_net.json").string()}};
+  const Scene scene = parse_scene(doc.dump(), "job.json");
+  const fs::path base = fs::temp_directory_path() / ("pliant_liquid_fb_resume_" + std::to_string(::getpid()));
+  fs::remove_all(base);
+  const JobRun full = run(scene, base / "full", false);
+  ASSERT_FALSE(full.cancelled);
+  EXPECT_EQ(full.metrics["mpc_steps"].get<int>(), 6);
+  const JobRun first = run(scene, base / "resumed", false, 15);
+  EXPECT_TRUE(first.cancelled);
+  const JobRun second = run(scene, base / "resumed", true);
+  ASSERT_FALSE(second.cancelled);
+  EXPECT_EQ(second.metrics["resumed_from_frame"].get<int>(), 10);
+  EXPECT_EQ(second.metrics["fraction_in_target"], full.metrics["fraction_in_target"]);
+  EXPECT_EQ(second.metrics["fraction_in_source"], full.metrics["fraction_in_source"]);
+  // Same decisions (the checkpoint keeps doubles as float pairs: ~1e-15 apart).
+  const auto& a = second.metrics["trajectory"];
+  const auto& b = full.metrics["trajectory"];
+  ASSERT_EQ(a.size(), b.size());
+  for (size_t k = 0; k < a.size(); ++k) {
+    EXPECT_NEAR(a[k]["tilt_deg"].get<double>(), b[k]["tilt_deg"].get<double>(), 1e-9) << k;
+    EXPECT_NEAR(a[k]["position_m"][0].get<double>(), b[k]["position_m"][0].get<double>(), 1e-12) << k;
+  }
+  fs::remove_all(base);
+}
+
 TEST(LiquidJob, FeedbackPlannerWithoutNetworkIsInvalidInput) {
   auto doc = nlohmann::json::parse(kScene);
   doc["planner"] = {{"mode", "feedback"}, {"network", "no_such_network.json"}};
