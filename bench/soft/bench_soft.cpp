@@ -8,7 +8,10 @@
 //                               initial objective (null when not reached), ratio hybrid
 //                               vs L-BFGS; distance travelled per simulated second in
 //                               re-simulation.
-//   playback_<scene>            frames per second of DMP open-loop reduced simulation.
+//   playback_<scene>            frames per second of DMP open-loop reduced simulation
+//                               (playback_fps) and with the tracking feedback on
+//                               (playback_fps_tracking).
+//   reduced_vs_full_pod_r*      the same with the nonlinear POD basis (PodTraining).
 // Prints one JSON object per case; writes the array to bench/results/soft.json.
 #include <Eigen/Dense>
 #include <chrono>
@@ -245,8 +248,20 @@ void playback(const std::string& scene, int frames) {
   const auto t = Clock::now();
   simulate(p, th, frames);
   const double s = since(t);
+  // The same gait with the tracking feedback on (PD toward the open-loop trajectory),
+  // frame by frame through the editor's playback API.
+  SoftModel& mm = m;
+  const auto ref = soft_reference_q(mm, th, frames);
+  SoftPlayback pb = soft_playback_start(mm, th);
+  pb.q_ref = ref;
+  pb.track_kp = 3;
+  pb.track_kd = 0.3;
+  const auto t2 = Clock::now();
+  for (int f = 0; f < frames; ++f) soft_playback_step(mm, pb);
+  const double s2 = since(t2);
   emit({{"case", "playback_" + scene.substr(0, scene.find('.'))},
         {"frames", frames},
+        {"playback_fps_tracking", frames / s2},
         {"lattice_cells", m.character.lattice.cells.size()},
         {"cubature_cells", m.cubature.cells},
         {"modes", m.character.basis.r()},
