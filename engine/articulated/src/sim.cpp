@@ -487,6 +487,9 @@ void lm_armature(const Model& m, const SimOptions& o, const PbadStep& p, double 
 // the solver error stays a small fraction of the discretisation error instead of
 // being driven to round-off. Otherwise the solve is kept for the next iteration.
 bool final_correction(const Model& m, const SimOptions& o, PbadStep& p, SimWorkspace& ws) {
+  // Only an (almost) undamped Newton step measures the remaining error: a step shrunk
+  // by LM damping (indefinite model in a whipping chain) is small without being close.
+  if (p.lambda > 1e-4) return false;
   tree_diagonal(m, ws.kin, ws.h, &ws.diag, &ws.tree);
   ws.rhs = -ws.grad;
   lm_armature(m, o, p, p.lambda, ws);
