@@ -1,0 +1,238 @@
+// 3D keyframes in the editor (issue 4, the slice-and-volume view): a brush stroke
+// on one z slice is one undo step and changes only that slice within the brush;
+// the mesh gizmo moves the voxelised keyframe by the dragged cells (one undo
+// step; golden of the slice + volume view); painted 3D keyframes survive
+// save/reopen bit for bit; a tiny 3D solve from a painted keyframe runs.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+
+#include "doc/paint_ops.h"
+#include "doc/smoke_keyframes.h"
+#include "doc/smoke_keyframes_3d.h"
+#include "editor_harness.h"
+#include "pliant/core/take.h"
+#include "render/image_compare.h"
+#include "render/screenshot.h"
+
+namespace pliant::editor::test {
+
+using nlohmann::json;
+
+namespace {
+
+geom::PaintedGrid slot_volume(App& app, int slot) {
+  std::string err;
+  geom::PaintedGrid g = rasterize_slot_volume(app.doc.scene(), app.doc.path().parent_path(), slot, &err);
+  EXPECT_EQ(err, "");
+  return g;
+}
+
+void write_cube(const fs::path& file) {
+  std::ofstream(file) << "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n"
+                         "f 1 3 2\nf 1 4 3\nf 5 6 7\nf 5 7 8\nf 1 2 6\nf 1 6 5\n"
+                         "f 2 3 7\nf 2 7 6\nf 3 4 8\nf 3 8 7\nf 4 1 5\nf 4 5 8\n";
+}
+
+// The window screenshot cropped to the slice view and the volume view beside it,
+// compared with tests/editor/golden/<name> (PLIANT_UPDATE_GOLDEN=1 rewrites it).
+void match_slices_golden(App& app, const fs::path& shot_file, const std::string& name) {
+  std::string err;
+  Image shot = read_png(shot_file.string(), &err);
+  ASSERT_FALSE(shot.empty()) << err;
+  const UiRect* a = app.marks.find("slice_view");
+  const UiRect* b = app.marks.find("slice_volume");
+  ASSERT_TRUE(a && b);
+  const int x0 = std::max(0, int(std::floor(std::min(a->x0, b->x0)))), y0 = std::max(0, int(std::floor(std::min(a->y0, b->y0))));
+  const int x1 = std::min(shot.width, int(std::ceil(std::max(a->x1, b->x1)))),
+            y1 = std::min(shot.height, int(std::ceil(std::max(a->y1, b->y1))));
+  ASSERT_GT(x1 - x0, 16);
+  ASSERT_GT(y1 - y0, 16);
+  Image crop;
+  crop.width = x1 - x0;
+  crop.height = y1 - y0;
+  crop.rgba.resize(size_t(crop.width) * crop.height * 4);
+  for (int y = 0; y < crop.height; ++y)
+    std::copy_n(shot.pixel(x0, y0 + y), size_t(crop.width) * 4, crop.pixel(0, y));
+  const fs::path golden = test_data("golden/" + name);
+  if (std::getenv("PLIANT_UPDATE_GOLDEN")) {
+    ASSERT_TRUE(write_png(golden.string(), crop, &err)) << err;
+  }
+  Image want = read_png(golden.string(), &err);
+  ASSERT_FALSE(want.empty()) << err << " (generate with PLIANT_UPDATE_GOLDEN=1)";
+  CompareResult c = compare(crop, want, /*max_tol=*/48, /*mean_tol=*/1.0);
+  if (!c.pass) {
+    fs::path diff = fs::temp_directory_path() / ("pliant_diff_" + name);
+    write_png(diff.string(), diff_image(crop, want, 48));
+    ADD_FAILURE() << name << ": " << c.message << "; diff image: " << diff;
+  }
+}
+
+}  // namespace
+
+TEST(EditorKeyframes3D, SliceStrokeIsOneUndoStepAndChangesOnlyThatSliceWithinTheBrush) {
+  EditorHarness h("kf3d_stroke");
+  fs::path scene = h.copy_scene("keyframe_3d.json");
+  h.start(scene, /*gl=*/false);
+  ASSERT_EQ(h.run("wait 2\nclick_item view_keyframes\nwait 2\n"
+                  "click_item slice_slot\nwait 2\nclick_item slot_10\nwait 2\n"),
+            "");
+  ASSERT_EQ(h.app->canvas.slot, 0);
+  h.app->canvas.slice = 5;  // the z slider (UI state, not document data)
+  h.app->canvas.radius_cells = 2.5f;
+  h.app->canvas.hardness = 1.0f;
+  const json before = h.app->doc.scene();
+  const geom::PaintedGrid v0 = slot_volume(*h.app, 0);  // the voxelised sphere
+  const size_t steps = h.app->doc.history().size();
+  ASSERT_EQ(h.run("wait 1\ndrag_item_at slice_view 0.2 0.2 0.4 0.3 6\nwait 2\n"), "");
+  EXPECT_EQ(h.app->doc.history().size(), steps + 1) << "one stroke, one undo step";
+  const json after = h.app->doc.scene();
+  const json& t = after["control"]["keyframes"][0]["target"];
+  EXPECT_EQ(t["type"], "painted");
+  EXPECT_EQ(t["size"], json({16, 16, 16}));
+  const geom::PaintedGrid v1 = slot_volume(*h.app, 0);
+  EXPECT_EQ(h.app->canvas.vol.value, v1.value) << "the view shows the stored bytes";
+  // The drag in cells (+y up) on the 16x16 slice: (3.2, 12.8) -> (6.4, 11.2).
+  const double ax = 0.2 * 16, ay = 16 - 0.2 * 16, bx = 0.4 * 16, by = 16 - 0.3 * 16, r = 2.5 + 0.6;
+  size_t changed = 0;
+  for (int k = 0; k < 16; ++k)
+    for (int j = 0; j < 16; ++j)
+      for (int i = 0; i < 16; ++i) {
+        const size_t c = size_t(i) + 16 * (size_t(j) + 16 * k);
+        if (v1.value[c] == v0.value[c]) continue;
+        ++changed;
+        EXPECT_EQ(k, 5) << "voxel (" << i << "," << j << "," << k << ") changed off the slice";
+        const double px = i + 0.5, py = j + 0.5;
+        const double u = std::clamp(((px - ax) * (bx - ax) + (py - ay) * (by - ay)) /
+                                        ((bx - ax) * (bx - ax) + (by - ay) * (by - ay)), 0.0, 1.0);
+        EXPECT_LE(std::hypot(px - ax - u * (bx - ax), py - ay - u * (by - ay)), r)
+            << "voxel (" << i << "," << j << ") outside the brush";
+      }
+  EXPECT_GT(changed, 15u);
+  // Undo restores the scene exactly (the sphere target), redo the painted bytes.
+  ASSERT_EQ(h.run("key CTRL+Z\nwait 2\n"), "");
+  EXPECT_EQ(h.app->doc.scene(), before);
+  EXPECT_EQ(h.app->canvas.vol.value, v0.value);
+  ASSERT_EQ(h.run("key CTRL+SHIFT+Z\nwait 2\n"), "");
+  EXPECT_EQ(h.app->doc.scene(), after);
+  EXPECT_EQ(h.app->canvas.vol.value, v1.value);
+  // Fill, rectangle, ellipse and clear on the slice: one step each.
+  const size_t n0 = h.app->doc.history().size();
+  ASSERT_EQ(h.run("click_item tool_Rectangle\nwait 1\ndrag_item_at slice_view 0.6 0.6 0.9 0.9 4\nwait 1\n"
+                  "click_item tool_Ellipse\nwait 1\ndrag_item_at slice_view 0.1 0.6 0.3 0.9 4\nwait 1\n"
+                  "click_item tool_Fill\nwait 1\nclick_item_at slice_view 0.05 0.05\nwait 1\n"
+                  "click_item slice_clear\nwait 2\n"),
+            "");
+  EXPECT_EQ(h.app->doc.history().size(), n0 + 4);
+  const geom::PaintedGrid v2 = slot_volume(*h.app, 0);
+  EXPECT_EQ(painted_cell_count(volume_slice(v2, 5)), 0u);
+  for (int k = 0; k < 16; ++k) {
+    if (k != 5) {
+      EXPECT_EQ(volume_slice(v2, k).value, volume_slice(v1, k).value) << "slice " << k;
+    }
+  }
+  EXPECT_EQ(h.app->scene_error(), "");
+}
+
+TEST(EditorKeyframes3D, GizmoDragMovesTheVoxelisedMeshByTheDraggedCellsInOneUndoStep) {
+  EditorHarness h("kf3d_gizmo");
+  fs::path scene = h.copy_scene("keyframe_3d.json");
+  write_cube(h.dir / "cube.obj");
+  h.start(scene, /*gl=*/true, 1280, 720);
+  ASSERT_EQ(h.run("wait 2\ndrop cube.obj\nwait 2\nexpect \"Import mesh cube.obj\"\n"
+                  "click_item view_keyframes\nwait 3\n"),
+            "");
+  ASSERT_EQ(h.app->canvas.slot, 0);
+  ASSERT_TRUE(is_mesh_slot(h.app->doc.scene(), 0));
+  EXPECT_EQ(h.app->canvas.tool, CanvasTool::Gizmo) << "a mesh keyframe opens with its gizmo";
+  const geom::PaintedGrid v0 = h.app->canvas.vol;
+  const auto c0 = volume_centroid(v0);
+  EXPECT_NEAR(c0[0], 8.0, 0.05);
+  const json before = h.app->doc.scene();
+  const size_t steps = h.app->doc.history().size();
+  // Grab the centre and drag 1/8 of the slice to the right and 1/8 down: +2, -2 cells.
+  ASSERT_EQ(h.run("drag_item_at slice_view 0.5 0.5 0.625 0.625 8\nwait 3\nexpect \"Move mesh\"\n"), "");
+  EXPECT_EQ(h.app->doc.history().size(), steps + 1) << "one drag, one undo step";
+  const MeshTransform t = mesh_transform(h.app->doc.scene(), 0);
+  EXPECT_NEAR(t.center[0], 0.625, 0.01);
+  EXPECT_NEAR(t.center[1], 0.375, 0.01);
+  EXPECT_DOUBLE_EQ(t.center[2], 0.5);
+  // The slice view now shows the engine's voxelisation of the moved mesh.
+  const geom::PaintedGrid& v1 = h.app->canvas.vol;
+  EXPECT_EQ(v1.value, slot_volume(*h.app, 0).value);
+  const auto c1 = volume_centroid(v1);
+  EXPECT_NEAR(c1[0] - c0[0], 2.0, 0.2);
+  EXPECT_NEAR(c1[1] - c0[1], -2.0, 0.2);
+  EXPECT_NEAR(c1[2] - c0[2], 0.0, 0.05);
+  ASSERT_EQ(h.run("move 2 2\nwait 3\nscreenshot $TMP/gizmo.png\nwait 2\n"), "");
+  match_slices_golden(*h.app, h.dir / "gizmo.png", "keyframes_3d_gizmo.png");
+  // Scale with the square handle (corner at +half, -half of the 8-cell footprint):
+  // dragged from 4 sqrt(2) to 6 sqrt(2) cells off the centre = x1.5.
+  const double cx = 0.625, cy = 1 - 0.375, hx = 4.0 / 16;
+  ASSERT_EQ(h.run("drag_item_at slice_view " + std::to_string(cx + hx) + " " + std::to_string(cy + hx) + " " +
+                  std::to_string(cx + 1.5 * hx) + " " + std::to_string(cy + 1.5 * hx) + " 6\nwait 3\n"
+                  "expect \"Scale mesh\"\n"),
+            "");
+  EXPECT_NEAR(mesh_transform(h.app->doc.scene(), 0).scale, 1.5, 0.03);
+  EXPECT_EQ(h.app->doc.history().size(), steps + 2);
+  // Undo twice: back to the dropped mesh, exactly.
+  ASSERT_EQ(h.run("key CTRL+Z\nwait 2\nkey CTRL+Z\nwait 3\n"), "");
+  EXPECT_EQ(h.app->doc.scene(), before);
+  EXPECT_EQ(h.app->canvas.vol.value, v0.value);
+  EXPECT_EQ(h.app->scene_error(), "");
+}
+
+TEST(EditorKeyframes3D, SaveReopenKeepsPainted3DKeyframesBitForBit) {
+  EditorHarness h("kf3d_save");
+  fs::path scene = h.copy_scene("keyframe_3d.json");
+  h.start(scene, /*gl=*/false);
+  h.app->canvas.hardness = 0.3f;  // soft edges: bytes other than 0 and 255
+  ASSERT_EQ(h.run("wait 2\nclick_item view_keyframes\nwait 2\n"
+                  "click_item slice_slot\nwait 2\nclick_item slot_10\nwait 2\n"
+                  "drag_item_at slice_view 0.2 0.7 0.7 0.2 8\nwait 2\n"
+                  // The initial density, painted the same way on another slice.
+                  "click_item slice_slot\nwait 2\nclick_item slot_initial\nwait 2\n"),
+            "");
+  h.app->canvas.slice = 3;
+  ASSERT_EQ(h.run("wait 1\ndrag_item_at slice_view 0.1 0.9 0.3 0.9 4\nwait 2\nkey CTRL+S\nwait 2\nexpect Saved\n"), "");
+  const json edited = h.app->doc.scene();
+  ASSERT_EQ(edited["control"]["initial_density"][0]["type"], "painted");
+  ASSERT_EQ(edited["control"]["keyframes"][0]["target"]["type"], "painted");
+  const geom::PaintedGrid k = slot_volume(*h.app, 0), init = slot_volume(*h.app, kInitialDensitySlot);
+  size_t soft = 0;
+  for (uint8_t v : k.value) soft += v > 0 && v < 255;
+  EXPECT_GT(soft, 5u);
+  ASSERT_TRUE(h.app->cmd_open(scene));
+  EXPECT_EQ(h.app->doc.scene(), edited);
+  EXPECT_EQ(slot_volume(*h.app, 0).value, k.value);
+  EXPECT_EQ(slot_volume(*h.app, kInitialDensitySlot).value, init.value);
+  EXPECT_EQ(h.app->scene_error(), "");
+}
+
+TEST(EditorKeyframes3D, TinySolveFromAPainted3DKeyframeRuns) {
+  EditorHarness h("kf3d_solve");
+  fs::path scene = h.copy_scene("keyframe_3d.json");
+  h.start(scene, /*gl=*/true, 1280, 720);
+  h.app->canvas.radius_cells = 3.0f;
+  ASSERT_EQ(h.run("wait 2\nclick_item view_keyframes\nwait 2\n"
+                  "click_item slice_slot\nwait 2\nclick_item slot_10\nwait 2\n"
+                  "drag_item_at slice_view 0.3 0.25 0.7 0.25 6\nwait 3\n"
+                  "move 2 2\nwait 3\nscreenshot $TMP/paint.png\nwait 2\n"),
+            "");
+  ASSERT_EQ(h.app->doc.scene()["control"]["keyframes"][0]["target"]["type"], "painted");
+  match_slices_golden(*h.app, h.dir / "paint.png", "keyframes_3d_paint.png");
+  ASSERT_EQ(h.run("click_item Solve\nwait_job 90\nexpect \"Job 1: done\"\nwait_frames 11 10\n"), "");
+  EXPECT_EQ(h.app->take.status(), "done");
+  TakeReader take(h.app->take.dir());
+  ASSERT_EQ(take.frame_count(), 11u);
+  const Record last = take.read_frame_at(10);
+  const Field* d = last.find("density");
+  ASSERT_NE(d, nullptr);
+  EXPECT_EQ(d->shape, (std::vector<uint32_t>{16, 16, 16}));
+  EXPECT_EQ(take.manifest().metrics["keyframes"].size(), 1u);
+}
+
+}  // namespace pliant::editor::test
