@@ -168,8 +168,9 @@ bool soft_character_view(App& app) {
   const Vec3 base{float(m.character.rest_com[0]) + off[0], float(m.character.rest_com[1]) + off[1],
                   float(m.character.rest_com[2]) + off[2]};
 
-  // Framing: the body, the start and the goal (as the result view).
-  const SoftVec3 goal = soft_goal(info, {base[0], base[1], base[2]});
+  // Framing: the body and a position target (a velocity's goal may be metres
+  // away; the result view frames it, this view is for the body).
+  const SoftVec3 goal = info.has_position ? info.position_target : SoftVec3{base[0], base[1], base[2]};
   Vec3 blo, bhi;
   for (int a = 0; a < 3; ++a) {
     blo[a] = std::min({lo[a] + off[a], float(goal[a])}) - 0.5f * size;
