@@ -119,6 +119,13 @@ bool articulated_compare_integrators(App& app, const std::vector<std::string>& i
     runs.push_back(std::move(run));
   }
   st.runs = std::move(runs);
+  // Show the run of the scene's own integrator (else the first), like Run does.
+  const std::string own = app.doc.scene().value("integrator", std::string("pbad3"));
+  const IntegratorRun* shown = &st.runs.front();
+  for (const IntegratorRun& r : st.runs)
+    if (r.integrator == own) shown = &r;
+  app.take.open(shown->take);
+  app.doc.take_dir = shown->take;
   app.set_status("Comparing " + std::to_string(integrators.size()) + " integrators: " + base.string() + "-*");
   app.log.info(app.status());
   return true;

@@ -487,7 +487,7 @@ const KindPanels& articulated_panels() {
     KindPanels k;
     k.kind = "articulated";
     k.inspector = &draw_inspector;
-    k.typed_keys = {"model", "integrator", "dt", "duration_s", "write_every", "contact", "solver", "mpc"};
+    k.typed_keys = {"name", "model", "integrator", "dt", "duration_s", "write_every", "contact", "solver", "mpc"};
     k.jobs = &draw_jobs;
     k.viewport_toolbar = &draw_toolbar;
     k.viewport_overlay = &draw_overlay;
