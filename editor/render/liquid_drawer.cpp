@@ -129,9 +129,18 @@ class LiquidDrawer final : public FrameDrawer {
   }
 
   WorldBox bounds() const override {
-    WorldBox b = particle_box_;
-    if (b.empty()) b = {{0, 0, 0}, {0, 0, 0}};
-    // Both containers over the whole trajectory, so the pour stays in view.
+    // Framing must not depend on which frame is drawn first (a growing take
+    // shows whatever frame is newest): the simulation domain and both
+    // containers over the scene's trajectory when the scene is known, the
+    // particles and poses of this frame otherwise.
+    WorldBox b{{1e30f, 1e30f, 1e30f}, {-1e30f, -1e30f, -1e30f}};
+    const bool known = !geo_.domain.empty() && (geo_.domain.hi[0] > geo_.domain.lo[0]);
+    if (known) {
+      grow(&b, geo_.domain.lo);
+      grow(&b, geo_.domain.hi);
+    } else if (!particle_box_.empty()) {
+      b = particle_box_;
+    }
     auto add_container = [&](const BuiltContainer& c, const Pose7& pose) {
       if (!c.present) return;
       for (int k = 0; k < 8; ++k)
@@ -139,8 +148,9 @@ class LiquidDrawer final : public FrameDrawer {
                             dim_ == 2 ? 0.0f : (k & 4) ? c.hi[2] : c.lo[2]));
     };
     for (const Pose7& pose : geo_.source_path) add_container(source_, pose);
-    if (has_source_pose_) add_container(source_, source_pose_);
-    add_container(target_, has_target_pose_ ? target_pose_ : geo_.target_pose);
+    if (!known && has_source_pose_) add_container(source_, source_pose_);
+    add_container(target_, known || !has_target_pose_ ? geo_.target_pose : target_pose_);
+    if (b.empty()) b = {{0, 0, 0}, {0, 0, 0}};
     if (dim_ == 2) b.lo[2] = b.hi[2] = 0;
     return b;
   }

@@ -109,7 +109,8 @@ void liquid_viewport_overlay(App& app, float x, float y, int w, int h) {
   const json& scene = app.doc.scene();
   const ImGuiIO& io = ImGui::GetIO();
   const bool hovered_view = io.MousePos.x >= x && io.MousePos.x < x + w && io.MousePos.y >= y && io.MousePos.y < y + h &&
-                            ImGui::IsWindowHovered();
+                            // The viewport's own button turns active on the same click.
+                            ImGui::IsWindowHovered(ImGuiHoveredFlags_AllowWhenBlockedByActiveItem);
 
   struct HandleSpot {
     LiquidUiState::Handle kind;

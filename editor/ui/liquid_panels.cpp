@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cstdio>
+#include <fstream>
 
 #include "doc/liquid_scene_edit.h"
 #include "ui/app.h"
@@ -225,6 +226,46 @@ void draw_jobs(App& app) {
   ImGui::Separator();
 }
 
+// Viewport toolbar: where a dropped container file goes.
+void draw_toolbar(App& app) {
+  LiquidUiState& ui = liquid_ui(app);
+  ImGui::TextDisabled("drop container on:");
+  ImGui::SameLine();
+  if (ImGui::RadioButton("source", !ui.drop_to_target)) ui.drop_to_target = false;
+  ui_mark("liquid_drop_source");
+  ImGui::SameLine();
+  if (ImGui::RadioButton("target", ui.drop_to_target)) ui.drop_to_target = true;
+  ui_mark("liquid_drop_target");
+}
+
+// A dropped container file (a JSON object with "shape", not a scene) becomes
+// the chosen container, inlined (one undo step). Scenes and takes are left to
+// the generic handling.
+bool on_drop(App& app, const std::string& path) {
+  const fs::path p(path);
+  if (p.extension() != ".json") return false;
+  std::ifstream in(p);
+  if (!in) return false;
+  const json j = json::parse(in, nullptr, /*allow_exceptions=*/false, /*ignore_comments=*/true);
+  if (j.is_discarded() || !j.is_object() || j.contains("pliant") || !j.contains("shape")) return false;
+  ContainerRole role = liquid_ui(app).drop_to_target ? "target" : "source";
+  json next = app.doc.scene();
+  if (!next.contains(role) || !next[role].is_object()) {
+    json zero = json::array();
+    for (int i = 0; i < liquid_dim(next); ++i) zero.push_back(0.0);
+    next[role] = {{"position_m", zero}};
+  }
+  next[role]["container"] = fs::absolute(p).string();
+  std::string err;
+  if (!liquid_inline_container(&next, role, "/", &err)) {
+    app.set_status(err, true);
+    return true;
+  }
+  app.doc.edit(std::string("Drop ") + role + " container", std::move(next));
+  app.set_status(std::string("Container ") + p.filename().string() + " -> " + role);
+  return true;
+}
+
 }  // namespace
 
 const KindPanels& liquid_panels() {
@@ -234,7 +275,9 @@ const KindPanels& liquid_panels() {
     k.inspector = &draw_inspector;
     k.typed_keys = {"dim", "domain", "time", "liquid", "source", "target", "planner", "pressure"};
     k.jobs = &draw_jobs;
+    k.viewport_toolbar = &draw_toolbar;
     k.viewport_overlay = &liquid_viewport_overlay;
+    k.on_drop = &on_drop;
     k.timeline = &liquid_timeline;
     return k;
   }();

@@ -35,6 +35,8 @@ struct LiquidUiState : KindUiState {
   bool geo_ok = false;
   LiquidSceneGeometry geo;
   std::vector<LineSegment2> source_section, target_section;
+  // Where a dropped container file goes ("source" or "target").
+  bool drop_to_target = false;
   // Timeline key poses.
   int selected_key = -1;
   int dragging_key = -1;
