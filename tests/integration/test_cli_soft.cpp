@@ -80,3 +80,49 @@ TEST_F(SoftCli, SigtermDuringOptimisationLeavesACancelledTake) {
 
 }  // namespace
 }  // namespace pliant::test
+
+namespace pliant::test {
+namespace {
+
+nlohmann::json navigate_scene(int max_frames) {
+  std::ifstream in(kRepo / "assets/scenes/soft_navigate.json");
+  nlohmann::json s = nlohmann::json::parse(in);
+  s["character"]["mesh"] = (kRepo / "assets/characters/spider.obj").string();
+  s["navigation"]["max_frames"] = max_frames;
+  s["navigation"]["planning_time_s"] = 0.5;
+  return s;
+}
+
+class SoftNavigateCli : public CliTest {};
+
+TEST_F(SoftNavigateCli, WrongGaitSizeExitsTwoNamingTheField) {
+  nlohmann::json s = navigate_scene(10);
+  s["navigation"]["gaits"]["left"] = {1.0, 2.0};
+  const fs::path scene = write_scene("nav_bad.json", s);
+  const ProcessResult r = pliant({"validate", scene.string()});
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  // Without OMPL the whole section is refused, naming the package.
+  EXPECT_TRUE(contains(r.err, "/navigation/gaits/left") || contains(r.err, "libompl-dev")) << r.err;
+}
+
+TEST_F(SoftNavigateCli, ShortNavigationWritesGaitPerFrame) {
+  const fs::path scene = write_scene("nav.json", navigate_scene(30));
+  const fs::path take = dir_ / "take";
+  const ProcessResult r = pliant({"run", scene.string(), "--take", take.string()});
+  if (r.exit_code == 2 && contains(r.err, "libompl-dev")) GTEST_SKIP() << "built without OMPL";
+  ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
+  TakeReader reader(take);
+  ASSERT_GE(reader.frame_count(), 10u);
+  const Record last = reader.read_frame_at(reader.frame_count() - 1);
+  const Field* g = last.find("gait");
+  ASSERT_TRUE(g && last.find("com") && last.find("vertices"));
+  ASSERT_EQ(g->data.size(), 1u);
+  EXPECT_TRUE(g->data[0] == 0 || g->data[0] == 1 || g->data[0] == 2);
+  const auto events = parse_json_lines(r.out);
+  ASSERT_FALSE(events.empty());
+  EXPECT_EQ(events.back()["event"], "done");
+  EXPECT_GT(events.back()["metrics"]["min_clearance_m"].get<double>(), 0.0);
+}
+
+}  // namespace
+}  // namespace pliant::test
