@@ -58,6 +58,13 @@ SoftSceneInfo soft_scene_info(const json& scene) {
     const json* g = child(*e, "ground");
     in.ground = g && g->is_boolean() ? g->get<bool>() : !in.water;
     in.ground_y = number(e, "ground_height_m", 0);
+    if (const json* obs = child(*e, "obstacles"); obs && obs->is_array())
+      for (const json& o : *obs) {
+        const json* t2 = child(o, "type");
+        const std::string type = t2 && t2->is_string() ? t2->get<std::string>() : "sphere";
+        const double r = number(&o, "radius_m", 0);
+        if (type == "sphere" && r > 0) in.spheres.push_back({vec3(&o, "center_m", {0, 0, 0}), r});
+      }
   }
   if (const json* s = object(scene, "simulation")) {
     in.dt_s = number(s, "dt_s", in.dt_s);

@@ -33,6 +33,11 @@ struct SoftSceneInfo {
   bool has_distance = false;
   double distance = 0;
   SoftVec3 distance_direction{1, 0, 0};
+  struct Sphere {
+    SoftVec3 center{0, 0, 0};
+    double radius = 0;
+  };
+  std::vector<Sphere> spheres;  // environment.obstacles of type "sphere"
 };
 
 bool is_soft_scene(const nlohmann::json& scene);

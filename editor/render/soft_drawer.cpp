@@ -3,7 +3,8 @@
 // shared MeshDrawer, and in world-space lines: the ground grid (or the water
 // volume's outline), the COM trail up to the shown frame, the position target,
 // the heading arrow, the jump height ring and the pinned-vertex targets of the
-// shown frame, all read from the take's own scene copy.
+// shown frame, all read from the take's own scene copy; sphere obstacles as
+// grey meshes.
 //
 // Framing: the bounds are the ground patch covering the start and the goal
 // (soft_goal), so a walk stays in view while the character moves.
@@ -37,6 +38,7 @@ constexpr LineDrawer::Color kHeading{0.3f, 0.8f, 1.0f, 1.0f};
 constexpr LineDrawer::Color kJump{1.0f, 0.45f, 0.85f, 0.9f};
 constexpr LineDrawer::Color kPin{1.0f, 0.3f, 0.3f, 1.0f};
 constexpr MeshDrawer::Color kBody{0.93f, 0.62f, 0.38f, 1.0f};
+constexpr MeshDrawer::Color kObstacle{0.55f, 0.58f, 0.66f, 1.0f};
 
 Vec3 f3(const SoftVec3& v) { return {float(v[0]), float(v[1]), float(v[2])}; }
 Vec3 add(const Vec3& a, const Vec3& b, float s = 1) { return {a[0] + s * b[0], a[1] + s * b[1], a[2] + s * b[2]}; }
@@ -140,6 +142,8 @@ class SoftDrawer final : public FrameDrawer {
       if (!it->second.com.empty()) start_ = it->second.com[0];
     }
     mesh_.clear();
+    for (const auto& sp : info_.spheres)  // obstacles
+      mesh_.add_sphere(pose_matrix(f3(sp.center), {1, 0, 0, 0}), float(sp.radius), kObstacle);
     if (!triangles_.empty())
       mesh_.add_mesh(vertices_.data(), nverts, triangles_.data(), triangles_.size() / 3, kBody, mat4_identity());
     else

@@ -49,6 +49,11 @@ TEST(SoftScene, DefaultsAndBrokenFieldsNeverThrow) {
   EXPECT_TRUE(broken.has_position);
   EXPECT_DOUBLE_EQ(broken.position_target[0], 0.0);  // wrong length: default
   EXPECT_NO_THROW(soft_scene_info(json(42)));
+  const SoftSceneInfo obstacles = soft_scene_info(json::parse(R"({"environment": {"obstacles": [
+      {"type": "sphere", "center_m": [1, 0, 2], "radius_m": 0.3}, {"type": "plane"}, {"radius_m": -1}]}})"));
+  ASSERT_EQ(obstacles.spheres.size(), 1u);  // planes and broken spheres are not drawn
+  EXPECT_DOUBLE_EQ(obstacles.spheres[0].center[2], 2.0);
+  EXPECT_DOUBLE_EQ(obstacles.spheres[0].radius, 0.3);
 }
 
 TEST(SoftScene, GoalIsTargetOrWhereTheVelocityCarriesTheBody) {
