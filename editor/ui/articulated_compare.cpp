@@ -99,7 +99,17 @@ bool articulated_compare_integrators(App& app, const std::vector<std::string>& i
     return false;
   }
   const json base_scene = rebased_scene(app);
-  const fs::path base = take_base(app);
+  // default_take_dir is unique for its own name only: two comparisons in the
+  // same second would share "<stamp>-<integrator>", so number them.
+  const fs::path stamp = take_base(app);
+  fs::path base = stamp;
+  auto taken = [&](const fs::path& b) {
+    std::error_code ec;
+    for (const std::string& name : integrators)
+      if (fs::exists(b.string() + "-" + name, ec)) return true;
+    return false;
+  };
+  for (int n = 2; taken(base); ++n) base = fs::path(stamp.string() + "-" + std::to_string(n));
   std::vector<IntegratorRun> runs;
   for (const std::string& name : integrators) {
     IntegratorRun run;

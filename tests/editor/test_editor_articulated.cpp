@@ -153,6 +153,13 @@ TEST(EditorArticulated, CompareIntegratorsReadsAnEnergyCurvePerIntegrator) {
   // A legend click shows that run's take.
   ASSERT_EQ(h.run("click_item legend_euler\nwait 2\n"), "");
   EXPECT_EQ(h.app->take.dir(), st.runs[2].take);
+  // A second comparison right away gets takes of its own.
+  const fs::path first = st.runs[0].take;
+  ASSERT_TRUE(articulated_compare_integrators(*h.app, {"pbad2"}));
+  ASSERT_EQ(st.runs.size(), 1u);
+  EXPECT_NE(st.runs[0].take, first);
+  while (!all_jobs_ended(*h.app) && std::chrono::steady_clock::now() - t0 < std::chrono::seconds(60))
+    ASSERT_EQ(h.run("wait 5\n"), "");
 }
 
 TEST(EditorArticulated, HopperMpcFromAnEditedSceneSimulatesAndPlays) {
