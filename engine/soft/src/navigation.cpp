@@ -3,8 +3,6 @@
 #include "pliant/soft/navigation.h"
 
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <limits>
 #include <map>
 #include <stdexcept>
@@ -283,9 +281,6 @@ NavResult navigate(const Problem& p, const std::vector<Gait>& gaits, const NavSe
       if (score < best_score) best_score = score, choice = int(g);
     }
     res.gait_sequence.push_back(choice);
-    if (std::getenv("PLIANT_NAV_DEBUG"))
-      std::fprintf(stderr, "pose %.2f %.2f %.2f target %.2f %.2f gait %d\n", pose[0], pose[1], pose[2], target[0],
-                   target[1], choice);
     for (int f = 0; f < P && frame < nav.max_frames; ++f) {
       const Eigen::VectorXd& y = dmp_step(p.dmp, gaits[choice].theta, p.sim.dt_s, d);
       reduced_step(ch, p.env, p.sim, control_force(ch, y, a_max), s);
