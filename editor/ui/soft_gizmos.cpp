@@ -46,6 +46,12 @@ bool ray_plane(const Mat4& m, float sx, float sy, float x0, float y0, int w, int
   return true;
 }
 
+// The value at a JSON pointer, or null (const operator[] must not see a missing key).
+nlohmann::json at(const nlohmann::json& j, const std::string& pointer) {
+  const nlohmann::json::json_pointer p(pointer);
+  return j.contains(p) ? j.at(p) : nlohmann::json();
+}
+
 uint64_t drag_key(uint64_t serial) { return (std::hash<std::string>{}("soft_gizmo") ^ (serial * 0x9e3779b97f4a7c15ull)) | 1; }
 
 }  // namespace
@@ -110,12 +116,12 @@ void soft_gizmos(App& app, const Mat4& m, const Vec3& base, float size, float x,
     Vec3 hit;
     if (ui.drag_handle == 1 && ray_plane(m, mouse.x, mouse.y, x, y, w, h, float(info.position_target[1]), &hit)) {
       const nlohmann::json v = {hit[0], info.position_target[1], hit[2]};
-      if (v != app.doc.scene()["objectives"]["position"]["target_m"]) app.doc.set("/objectives/position/target_m", v, key);
+      if (v != at(app.doc.scene(), "/objectives/position/target_m")) app.doc.set("/objectives/position/target_m", v, key);
     } else if (ui.drag_handle == 2 && ray_plane(m, mouse.x, mouse.y, x, y, w, h, base[1], &hit)) {
       const float dx = hit[0] - base[0], dz = hit[2] - base[2], n = std::sqrt(dx * dx + dz * dz);
       if (n > 1e-6f) {
         const nlohmann::json v = {std::round(1e4 * dx / n) / 1e4, 0.0, std::round(1e4 * dz / n) / 1e4};
-        if (v != app.doc.scene()["objectives"]["heading"]["direction"]) app.doc.set("/objectives/heading/direction", v, key);
+        if (v != at(app.doc.scene(), "/objectives/heading/direction")) app.doc.set("/objectives/heading/direction", v, key);
       }
     } else if (ui.drag_handle == 3) {
       // Metres per pixel along the screen's vertical at the base.
