@@ -161,6 +161,11 @@ TEST(EditorLiquid, EditPlanGoldenGizmosKeysAndExport) {
     EXPECT_EQ(rows[4 * i + 2], 0.0f);
     EXPECT_EQ(rows[4 * i + 3], s->data[i]);
   }
+  // The same exporter from the editor (File > Export particles).
+  ASSERT_EQ(h.run("export particles $TMP/ply_menu\nwait_export 60\nwait 2\nexpect \"Export done\"\n"), "");
+  int menu_files = 0;
+  for (const auto& e : fs::directory_iterator(h.dir / "ply_menu")) menu_files += e.path().extension() == ".ply";
+  EXPECT_EQ(size_t(menu_files), take.frame_count());
 }
 
 TEST(EditorLiquid, ThreeDimensionalFrameDrawsContainerMeshes) {
