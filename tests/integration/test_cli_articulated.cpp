@@ -7,7 +7,7 @@
 namespace pliant::test {
 namespace {
 
-const std::string kAssets = PLIANT_ASSETS_DIR;
+const std::string kAssets = (fs::path(__FILE__).parent_path().parent_path().parent_path() / "assets").string();
 
 using ArticulatedCli = CliTest;
 
@@ -55,6 +55,8 @@ TEST_F(ArticulatedCli, ShortHopperMpcRuns) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto events = parse_json_lines(r.out);
   EXPECT_TRUE(events.back()["metrics"].contains("distance_m"));
+  EXPECT_TRUE(events.back()["metrics"].contains("airborne_fraction"));
+  EXPECT_TRUE(events.back()["metrics"].contains("body1_max_tilt_rad"));
   EXPECT_EQ(TakeReader(take).frame_count(), 11u);
 }
 
@@ -65,6 +67,26 @@ TEST_F(ArticulatedCli, MalformedMjcfExitsTwoNamingTheElement) {
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_TRUE(contains(r.err, "/model")) << r.err;
   EXPECT_TRUE(contains(r.err, "/mujoco/worldbody[0]/body[0]/geom[0]/@size")) << r.err;
+}
+
+TEST_F(ArticulatedCli, MalformedDefaultsRangesAndMeshesExitTwoNamingTheField) {
+  const nlohmann::json scene = {{"pliant", 1}, {"kind", "articulated"}, {"model", "bad.xml"}};
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"<mujoco><default><default class=\"leg\"/></default><worldbody><body><geom class=\"arm\" size=\"1\"/></body></worldbody></mujoco>",
+       "/mujoco/worldbody[0]/body[0]/geom[0]/@class"},
+      {"<mujoco><worldbody><body><joint limited=\"true\" range=\"1 -1\"/><geom size=\"1\"/></body></worldbody></mujoco>",
+       "/mujoco/worldbody[0]/body[0]/joint[0]/@range"},
+      {"<mujoco><worldbody><body euler=\"1 2\"><geom size=\"1\"/></body></worldbody></mujoco>",
+       "/mujoco/worldbody[0]/body[0]/@euler"},
+      {"<mujoco><asset><mesh name=\"m\" file=\"missing.obj\"/></asset></mujoco>", "/mujoco/asset[0]/mesh[0]/@file"},
+      {"<mujoco><worldbody><body><geom type=\"mesh\" mesh=\"m\"/></body></worldbody></mujoco>",
+       "/mujoco/worldbody[0]/body[0]/geom[0]/@mesh"}};
+  for (const auto& [xml, where] : cases) {
+    write_text("bad.xml", xml);
+    const ProcessResult r = pliant({"validate", write_scene("s.json", scene).string()});
+    EXPECT_EQ(r.exit_code, 2) << xml;
+    EXPECT_TRUE(contains(r.err, where)) << r.err;
+  }
 }
 
 TEST_F(ArticulatedCli, MalformedSceneFieldExitsTwo) {
