@@ -208,12 +208,14 @@ void draw_jobs(App& app) {
   update_series(app, ui);
   if (!ui.in_target.empty()) {
     const int n = int(ui.in_target.size());
+    // PlotLines takes no negative width (ImGui 1.86): the panel's width.
+    const ImVec2 plot_size(std::max(60.0f, ImGui::GetContentRegionAvail().x), 48.0f);
     char label[96];
     std::snprintf(label, sizeof label, "in target %.1f%%", 100.0f * ui.in_target.back());
-    ImGui::PlotLines("##in_target", ui.in_target.data(), n, 0, label, 0.0f, 1.0f, ImVec2(-1, 48));
+    ImGui::PlotLines("##in_target", ui.in_target.data(), n, 0, label, 0.0f, 1.0f, plot_size);
     ui_mark("liquid_fraction_plot");
     std::snprintf(label, sizeof label, "spilled %.1f%%", 100.0f * ui.spilled.back());
-    ImGui::PlotLines("##spilled", ui.spilled.data(), n, 0, label, 0.0f, 1.0f, ImVec2(-1, 48));
+    ImGui::PlotLines("##spilled", ui.spilled.data(), n, 0, label, 0.0f, 1.0f, plot_size);
   }
   if (TakeReader* r = app.take.reader(); r && r->manifest().metrics.is_object() &&
                                          r->manifest().metrics.contains("fraction_in_target")) {
