@@ -132,6 +132,8 @@ class App {
   bool status_is_error() const { return status_error_; }
   int job_threads = 0;  // --threads for new jobs (0 = OpenMP default)
   JobProcess* newest_job() { return jobs.empty() ? nullptr : jobs.back().get(); }
+  // Numbers a job a kind panel starts itself (compare runs), in the same series as Run.
+  int next_job_id() { return ++job_counter_; }
   uint64_t frame_count() const { return frames_; }
 
   Document doc;

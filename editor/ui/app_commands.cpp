@@ -97,7 +97,14 @@ bool App::cmd_run(const fs::path& take_dir, bool resume) {
   try {
     std::error_code ec;
     fs::create_directories(spec.take.parent_path(), ec);
-    if (spec.scene != doc.path()) save_json_atomic(spec.scene, doc.scene());
+    if (spec.scene != doc.path()) {
+      // Relative asset paths (meshes, images, models) still mean the document's folder.
+      nlohmann::json copy = doc.scene();
+      const fs::path base = doc.has_path() ? doc.path().parent_path() : default_scene_path().parent_path();
+      if (copy.is_object() && !copy.contains("asset_dir") && !base.empty())
+        copy["asset_dir"] = fs::absolute(base).lexically_normal().string();
+      save_json_atomic(spec.scene, copy);
+    }
   } catch (const std::exception& e) {
     set_status(std::string("Cannot run: ") + e.what(), true);
     log.error(status_);

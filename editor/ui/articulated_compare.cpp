@@ -58,7 +58,7 @@ JobProcess* start_job(App& app, const json& scene, const fs::path& take, std::st
     return nullptr;
   }
   auto job = std::make_unique<JobProcess>();
-  job->id = st.next_job_id++;
+  job->id = app.next_job_id();
   if (!job->start(spec, err)) return nullptr;
   JobProcess* p = job.get();
   app.jobs.push_back(std::move(job));

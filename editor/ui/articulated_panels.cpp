@@ -492,6 +492,7 @@ const KindPanels& articulated_panels() {
     k.viewport_toolbar = &draw_toolbar;
     k.viewport_overlay = &draw_overlay;
     k.timeline = &draw_timeline;
+    k.on_drop = &articulated_on_drop;
     return k;
   }();
   return p;

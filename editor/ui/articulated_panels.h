@@ -41,7 +41,6 @@ struct ArticulatedUiState : KindUiState {
   bool compare_pick[4] = {true, true, true, true};  // pbad2, pbad3, euler, rk4
   std::vector<IntegratorRun> runs;                  // the newest comparison
   std::string compare_error;
-  int next_job_id = 1001;  // App's own counter is private: compare jobs number from 1001
   // Model summary cache (per document revision).
   uint64_t summary_doc = 0, summary_revision = ~uint64_t(0);
   std::string summary;

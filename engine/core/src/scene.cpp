@@ -77,6 +77,13 @@ Scene parse_scene(const std::string& text, const std::string& file_label,
   if (!r.has("kind")) r.fail("kind", "missing required field; expected one of \"smoke\", \"liquid\", \"soft\", \"articulated\"");
   scene.kind = r.choice("kind", "", scene_kinds());
   scene.name = r.string("name", "");
+  // "asset_dir": where relative asset paths start when the document is a copy
+  // saved elsewhere (the editor runs unsaved scenes from a copy beside the take).
+  if (r.has("asset_dir")) {
+    const std::filesystem::path a(r.string("asset_dir", ""));
+    if (a.empty()) r.fail("asset_dir", "expected a folder path, got an empty string");
+    scene.dir = a.is_absolute() ? a : dir / a;
+  }
   return scene;
 }
 
@@ -97,6 +104,7 @@ void accept_scene_envelope(JsonReader& root) {
   root.accept("pliant");
   root.accept("kind");
   root.accept("name");
+  root.accept("asset_dir");
 }
 
 }  // namespace pliant

@@ -54,6 +54,19 @@ TEST(Scene, EnvelopeChecks) {
             "a.json: /name: expected a string, got 3");
 }
 
+// The editor runs unsaved documents from a copy beside the take; "asset_dir"
+// keeps their relative asset paths meaning the document's folder.
+TEST(Scene, AssetDirMovesWhereRelativeAssetsStart) {
+  Scene abs = parse_scene(R"({"pliant": 1, "kind": "soft", "asset_dir": "/work/scenes"})", "a.json", "/tmp/takes");
+  EXPECT_EQ(abs.asset_path("../characters/spider.obj"), std::filesystem::path("/work/scenes/../characters/spider.obj"));
+  Scene rel = parse_scene(R"({"pliant": 1, "kind": "soft", "asset_dir": "up"})", "a.json", "/data");
+  EXPECT_EQ(rel.asset_path("m.obj"), std::filesystem::path("/data/up/m.obj"));
+  EXPECT_EQ(error_of([] { parse_scene(R"({"pliant": 1, "kind": "soft", "asset_dir": ""})", "a.json"); }),
+            "a.json: /asset_dir: expected a folder path, got an empty string");
+  EXPECT_EQ(error_of([] { parse_scene(R"({"pliant": 1, "kind": "soft", "asset_dir": 4})", "a.json"); }),
+            "a.json: /asset_dir: expected a string, got 4");
+}
+
 TEST(Scene, OtherTopLevelKeysAreLeftToTheKind) {
   Scene s = parse_scene(R"({"pliant": 1, "kind": "liquid", "anything": [1, 2]})", "a.json", "/data");
   EXPECT_EQ(s.kind, "liquid");

@@ -15,7 +15,8 @@ inline constexpr int kSceneSchemaVersion = 1;
 
 struct Scene {
   std::string file;               // as given by the user; used in messages
-  std::filesystem::path dir;      // asset paths are relative to this
+  std::filesystem::path dir;      // asset paths are relative to this (the file's folder,
+                                  // or the optional top-level "asset_dir")
   std::string kind;               // "smoke", "liquid", "soft", "articulated"
   std::string name;               // optional display name
   nlohmann::json doc;             // the whole document
@@ -32,7 +33,7 @@ Scene load_scene(const std::filesystem::path& path);
 Scene parse_scene(const std::string& text, const std::string& file_label,
                   const std::filesystem::path& dir = ".");
 
-// Marks the envelope fields load_scene checked ("pliant", "kind", "name") as known
+// Marks the envelope fields load_scene checked ("pliant", "kind", "name", "asset_dir") as known
 // on a kind's root reader, so its finish() rejects only the kind's own unknown keys.
 void accept_scene_envelope(JsonReader& root);
 
