@@ -187,9 +187,11 @@ std::vector<Eigen::Vector3d> plan_dubins_path(const Eigen::Vector3d& start, cons
   space->setBounds(b);
   og::SimpleSetup ss(space);
   const ob::SpaceInformationPtr si = ss.getSpaceInformation();
-  ss.setStateValidityChecker([&nav, inflate, si](const ob::State* st) {
+  // Raw pointer: capturing the shared_ptr would make a cycle (si owns the checker).
+  const ob::SpaceInformation* sip = si.get();
+  ss.setStateValidityChecker([&nav, inflate, sip](const ob::State* st) {
     const auto* s = st->as<ob::RealVectorStateSpace::StateType>();
-    return si->satisfiesBounds(st) && clearance(nav, Eigen::Vector2d(s->values[0], s->values[1])) > inflate;
+    return sip->satisfiesBounds(st) && clearance(nav, Eigen::Vector2d(s->values[0], s->values[1])) > inflate;
   });
   si->setStateValidityCheckingResolution(0.002);
   ob::ScopedState<ob::RealVectorStateSpace> s0(space);
