@@ -109,7 +109,8 @@ def soft_rows(cases):
     for c in cases:
         name = c["case"]
         if name.startswith("reduced_vs_full"):
-            rows.append((f"Soft reduced vs full FEM, {c['modes']} modes ({c['lattice_nodes']} nodes)",
+            basis = c.get("basis", "linear")
+            rows.append((f"Soft reduced vs full FEM, {basis} basis, {c['modes']} modes ({c['lattice_nodes']} nodes)",
                          f"error {c['relative_error'] * 100:.1f}%, {c['reduced_wall_s']:.2f} s",
                          f"full FEM {c['full_wall_s']:.2f} s", f"{c['speedup']:.1f}x"))
         elif name.startswith("playback_"):
