@@ -19,6 +19,7 @@
 #include <system_error>
 
 #include "pliant/plugin.h"
+#include "pliant/plugin_support.h"
 
 #define PLIANT_EXPORT extern "C" __attribute__((visibility("default")))
 
@@ -26,19 +27,12 @@ PLIANT_EXPORT const uint32_t pliant_plugin_api_version = PLIANT_PLUGIN_API_VERSI
 
 namespace {
 
+using pliant_plugin::fail;
+using pliant_plugin::find_field;
+
 constexpr float kBackgroundBelow = 1e-4f;
 
 std::filesystem::path g_out_dir;
-
-int fail(char* err, size_t err_size, const char* fmt, ...) {
-  if (err && err_size) {
-    va_list args;
-    va_start(args, fmt);
-    std::vsnprintf(err, err_size, fmt, args);
-    va_end(args);
-  }
-  return 1;
-}
 
 int vdb_begin(void*, const char* out_dir, const char*, uint32_t, char* err, size_t err_size) {
   openvdb::initialize();

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "pliant/plugin.h"
+#include "pliant/plugin_support.h"
 
 #define PLIANT_EXPORT extern "C" __attribute__((visibility("default")))
 
@@ -23,33 +24,20 @@ PLIANT_EXPORT const uint32_t pliant_plugin_api_version = PLIANT_PLUGIN_API_VERSI
 
 namespace {
 
+using pliant_plugin::fail;
+using pliant_plugin::find_field;
+
 struct ParticlesExport {
   std::filesystem::path out_dir;
   std::vector<float> rows;  // x y z speed per particle
 };
 ParticlesExport g_export;
 
-int fail(char* err, size_t err_size, const char* fmt, ...) {
-  if (err && err_size) {
-    va_list args;
-    va_start(args, fmt);
-    std::vsnprintf(err, err_size, fmt, args);
-    va_end(args);
-  }
-  return 1;
-}
-
 bool little_endian() {
   const uint32_t one = 1;
   unsigned char b;
   std::memcpy(&b, &one, 1);
   return b == 1;
-}
-
-const PliantField* find_field(const PliantFrame* frame, const char* name) {
-  for (uint32_t i = 0; i < frame->field_count; ++i)
-    if (std::strcmp(frame->fields[i].name, name) == 0) return &frame->fields[i];
-  return nullptr;
 }
 
 int particles_begin(void*, const char* out_dir, const char*, uint32_t, char* err, size_t err_size) {

@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "pliant/plugin.h"
+#include "pliant/plugin_support.h"
 
 #define PLIANT_EXPORT extern "C" __attribute__((visibility("default")))
 
@@ -32,22 +33,15 @@ PLIANT_EXPORT const uint32_t pliant_plugin_api_version = PLIANT_PLUGIN_API_VERSI
 
 namespace {
 
+using pliant_plugin::fail;
+using pliant_plugin::find_field;
+
 struct PngExport {
   std::filesystem::path out_dir;
   std::vector<float> projected;     // 3D projection scratch
   std::vector<unsigned char> grey;  // one image
 };
 PngExport g_export;
-
-int fail(char* err, size_t err_size, const char* fmt, ...) {
-  if (err && err_size) {
-    va_list args;
-    va_start(args, fmt);
-    std::vsnprintf(err, err_size, fmt, args);
-    va_end(args);
-  }
-  return 1;
-}
 
 int png_begin(void*, const char* out_dir, const char*, uint32_t, char* err, size_t err_size) {
   g_export.out_dir = out_dir;
@@ -91,13 +85,6 @@ int write_png(const std::filesystem::path& path, int w, int h, const unsigned ch
     return fail(err, err_size, "cannot rename %s: %s", tmp.c_str(), std::strerror(errno));
   }
   return 0;
-}
-
-const PliantField* find_field(const PliantFrame* frame, const char* name) {
-  for (uint32_t i = 0; i < frame->field_count; ++i) {
-    if (std::string(frame->fields[i].name) == name) return &frame->fields[i];
-  }
-  return nullptr;
 }
 
 int png_frame(void*, const PliantFrame* frame, char* err, size_t err_size) {

@@ -3,11 +3,14 @@
 #pragma once
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <memory>
 #include <string>
 
+#include "render/image_compare.h"
+#include "render/screenshot.h"
 #include "ui/app.h"
 #include "ui/headless_run.h"
 
@@ -16,6 +19,31 @@ namespace pliant::editor::test {
 namespace fs = std::filesystem;
 
 inline fs::path test_data(const std::string& rel) { return fs::path(PLIANT_EDITOR_TEST_DIR) / rel; }
+
+// Compares an image with tests/editor/golden/NAME (per-pixel tolerance 48, mean
+// 1.0: llvmpipe's rounding); PLIANT_UPDATE_GOLDEN=1 rewrites the golden. A
+// failure writes the difference image to the temp folder and names it.
+inline void match_golden_image(const Image& shot, const std::string& golden_name) {
+  std::string err;
+  fs::path golden = test_data("golden/" + golden_name);
+  if (std::getenv("PLIANT_UPDATE_GOLDEN")) ASSERT_TRUE(write_png(golden.string(), shot, &err)) << err;
+  Image want = read_png(golden.string(), &err);
+  ASSERT_FALSE(want.empty()) << err << " (generate with PLIANT_UPDATE_GOLDEN=1)";
+  CompareResult c = compare(shot, want, /*max_tol=*/48, /*mean_tol=*/1.0);
+  if (!c.pass) {
+    fs::path diff = fs::temp_directory_path() / ("pliant_diff_" + golden_name);
+    write_png(diff.string(), diff_image(shot, want, 48));
+    ADD_FAILURE() << golden_name << ": " << c.message << "; diff image: " << diff;
+  }
+}
+
+// The same for a screenshot file.
+inline void match_golden(const fs::path& shot_file, const std::string& golden_name) {
+  std::string err;
+  Image shot = read_png(shot_file.string(), &err);
+  ASSERT_FALSE(shot.empty()) << err;
+  match_golden_image(shot, golden_name);
+}
 
 class EditorHarness {
  public:

@@ -28,22 +28,6 @@ namespace {
 // Frame k of T on the keyframe strip (smoke_timeline_markers.cpp: 0.01 + 0.98 k / T).
 std::string strip_x(int k, int T) { return std::to_string(0.01 + 0.98 * k / T); }
 
-void match_golden(const fs::path& shot_file, const std::string& golden_name) {
-  std::string err;
-  Image shot = read_png(shot_file.string(), &err);
-  ASSERT_FALSE(shot.empty()) << err;
-  fs::path golden = test_data("golden/" + golden_name);
-  if (std::getenv("PLIANT_UPDATE_GOLDEN")) ASSERT_TRUE(write_png(golden.string(), shot, &err)) << err;
-  Image want = read_png(golden.string(), &err);
-  ASSERT_FALSE(want.empty()) << err << " (generate with PLIANT_UPDATE_GOLDEN=1)";
-  CompareResult c = compare(shot, want, /*max_tol=*/48, /*mean_tol=*/1.0);
-  if (!c.pass) {
-    fs::path diff = fs::temp_directory_path() / ("pliant_diff_" + golden_name);
-    write_png(diff.string(), diff_image(shot, want, 48));
-    ADD_FAILURE() << golden_name << ": " << c.message << "; diff image: " << diff;
-  }
-}
-
 geom::PaintedGrid slot_grid(App& app, int slot) {
   std::string err;
   geom::PaintedGrid g = rasterize_slot(app.doc.scene(), app.doc.path().parent_path(), slot, &err);

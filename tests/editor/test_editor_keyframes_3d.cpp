@@ -57,18 +57,7 @@ void match_slices_golden(App& app, const fs::path& shot_file, const std::string&
   crop.rgba.resize(size_t(crop.width) * crop.height * 4);
   for (int y = 0; y < crop.height; ++y)
     std::copy_n(shot.pixel(x0, y0 + y), size_t(crop.width) * 4, crop.pixel(0, y));
-  const fs::path golden = test_data("golden/" + name);
-  if (std::getenv("PLIANT_UPDATE_GOLDEN")) {
-    ASSERT_TRUE(write_png(golden.string(), crop, &err)) << err;
-  }
-  Image want = read_png(golden.string(), &err);
-  ASSERT_FALSE(want.empty()) << err << " (generate with PLIANT_UPDATE_GOLDEN=1)";
-  CompareResult c = compare(crop, want, /*max_tol=*/48, /*mean_tol=*/1.0);
-  if (!c.pass) {
-    fs::path diff = fs::temp_directory_path() / ("pliant_diff_" + name);
-    write_png(diff.string(), diff_image(crop, want, 48));
-    ADD_FAILURE() << name << ": " << c.message << "; diff image: " << diff;
-  }
+  match_golden_image(crop, name);
 }
 
 }  // namespace
