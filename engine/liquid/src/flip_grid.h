@@ -76,7 +76,9 @@ int apply_viscosity(const FlipGrid& g, const LiquidModel& m, FlipWorkspace& w, d
 void extrapolate(const FlipGrid& g, FlipWorkspace& w, int layers);
 
 // Signed distance to all solids at world x (negative inside), the source at
-// `source_pose`; *source_closest tells whether the source wall is the nearest.
-double solid_sdf(const LiquidModel& m, const Pose& source_pose, const Vec3& x, bool* source_closest);
+// `source_pose`, the target at `target_pose`; *source_closest tells whether the
+// source wall is the nearest (else the target's, moving at target_velocity_mps).
+double solid_sdf(const LiquidModel& m, const Pose& source_pose, const Pose& target_pose, const Vec3& x,
+                 bool* source_closest);
 
 }  // namespace pliant::liquid

@@ -28,7 +28,8 @@ FlipWorkspace& workspace(const LiquidModel& m) {
                            m.domain_min_m[0], m.domain_min_m[1], m.domain_min_m[2], double(m.has_target),
                            t.pose.position_m[0], t.pose.position_m[1], t.pose.position_m[2], t.pose.tilt_rad,
                            double(t.shape.type), t.shape.radius_m, t.shape.depth_m, t.shape.height_m,
-                           t.shape.wall_m, t.shape.neck_radius_m, t.shape.body_height_m};
+                           t.shape.wall_m, t.shape.neck_radius_m, t.shape.body_height_m,
+                           m.target_velocity_mps[0], m.target_velocity_mps[1], m.target_velocity_mps[2]};
   if (!w || k != key) {
     w = std::make_unique<FlipWorkspace>();
     key = std::move(k);
@@ -50,13 +51,16 @@ double container_reach(const ContainerShape& c) {
   return std::sqrt(r * r + std::max(c.depth_m, r) * std::max(c.depth_m, r) + c.height_m * c.height_m) + c.wall_m;
 }
 
-// Face open fractions and solid velocities for the source pose at time t.
+// Face open fractions and solid velocities for the source (and a moving
+// target) at time t. A static target's distances are computed once and cached.
 void build_solids(const FlipGrid& g, const LiquidModel& m, FlipWorkspace& w, double t) {
+  const bool static_target = m.has_target && !target_moves(m);
+  const bool moving_target = m.has_target && !static_target;
   if (!w.static_ready) {
     for (int c = 0; c < g.dim; ++c) {
       const auto d = g.face_dims(c);
       w.static_phi[c].assign(g.faces(c), kFarAway);
-      if (!m.has_target) continue;
+      if (!static_target) continue;
 #pragma omp parallel for collapse(2) schedule(static) if (worth_threads(g.cells()))
       for (int k = 0; k < d[2]; ++k)
         for (int j = 0; j < d[1]; ++j)
@@ -68,6 +72,12 @@ void build_solids(const FlipGrid& g, const LiquidModel& m, FlipWorkspace& w, dou
   }
   const Pose pose = source_pose_at(m, t);
   const double reach = container_reach(m.source.shape) + 2 * g.h;
+  const Pose tpose = target_pose_at(m, t);
+  const double treach = container_reach(m.target.shape) + 2 * g.h;
+  auto near_target = [&](const Vec3& x) {
+    const double dx = x[0] - tpose.position_m[0], dy = x[1] - tpose.position_m[1], dz = x[2] - tpose.position_m[2];
+    return moving_target && dx * dx + dy * dy + dz * dz < treach * treach;
+  };
   for (int c = 0; c < g.dim; ++c) {
     const auto d = g.face_dims(c);
     w.open[c].resize(g.faces(c));
@@ -85,8 +95,12 @@ void build_solids(const FlipGrid& g, const LiquidModel& m, FlipWorkspace& w, dou
           }
           double phi = w.static_phi[c][f];
           float sv = 0;
+          const Vec3 x = g.face_pos(c, i, j, k);
+          if (near_target(x)) {
+            const double pt = m.target.shape.wall_sdf(tpose.to_local(x), g.dim);
+            if (pt < phi) phi = pt, sv = float(m.target_velocity_mps[c]);
+          }
           if (m.has_source) {
-            const Vec3 x = g.face_pos(c, i, j, k);
             const double dx = x[0] - pose.position_m[0], dy = x[1] - pose.position_m[1],
                          dz = x[2] - pose.position_m[2];
             if (dx * dx + dy * dy + dz * dz < reach * reach) {
@@ -106,7 +120,7 @@ void build_solids(const FlipGrid& g, const LiquidModel& m, FlipWorkspace& w, dou
   // (open = 0, u = q), so the pressure solve never sees them as air.
   if (w.static_phi_cell.empty()) {
     w.static_phi_cell.assign(g.cells(), kFarAway);
-    if (m.has_target)
+    if (static_target)
       for (int k = 0; k < g.nz; ++k)
         for (int j = 0; j < g.ny; ++j)
           for (int i = 0; i < g.nx; ++i)
@@ -120,8 +134,9 @@ void build_solids(const FlipGrid& g, const LiquidModel& m, FlipWorkspace& w, dou
       for (int i = 0; i < g.nx; ++i) {
         const int ci = g.cell(i, j, k);
         double phi = w.static_phi_cell[ci];
+        const Vec3 x = g.cell_pos(i, j, k);
+        if (near_target(x)) phi = std::min(phi, m.target.shape.wall_sdf(tpose.to_local(x), g.dim));
         if (m.has_source) {
-          const Vec3 x = g.cell_pos(i, j, k);
           const double dx = x[0] - pose.position_m[0], dy = x[1] - pose.position_m[1], dz = x[2] - pose.position_m[2];
           if (dx * dx + dy * dy + dz * dz < reach * reach)
             phi = std::min(phi, m.source.shape.wall_sdf(pose.to_local(x), g.dim));
@@ -262,11 +277,12 @@ void set_solid_faces(const FlipGrid& g, FlipWorkspace& w) {
 
 // Moves x out of solids (and into the domain), removing the inward relative
 // normal velocity.
-void push_out(const FlipGrid& g, const LiquidModel& m, const Pose& pose, double t, float* x, float* v) {
+void push_out(const FlipGrid& g, const LiquidModel& m, const Pose& pose, const Pose& tpose, double t, float* x,
+              float* v) {
   const double margin = 0.25 * g.h;
   Vec3 p{x[0], x[1], g.dim == 3 ? x[2] : 0.0};
   bool src = false;
-  const double d = solid_sdf(m, pose, p, &src);
+  const double d = solid_sdf(m, pose, tpose, p, &src);
   if (d < margin) {
     const double e = 0.1 * g.h;
     Vec3 n{0, 0, 0};
@@ -274,13 +290,13 @@ void push_out(const FlipGrid& g, const LiquidModel& m, const Pose& pose, double 
       Vec3 xp = p, xm = p;
       xp[a] += e, xm[a] -= e;
       bool dummy;
-      n[a] = solid_sdf(m, pose, xp, &dummy) - solid_sdf(m, pose, xm, &dummy);
+      n[a] = solid_sdf(m, pose, tpose, xp, &dummy) - solid_sdf(m, pose, tpose, xm, &dummy);
     }
     const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
     if (len > 1e-12) {
       for (int a = 0; a < 3; ++a) n[a] /= len;
       for (int a = 0; a < g.dim; ++a) p[a] += (margin - d) * n[a];
-      const Vec3 sv = src ? source_point_velocity(m, t, pose, p) : Vec3{0, 0, 0};
+      const Vec3 sv = src ? source_point_velocity(m, t, pose, p) : m.target_velocity_mps;
       double vn = 0;
       for (int a = 0; a < g.dim; ++a) vn += (v[a] - sv[a]) * n[a];
       if (vn < 0)
@@ -304,7 +320,7 @@ void reseed(const FlipGrid& g, const LiquidModel& m, LiquidState& s, FlipWorkspa
   const int dims[3] = {g.nx, g.ny, g.nz};
   std::mt19937 rng(uint32_t(m.seed * 7919 + s.frame));
   std::uniform_real_distribution<float> U(0.f, 1.f);
-  const Pose pose = source_pose_at(m, s.time_s);
+  const Pose pose = source_pose_at(m, s.time_s), tpose = target_pose_at(m, s.time_s);
   for (int k = 0; k < g.nz; ++k)
     for (int j = 0; j < g.ny; ++j)
       for (int i = 0; i < g.nx; ++i) {
@@ -323,7 +339,7 @@ void reseed(const FlipGrid& g, const LiquidModel& m, LiquidState& s, FlipWorkspa
           }
         if (!interior) continue;
         bool src;
-        if (solid_sdf(m, pose, g.cell_pos(i, j, k), &src) < g.h) continue;
+        if (solid_sdf(m, pose, tpose, g.cell_pos(i, j, k), &src) < g.h) continue;
         for (int add = count; add < nominal / 2; ++add) {
           float x[3] = {float(g.lo[0] + (i + U(rng)) * g.h), float(g.lo[1] + (j + U(rng)) * g.h),
                         g.dim == 3 ? float(g.lo[2] + (k + U(rng)) * g.h) : 0.f};
@@ -353,10 +369,17 @@ Pose source_pose_at(const LiquidModel& m, double t) {
   return m.source_path.keys.empty() ? m.source.pose : m.source_path.at(t);
 }
 
-double solid_sdf(const LiquidModel& m, const Pose& source_pose, const Vec3& x, bool* source_closest) {
+Pose target_pose_at(const LiquidModel& m, double t) {
+  Pose p = m.target.pose;
+  for (int a = 0; a < 3; ++a) p.position_m[a] += m.target_velocity_mps[a] * t;
+  return p;
+}
+
+double solid_sdf(const LiquidModel& m, const Pose& source_pose, const Pose& target_pose, const Vec3& x,
+                 bool* source_closest) {
   double d = 1e30;
   *source_closest = false;
-  if (m.has_target) d = m.target.shape.wall_sdf(m.target.pose.to_local(x), m.dim);
+  if (m.has_target) d = m.target.shape.wall_sdf(target_pose.to_local(x), m.dim);
   if (m.has_source) {
     const double ds = m.source.shape.wall_sdf(source_pose.to_local(x), m.dim);
     if (ds < d) d = ds, *source_closest = true;
@@ -402,7 +425,7 @@ void liquid_substep(const LiquidModel& m, LiquidState& s, double dt, StepStats* 
   lap(&acc.transfer_s);
   // Grid to particles (FLIP/PIC blend) and RK2 advection in the new field.
   const float flip = float(m.flip_ratio);
-  const Pose pose_end = source_pose_at(m, s.time_s + dt);
+  const Pose pose_end = source_pose_at(m, s.time_s + dt), tpose_end = target_pose_at(m, s.time_s + dt);
   double vmax = 0;
 #pragma omp parallel for schedule(static) reduction(max : vmax) if (worth_threads(8LL * np))
   for (int p = 0; p < np; ++p) {
@@ -417,7 +440,7 @@ void liquid_substep(const LiquidModel& m, LiquidState& s, double dt, StepStats* 
     }
     for (int c = 0; c < g.dim; ++c) vm[c] = interpolate(g, c, w.vel[c].data(), xm);
     for (int c = 0; c < g.dim; ++c) x[c] += float(dt) * vm[c];
-    push_out(g, m, pose_end, s.time_s + dt, x, v);
+    push_out(g, m, pose_end, tpose_end, s.time_s + dt, x, v);
     double sp = 0;
     for (int c = 0; c < g.dim; ++c) sp += double(v[c]) * v[c];
     vmax = std::max(vmax, sp);
@@ -451,8 +474,10 @@ void liquid_step(const LiquidModel& m, LiquidState& s, StepStats* stats) {
     Vec3 lin;
     double tilt_rate;
     m.source_path.velocity(s.time_s, &lin, &tilt_rate);
-    const double wall = std::sqrt(lin[0] * lin[0] + lin[1] * lin[1] + lin[2] * lin[2]) +
-                        std::abs(tilt_rate) * wall_reach;
+    const Vec3& vt = m.target_velocity_mps;
+    const double wall = std::max(std::sqrt(lin[0] * lin[0] + lin[1] * lin[1] + lin[2] * lin[2]) +
+                                     std::abs(tilt_rate) * wall_reach,
+                                 std::sqrt(vt[0] * vt[0] + vt[1] * vt[1] + vt[2] * vt[2]));
     // Bridson's bound: u_max + sqrt(5 h |g|) keeps gravity's kick inside the CFL.
     const double speed = std::max(std::sqrt(vmax), wall) + std::sqrt(5 * g.h * gmag) + 1e-6;
     double dt = std::max(m.cfl * g.h / speed, m.dt_s / m.max_substeps);
@@ -499,28 +524,30 @@ LiquidState liquid_init(const LiquidModel& m) {
                g.dim == 3 ? g.lo[2] + (k + 0.5) * sub + J(rng) : 0.0};
         if (!inside(x)) continue;
         bool src;
-        if (solid_sdf(m, pose, x, &src) < 0.25 * g.h) continue;
+        if (solid_sdf(m, pose, m.target.pose, x, &src) < 0.25 * g.h) continue;
         for (int a = 0; a < 3; ++a) s.x.push_back(float(x[a]));
       }
   s.v.assign(s.x.size(), 0.f);
-  // Liquid in the source starts with the container's motion.
+  // Liquid in a container starts with the container's motion.
   for (size_t p = 0; p < s.count(); ++p) {
     const Vec3 x{s.x[3 * p], s.x[3 * p + 1], s.x[3 * p + 2]};
     if (m.has_source && m.source.shape.in_cavity(pose.to_local(x), m.dim)) {
       const Vec3 v = source_point_velocity(m, 0, pose, x);
       for (int a = 0; a < m.dim; ++a) s.v[3 * p + a] = float(v[a]);
+    } else if (m.has_target && m.target.shape.in_cavity(m.target.pose.to_local(x), m.dim)) {
+      for (int a = 0; a < m.dim; ++a) s.v[3 * p + a] = float(m.target_velocity_mps[a]);
     }
   }
   return s;
 }
 
 std::array<double, 3> liquid_fractions(const LiquidModel& m, const LiquidState& s) {
-  const Pose pose = source_pose_at(m, s.time_s);
+  const Pose pose = source_pose_at(m, s.time_s), tpose = target_pose_at(m, s.time_s);
   const size_t n = s.count();
   size_t in_target = 0, in_source = 0;
   for (size_t p = 0; p < n; ++p) {
     const Vec3 x{s.x[3 * p], s.x[3 * p + 1], s.x[3 * p + 2]};
-    if (m.has_target && m.target.shape.in_cavity(m.target.pose.to_local(x), m.dim)) ++in_target;
+    if (m.has_target && m.target.shape.in_cavity(tpose.to_local(x), m.dim)) ++in_target;
     else if (m.has_source && m.source.shape.in_cavity(pose.to_local(x), m.dim)) ++in_source;
   }
   if (n == 0) return {0, 0, 0};
@@ -544,7 +571,7 @@ Record liquid_frame_record(const LiquidModel& m, const LiquidState& s) {
   r.fields.push_back(std::move(pos));
   r.fields.push_back(std::move(speed));
   const auto sp = source_pose_at(m, s.time_s).as_array();
-  const auto tp = m.target.pose.as_array();
+  const auto tp = target_pose_at(m, s.time_s).as_array();
   r.fields.push_back(Field{"source_pose", {7}, std::vector<float>(sp.begin(), sp.end())});
   r.fields.push_back(Field{"target_pose", {7}, std::vector<float>(tp.begin(), tp.end())});
   const auto fr = liquid_fractions(m, s);

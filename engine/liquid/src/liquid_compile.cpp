@@ -221,6 +221,9 @@ LiquidModel liquid_compile(const Scene& scene) {
   if (auto t = root.object("target")) {
     m.target.shape = read_container(*t, scene);
     m.target.pose = read_pose(*t, m.dim, true);
+    m.target_velocity_mps = read_vec(*t, "velocity_mps", {0, 0, 0}, m.dim);
+    for (int a = 0; a < m.dim; ++a)
+      if (std::abs(m.target_velocity_mps[a]) > 100) t->fail("velocity_mps", "speeds above 100 m/s are not supported");
     check_wall(m.target.shape, m.cell_size_m, *t);
     t->finish();
   } else {

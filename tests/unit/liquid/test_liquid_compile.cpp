@@ -34,6 +34,13 @@ TEST(LiquidCompile, GoodSceneCompiles) {
   EXPECT_NEAR(m.source_path.keys[1].pose.tilt_rad, 3.14159265358979 / 2, 1e-12);
   EXPECT_EQ(m.target.shape.type, ContainerShape::Box);
   EXPECT_GT(liquid_init(m).count(), 50u);
+  EXPECT_FALSE(target_moves(m));
+  auto d = nlohmann::json::parse(kGood);
+  d["target"]["velocity_mps"] = {0.05, -0.01};
+  const LiquidModel mv = liquid_compile(parse_scene(d.dump(), "scene.json"));
+  EXPECT_TRUE(target_moves(mv));
+  EXPECT_EQ(mv.target_velocity_mps, (Vec3{0.05, -0.01, 0}));
+  EXPECT_NEAR(target_pose_at(mv, 2.0).position_m[0], 0.2 + 0.1, 1e-12);
 }
 
 TEST(LiquidCompile, ErrorsNameTheirPointer) {
@@ -54,6 +61,9 @@ TEST(LiquidCompile, ErrorsNameTheirPointer) {
   d = good;
   d["source"]["container"] = "no/such/container.json";
   EXPECT_EQ(problem_of(d).rfind("/source/container", 0), 0u) << problem_of(d);
+  d = good;
+  d["target"]["velocity_mps"] = {0.1};
+  EXPECT_EQ(problem_of(d).rfind("/target/velocity_mps", 0), 0u) << problem_of(d);
   d = good;
   d["planner"] = {{"mode", "simplified"}};
   d.erase("target");

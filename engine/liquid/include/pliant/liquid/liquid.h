@@ -17,7 +17,9 @@
 // - Substeps: CFL on the largest particle/grid speed (cfl cells per substep).
 // - Containers: analytic signed distance fields (cylinder, oval, box, cup with
 //   handle, long bottle) in the container's frame; the source moves along a
-//   key-pose trajectory (translation + tilt about z, Catmull-Rom in time).
+//   key-pose trajectory (translation + tilt about z, Catmull-Rom in time); the
+//   target moves at a constant velocity (TRANSFER+FOLLOW; zero = static), its
+//   walls impose that velocity on the liquid like the source's do.
 #pragma once
 #include <array>
 #include <nlohmann/json.hpp>
@@ -124,6 +126,7 @@ struct LiquidModel {
   bool reseed = true;             // refill under-populated fluid cells
   Container source, target;
   bool has_source = true, has_target = true;
+  Vec3 target_velocity_mps{0, 0, 0};  // constant; target.pose is its pose at t = 0
   Trajectory source_path;         // empty: the source stays at source.pose
   double fill_fraction = 0.6;     // source filled to this fraction of its height
   std::vector<std::pair<Vec3, Vec3>> liquid_boxes;  // extra liquid (min, max), e.g. dam break
@@ -152,6 +155,11 @@ LiquidModel liquid_compile(const Scene& scene);  // throws InputError
 LiquidState liquid_init(const LiquidModel& m);
 // Source pose at time t (the trajectory, or the static pose when it is empty).
 Pose source_pose_at(const LiquidModel& m, double t);
+// Target pose at time t: target.pose moved by target_velocity_mps * t.
+Pose target_pose_at(const LiquidModel& m, double t);
+inline bool target_moves(const LiquidModel& m) {
+  return m.target_velocity_mps[0] != 0 || m.target_velocity_mps[1] != 0 || m.target_velocity_mps[2] != 0;
+}
 // Advances one frame (m.dt_s) with CFL substeps; throws std::runtime_error naming
 // frame and field on NaN.
 void liquid_step(const LiquidModel& m, LiquidState& s, StepStats* stats = nullptr);
