@@ -90,7 +90,8 @@ nlohmann::json run_sim(const std::string& name, const LiquidModel& m, int thread
 int main(int argc, char** argv) {
   bool quick = false, sims = true, planners = true, feedback = true;
   int problems = 0, feedback_problems = 0;
-  std::string out = PLIANT_BENCH_RESULTS;
+  std::string out = PLIANT_BENCH_RESULTS, only;  // --case NAME: run just that simulator case
+  double sim_override = 0;                       // --sim-s S: simulated seconds per case
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--quick")) quick = true;
     else if (!std::strcmp(argv[i], "--out") && i + 1 < argc) out = argv[++i];
@@ -98,6 +99,8 @@ int main(int argc, char** argv) {
     else if (!std::strcmp(argv[i], "--planners-only")) sims = false;
     else if (!std::strcmp(argv[i], "--feedback-only")) sims = false, planners = false;
     else if (!std::strcmp(argv[i], "--no-feedback")) feedback = false;
+    else if (!std::strcmp(argv[i], "--case") && i + 1 < argc) only = argv[++i], planners = feedback = false;
+    else if (!std::strcmp(argv[i], "--sim-s") && i + 1 < argc) sim_override = std::atof(argv[++i]);
     else if (!std::strcmp(argv[i], "--problems") && i + 1 < argc) problems = std::atoi(argv[++i]);
     else if (!std::strcmp(argv[i], "--feedback-problems") && i + 1 < argc) feedback_problems = std::atoi(argv[++i]);
   }
@@ -117,18 +120,24 @@ int main(int argc, char** argv) {
   };
   const int maxt = std::max(1, int(std::thread::hardware_concurrency()));
   if (sims) {
-    const double sim_s = quick ? 0.1 : 0.4;
+    const double sim_s = sim_override > 0 ? sim_override : quick ? 0.1 : 0.4;
+    auto run = [&](const std::string& name, const LiquidModel& m, int t, double seconds) {
+      if (only.empty() || only == name) emit(run_sim(name, m, t, seconds));
+    };
+    const int t2 = std::min(2, maxt);
     for (int dim : {3, 2})
       for (int np : {8000, 60000})
-        for (int t : {1, std::min(2, maxt)}) {
-          if (t == 1 && maxt == 1 && t != 1) continue;
-          emit(run_sim("sim_" + std::to_string(dim) + "d_" + std::to_string(np / 1000) + "k_t" + std::to_string(t),
-                       collapse_model(dim, 0.5, np), t, sim_s));
-          if (maxt == 1) break;
+        for (int t : {1, t2}) {
+          run("sim_" + std::to_string(dim) + "d_" + std::to_string(np / 1000) + "k_t" + std::to_string(t),
+              collapse_model(dim, 0.5, np), t, sim_s);
+          if (t2 == 1) break;
         }
-    // The dam break of the issue: 0.5 m cube in a 1 m box, ~60k particles, all threads.
-    LiquidModel dam = collapse_model(3, 0.5, 60000);
-    emit(run_sim("dam_break_3d", dam, std::min(2, maxt), quick ? 0.2 : 1.0));
+    // The dam break of the issue: 0.5 m cube in a 1 m box, ~60k particles, 2 threads
+    // ("dam_break_3d") and 1 thread.
+    const LiquidModel dam = collapse_model(3, 0.5, 60000);
+    const double dam_s = sim_override > 0 ? sim_override : quick ? 0.2 : 1.0;
+    run("dam_break_3d", dam, t2, dam_s);
+    run("dam_break_3d_t1", dam, 1, dam_s);
   }
   if (planners)
     for (auto& j : bench_planners(quick, problems)) emit(j);

@@ -2,7 +2,9 @@
 // Cells (i,j,k) are numbered i + nx (j + ny k); face arrays are staggered:
 // u has (nx+1) ny nz entries, v nx (ny+1) nz, w nx ny (nz+1) (3D only).
 #pragma once
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <vector>
 
 #include "pliant/liquid/liquid.h"
@@ -51,8 +53,11 @@ struct FlipWorkspace {
   std::vector<unsigned char> solid_cell;  // per cell: centre inside a wall
   std::vector<int> cell_start, cell_fill, order;  // counting sort of particles by cell
   std::vector<int> particle_cell;
-  std::vector<double> rhs, p, r, z, s, q, precon, adiag;
+  std::vector<double> rhs, p, adiag;               // per cell
   std::array<std::vector<double>, 3> aplus;
+  // Compacted pressure system (one row per fluid cell, pressure.cpp).
+  std::vector<int> row_of, cell_of, nbr;
+  std::vector<double> off, cdiag, cp, cr, cz, cs, cq, cAs, precon;
   std::vector<double> vx, vb, vr, vz, vs, vq, vdiag;  // viscosity solve
   std::array<std::vector<double>, 3> vplus;
   std::vector<int> vindex;
@@ -60,6 +65,83 @@ struct FlipWorkspace {
   std::vector<float> front_value;
   bool static_ready = false;
 };
+
+// Where a position falls on the staggered grid, per axis, for both kinds of
+// sample: kind 0 on faces normal to that axis (offset 0), kind 1 at cell
+// centres (offset 1/2). Computed once per particle and shared by the dim face
+// components (component c uses kind 0 on axis c, kind 1 on the others).
+struct GridSamples {
+  int i[2][3];
+  float t[2][3];
+};
+
+// Float copy of the grid mapping, made once per loop.
+struct GridMap {
+  float lo[3], ih;
+  int hi[2][3];  // largest base index per kind and axis
+  int dim;
+  int d[3][3];   // face array dims per component
+  explicit GridMap(const FlipGrid& g) : ih(float(1.0 / g.h)), dim(g.dim) {
+    const int n[3] = {g.nx, g.ny, g.nz};
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = float(g.lo[a]);
+      hi[0][a] = std::max(0, n[a] - 1);  // faces: n + 1 of them
+      hi[1][a] = std::max(0, n[a] - 2);  // centres: n of them
+    }
+    for (int c = 0; c < 3; ++c) {
+      const auto fd = g.face_dims(c);
+      for (int a = 0; a < 3; ++a) d[c][a] = fd[a];
+    }
+  }
+  void samples(const float* x, GridSamples* s) const {
+    for (int a = 0; a < dim; ++a) {
+      const float u = (x[a] - lo[a]) * ih;
+      for (int kind = 0; kind < 2; ++kind) {
+        const float f = kind ? u - 0.5f : u;
+        int i = int(std::floor(f));
+        i = i < 0 ? 0 : i > hi[kind][a] ? hi[kind][a] : i;
+        const float t = f - float(i);
+        s->i[kind][a] = i;
+        s->t[kind][a] = t < 0.f ? 0.f : t > 1.f ? 1.f : t;
+      }
+    }
+    for (int a = dim; a < 3; ++a)
+      for (int kind = 0; kind < 2; ++kind) s->i[kind][a] = 0, s->t[kind][a] = 0.f;
+  }
+};
+
+// Tent-kernel stencil of face component c: base index, strides, weights.
+struct Stencil {
+  int base, sy, sz;
+  float t[3];
+};
+
+inline Stencil stencil_of(const GridMap& m, const GridSamples& s, int c) {
+  Stencil st;
+  int i0[3];
+  for (int a = 0; a < 3; ++a) {
+    const int kind = a == c ? 0 : 1;
+    i0[a] = s.i[kind][a], st.t[a] = s.t[kind][a];
+  }
+  st.sy = m.d[c][0];
+  st.sz = m.d[c][0] * m.d[c][1];
+  st.base = i0[0] + st.sy * i0[1] + st.sz * i0[2];
+  return st;
+}
+
+// Trilinear (bilinear in 2D) value of a face field at the stencil.
+inline float sample(int dim, const Stencil& s, const float* field) {
+  const float* p = field + s.base;
+  const float* t = s.t;
+  const float a00 = p[0] + t[0] * (p[1] - p[0]);
+  const float a10 = p[s.sy] + t[0] * (p[s.sy + 1] - p[s.sy]);
+  const float b0 = a00 + t[1] * (a10 - a00);
+  if (dim == 2) return b0;
+  const float a01 = p[s.sz] + t[0] * (p[s.sz + 1] - p[s.sz]);
+  const float a11 = p[s.sz + s.sy] + t[0] * (p[s.sz + s.sy + 1] - p[s.sz + s.sy]);
+  const float b1 = a01 + t[1] * (a11 - a01);
+  return b0 + t[2] * (b1 - b0);
+}
 
 // Interpolates face component c at world position x (linear tent kernel).
 float interpolate(const FlipGrid& g, int c, const float* field, const float* x);

@@ -186,8 +186,8 @@ void sort_particles(const FlipGrid& g, const LiquidState& s, FlipWorkspace& w) {
 // odd ones; no atomics. Also the liquid level set phi = min |x_c - x_p| - R.
 void particles_to_grid(const FlipGrid& g, const LiquidState& s, FlipWorkspace& w) {
   for (int c = 0; c < g.dim; ++c) {
-    w.vel[c].assign(g.faces(c), 0.f);
-    w.weight[c].assign(g.faces(c), 0.f);
+    w.vel[c].resize(g.faces(c));
+    w.weight[c].assign(2 * size_t(g.faces(c)), 0.f);  // interleaved (sum w v, sum w): one cache line per corner
     w.valid[c].resize(g.faces(c));
   }
   const float R = float(0.6 * g.h);
@@ -197,6 +197,7 @@ void particles_to_grid(const FlipGrid& g, const LiquidState& s, FlipWorkspace& w
   const int plane = axis == 2 ? g.nx * g.ny : g.nx;
   constexpr int T = 3;
   const int slabs = (layers + T - 1) / T;
+  const GridMap gm(g);
   for (int colour = 0; colour < 2; ++colour) {
 #pragma omp parallel for schedule(dynamic, 1) if (worth_threads(g.cells()))
     for (int sl = colour; sl < slabs; sl += 2) {
@@ -205,28 +206,22 @@ void particles_to_grid(const FlipGrid& g, const LiquidState& s, FlipWorkspace& w
         const int p = w.order[o];
         const float* x = &s.x[3 * p];
         const float* v = &s.v[3 * p];
+        GridSamples gs;
+        gm.samples(x, &gs);
         for (int c = 0; c < g.dim; ++c) {
-          const auto d = g.face_dims(c);
-          int i0[3] = {0, 0, 0};
-          float t[3] = {0, 0, 0};
-          for (int a = 0; a < g.dim; ++a) {
-            const float f = float((x[a] - g.lo[a]) / g.h) - (a == c ? 0.f : 0.5f);
-            const int i = std::clamp(int(std::floor(f)), 0, d[a] - 2);
-            i0[a] = i, t[a] = std::clamp(f - float(i), 0.f, 1.f);
-          }
-          float* vel = w.vel[c].data();
-          float* wt = w.weight[c].data();
+          const Stencil st = stencil_of(gm, gs, c);
+          float* acc = w.weight[c].data() + 2 * size_t(st.base);
+          const float tx = st.t[0], ty = st.t[1], vc = v[c];
+          const float wy[2] = {1 - ty, ty};
+          const float wz[2] = {g.dim == 3 ? 1 - st.t[2] : 1.f, st.t[2]};
           const int nk = g.dim == 3 ? 2 : 1;
           for (int dk = 0; dk < nk; ++dk)
-            for (int dj = 0; dj < 2; ++dj)
-              for (int di = 0; di < 2; ++di) {
-                const float wx = di ? t[0] : 1 - t[0], wy = dj ? t[1] : 1 - t[1];
-                const float wz = g.dim == 3 ? (dk ? t[2] : 1 - t[2]) : 1.f;
-                const float ww = wx * wy * wz;
-                const int f = (i0[0] + di) + d[0] * ((i0[1] + dj) + d[1] * (i0[2] + dk));
-                vel[f] += ww * v[c];
-                wt[f] += ww;
-              }
+            for (int dj = 0; dj < 2; ++dj) {
+              float* a = acc + 2 * (dj * st.sy + dk * st.sz);
+              const float w1 = wy[dj] * wz[dk], w0 = w1 * (1 - tx), w1x = w1 * tx;
+              a[0] += w0 * vc, a[1] += w0;
+              a[2] += w1x * vc, a[3] += w1x;
+            }
         }
         // Liquid level set at the particle's cell and its 2 dim face neighbours
         // (the ghost-fluid theta only pairs face-adjacent cells).
@@ -259,9 +254,9 @@ void particles_to_grid(const FlipGrid& g, const LiquidState& s, FlipWorkspace& w
     const int n = g.faces(c);
 #pragma omp parallel for schedule(static) if (worth_threads_light(g.cells()))
     for (int f = 0; f < n; ++f) {
-      const float wt = w.weight[c][f];
+      const float wt = w.weight[c][2 * size_t(f) + 1];
       w.valid[c][f] = wt > 1e-6f;
-      w.vel[c][f] = wt > 1e-6f ? w.vel[c][f] / wt : 0.f;
+      w.vel[c][f] = wt > 1e-6f ? w.weight[c][2 * size_t(f)] / wt : 0.f;
     }
   }
 }
@@ -425,20 +420,26 @@ void liquid_substep(const LiquidModel& m, LiquidState& s, double dt, StepStats* 
   lap(&acc.transfer_s);
   // Grid to particles (FLIP/PIC blend) and RK2 advection in the new field.
   const float flip = float(m.flip_ratio);
+  const GridMap gm(g);
   const Pose pose_end = source_pose_at(m, s.time_s + dt), tpose_end = target_pose_at(m, s.time_s + dt);
   double vmax = 0;
 #pragma omp parallel for schedule(static) reduction(max : vmax) if (worth_threads(8LL * np))
-  for (int p = 0; p < np; ++p) {
+  for (int o = 0; o < np; ++o) {
+    const int p = w.order[o];  // cell order: neighbouring particles read the same faces
     float* x = &s.x[3 * p];
     float* v = &s.v[3 * p];
     float vn[3] = {0, 0, 0}, xm[3] = {x[0], x[1], x[2]}, vm[3] = {0, 0, 0};
+    GridSamples gs;
+    gm.samples(x, &gs);
     for (int c = 0; c < g.dim; ++c) {
-      float vo;
-      interpolate_pair(g, c, w.vel[c].data(), w.vel_old[c].data(), x, &vn[c], &vo);
+      const Stencil st = stencil_of(gm, gs, c);
+      vn[c] = sample(g.dim, st, w.vel[c].data());
+      const float vo = sample(g.dim, st, w.vel_old[c].data());
       v[c] = flip * (v[c] + vn[c] - vo) + (1 - flip) * vn[c];
       xm[c] = x[c] + float(0.5 * dt) * vn[c];
     }
-    for (int c = 0; c < g.dim; ++c) vm[c] = interpolate(g, c, w.vel[c].data(), xm);
+    gm.samples(xm, &gs);
+    for (int c = 0; c < g.dim; ++c) vm[c] = sample(g.dim, stencil_of(gm, gs, c), w.vel[c].data());
     for (int c = 0; c < g.dim; ++c) x[c] += float(dt) * vm[c];
     push_out(g, m, pose_end, tpose_end, s.time_s + dt, x, v);
     double sp = 0;

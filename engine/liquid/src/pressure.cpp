@@ -1,7 +1,8 @@
 // Pressure projection: variational cut-face weights (Batty, Bertails, Bridson
 // 2007) for solids, ghost-fluid Dirichlet p = 0 at the free surface (Gibou et al.
 // 2002), solved by PCG with a MIC(0) preconditioner (Bridson, "Fluid Simulation
-// for Computer Graphics", 2nd ed., ch. 5). Unknowns are q = dt p / (rho h), so
+// for Computer Graphics", 2nd ed., ch. 5) on the fluid rows only; large systems
+// use a two-block MIC(0) whose blocks run in parallel. Unknowns are q = dt p / (rho h), so
 // the face update is u -= q_hi - q_lo.
 #include <algorithm>
 #include <cmath>
@@ -11,13 +12,10 @@
 namespace pliant::liquid {
 namespace {
 
-double dot(const std::vector<double>& a, const std::vector<double>& b) {
-  double s = 0;
-  const int n = int(a.size());
-#pragma omp parallel for schedule(static) reduction(+ : s) if (n > (1 << 19))
-  for (int i = 0; i < n; ++i) s += a[i] * b[i];
-  return s;
-}
+// Systems with at least this many rows run the PCG on threads (below, a
+// barrier per vector operation costs more than it saves, much more on a shared
+// machine) and split the preconditioner into two blocks.
+constexpr int kParallelRows = 1 << 15;
 
 // Face index of component c on the low (side 0) or high (side 1) side of cell (i,j,k).
 inline int face_of(const FlipGrid& g, int c, int i, int j, int k, int side) {
@@ -76,93 +74,138 @@ int project_pressure(const FlipGrid& g, const LiquidModel& m, FlipWorkspace& w, 
         A0[ci] = diag > 0 ? diag + 1e-6 : 0.0;
         w.rhs[ci] = diag > 0 ? -div : 0.0;
       }
-  // MIC(0) preconditioner (sequential: a lower-triangular sweep).
-  auto& pre = w.precon;
-  pre.assign(n, 0.0);
-  constexpr double tau = 0.97, sigma = 0.25;
-  for (int ci = 0; ci < n; ++ci) {
-    if (A0[ci] <= 0) continue;
-    double e = A0[ci];
-    for (int c = 0; c < g.dim; ++c) {
-      const int nb = ci - stride[c];
-      if (nb < 0 || pre[nb] == 0) continue;
-      const double a = w.aplus[c][nb] * pre[nb];
-      double fill = 0;
-      for (int c2 = 0; c2 < g.dim; ++c2)
-        if (c2 != c) fill += w.aplus[c2][nb];
-      e -= a * a + tau * w.aplus[c][nb] * fill * pre[nb] * pre[nb];
+  // Compact system: one row per fluid cell with a positive diagonal, in cell
+  // order; 6 neighbour slots per row (lower -x -y -z, then upper +x +y +z).
+  // The PCG then touches only the liquid, not the whole grid.
+  auto& row_of = w.row_of;
+  auto& cell_of = w.cell_of;
+  row_of.assign(n, -1);
+  cell_of.clear();
+  for (int ci = 0; ci < n; ++ci)
+    if (A0[ci] > 0) row_of[ci] = int(cell_of.size()), cell_of.push_back(ci);
+  const int nf = int(cell_of.size());
+  const bool par = nf >= kParallelRows;
+  auto& nbr = w.nbr;
+  auto& off = w.off;
+  nbr.resize(6 * size_t(nf));
+  off.resize(6 * size_t(nf));
+  auto& ad = w.cdiag;
+  ad.resize(nf);
+  for (auto* v : {&w.cp, &w.cr, &w.cz, &w.cs, &w.cq, &w.cAs, &w.precon}) v->assign(nf, 0.0);
+#pragma omp parallel for schedule(static) if (par)
+  for (int r = 0; r < nf; ++r) {
+    const int ci = cell_of[r];
+    ad[r] = A0[ci];
+    w.cr[r] = w.rhs[ci];
+    for (int c = 0; c < 3; ++c) {
+      const int lo = ci - stride[c], hi = ci + stride[c];
+      const double a_lo = c < g.dim && lo >= 0 ? w.aplus[c][lo] : 0.0;
+      const double a_hi = c < g.dim ? w.aplus[c][ci] : 0.0;
+      nbr[6 * r + c] = a_lo != 0 ? row_of[lo] : -1;
+      off[6 * r + c] = a_lo;
+      nbr[6 * r + 3 + c] = a_hi != 0 ? row_of[hi] : -1;
+      off[6 * r + 3 + c] = a_hi;
     }
-    if (e < sigma * A0[ci]) e = A0[ci];
-    pre[ci] = 1 / std::sqrt(e);
   }
-  auto apply_precon = [&](const std::vector<double>& r, std::vector<double>& z) {
-    auto& qv = w.q;  // forward solve L q = r, then L^T z = q
-    for (int ci = 0; ci < n; ++ci) {
-      if (A0[ci] <= 0) { qv[ci] = 0; continue; }
-      double t = r[ci];
+  // MIC(0) (Bridson's book, ch. 5) on a block-diagonal part of A: large systems
+  // are cut into two halves of rows whose couplings to each other are dropped
+  // from the preconditioner, so each half's triangular sweeps run on its own
+  // thread (the halves depend on the row count only, so results do not depend
+  // on the thread count).
+  const int blocks = par ? 2 : 1;
+  int bound[3] = {0, blocks == 2 ? nf / 2 : nf, nf};
+  auto& pre = w.precon;
+  constexpr double tau = 0.97, sigma = 0.25;
+#pragma omp parallel for schedule(static, 1) num_threads(blocks) if (blocks > 1)
+  for (int b = 0; b < blocks; ++b) {
+    const int b0 = bound[b], b1 = bound[b + 1];
+    for (int r = b0; r < b1; ++r) {
+      double e = ad[r];
       for (int c = 0; c < g.dim; ++c) {
-        const int nb = ci - stride[c];
-        if (nb >= 0) t -= w.aplus[c][nb] * pre[nb] * qv[nb];
+        const int nb = nbr[6 * r + c];
+        if (nb < b0) continue;  // none, or in the other block
+        const double a = off[6 * r + c] * pre[nb];
+        double fill = 0;
+        for (int c2 = 0; c2 < g.dim; ++c2) {
+          const int up = nbr[6 * nb + 3 + c2];
+          if (c2 != c && up >= b0 && up < b1) fill += off[6 * nb + 3 + c2];
+        }
+        e -= a * a + tau * off[6 * r + c] * fill * pre[nb] * pre[nb];
       }
-      qv[ci] = t * pre[ci];
+      if (e < sigma * ad[r]) e = ad[r];
+      pre[r] = 1 / std::sqrt(e);
     }
-    for (int ci = n - 1; ci >= 0; --ci) {
-      if (A0[ci] <= 0) { z[ci] = 0; continue; }
-      double t = qv[ci];
-      for (int c = 0; c < g.dim; ++c) {
-        const int nb = ci + stride[c];
-        if (nb < n) t -= w.aplus[c][ci] * pre[ci] * z[nb];
+  }
+  auto apply_precon = [&](const std::vector<double>& rin, std::vector<double>& z) {
+    auto& qv = w.cq;  // forward solve L q = r, then L^T z = q, per block
+#pragma omp parallel for schedule(static, 1) num_threads(blocks) if (blocks > 1)
+    for (int b = 0; b < blocks; ++b) {
+      const int b0 = bound[b], b1 = bound[b + 1];
+      for (int r = b0; r < b1; ++r) {
+        double t = rin[r];
+        for (int c = 0; c < g.dim; ++c) {
+          const int nb = nbr[6 * r + c];
+          if (nb >= b0) t -= off[6 * r + c] * pre[nb] * qv[nb];
+        }
+        qv[r] = t * pre[r];
       }
-      z[ci] = t * pre[ci];
+      for (int r = b1 - 1; r >= b0; --r) {
+        double t = qv[r];
+        for (int c = 0; c < g.dim; ++c) {
+          const int nb = nbr[6 * r + 3 + c];
+          if (nb >= 0 && nb < b1) t -= off[6 * r + 3 + c] * pre[r] * z[nb];
+        }
+        z[r] = t * pre[r];
+      }
     }
   };
-  // The MIC(0) sweeps are sequential, so the Krylov vector operations between
-  // them are threaded only on large grids (a barrier per operation costs more
-  // than it saves below about half a million cells).
   auto matvec = [&](const std::vector<double>& x, std::vector<double>& y) {
-#pragma omp parallel for schedule(static) if (n > (1 << 19))
-    for (int ci = 0; ci < n; ++ci) {
-      if (A0[ci] <= 0) { y[ci] = 0; continue; }
-      double t = A0[ci] * x[ci];
-      for (int c = 0; c < g.dim; ++c) {
-        if (ci - stride[c] >= 0) t += w.aplus[c][ci - stride[c]] * x[ci - stride[c]];
-        if (ci + stride[c] < n) t += w.aplus[c][ci] * x[ci + stride[c]];
+#pragma omp parallel for schedule(static) if (par)
+    for (int r = 0; r < nf; ++r) {
+      double t = ad[r] * x[r];
+      for (int d = 0; d < 6; ++d) {
+        const int nb = nbr[6 * r + d];
+        if (nb >= 0) t += off[6 * r + d] * x[nb];
       }
-      y[ci] = t;
+      y[r] = t;
     }
   };
-  w.r = w.rhs;
-  w.z.assign(n, 0.0), w.s.assign(n, 0.0), w.q.assign(n, 0.0);
+  auto dot = [&](const std::vector<double>& a, const std::vector<double>& b) {
+    double s = 0;
+#pragma omp parallel for schedule(static) reduction(+ : s) if (par)
+    for (int i = 0; i < nf; ++i) s += a[i] * b[i];
+    return s;
+  };
+  auto &cp = w.cp, &cr = w.cr, &cz = w.cz, &cs = w.cs, &As = w.cAs;
   double r0 = 0;
-  for (double v : w.r) r0 = std::max(r0, std::abs(v));
+  for (int i = 0; i < nf; ++i) r0 = std::max(r0, std::abs(cr[i]));
   int iters = 0;
   if (r0 > 1e-12) {
-    apply_precon(w.r, w.z);
-    w.s = w.z;
-    double rho = dot(w.z, w.r);
-    std::vector<double>& As = w.vb;  // scratch borrowed from the viscosity solve
-    As.assign(n, 0.0);
+    apply_precon(cr, cz);
+    cs = cz;
+    double rho = dot(cz, cr);
     for (iters = 1; iters <= m.pressure_max_iterations; ++iters) {
-      matvec(w.s, As);
-      const double sas = dot(w.s, As);
+      matvec(cs, As);
+      const double sas = dot(cs, As);
       if (!(sas > 0)) break;  // breakdown: keep the iterate so far
       const double alpha = rho / sas;
       double rmax = 0;
-#pragma omp parallel for schedule(static) reduction(max : rmax) if (n > (1 << 19))
-      for (int i = 0; i < n; ++i) {
-        w.p[i] += alpha * w.s[i];
-        w.r[i] -= alpha * As[i];
-        rmax = std::max(rmax, std::abs(w.r[i]));
+#pragma omp parallel for schedule(static) reduction(max : rmax) if (par)
+      for (int i = 0; i < nf; ++i) {
+        cp[i] += alpha * cs[i];
+        cr[i] -= alpha * As[i];
+        rmax = std::max(rmax, std::abs(cr[i]));
       }
       if (rmax <= m.pressure_tolerance * r0) break;
-      apply_precon(w.r, w.z);
-      const double rho_new = dot(w.z, w.r);
+      apply_precon(cr, cz);
+      const double rho_new = dot(cz, cr);
       const double beta = rho_new / rho;
       rho = rho_new;
-#pragma omp parallel for schedule(static) if (n > (1 << 19))
-      for (int i = 0; i < n; ++i) w.s[i] = w.z[i] + beta * w.s[i];
+#pragma omp parallel for schedule(static) if (par)
+      for (int i = 0; i < nf; ++i) cs[i] = cz[i] + beta * cs[i];
     }
   }
+  for (int r = 0; r < nf; ++r) w.p[cell_of[r]] = cp[r];
   // Velocity update on faces touching a fluid cell; mark them valid.
   for (int c = 0; c < g.dim; ++c) {
     const auto d = g.face_dims(c);
@@ -224,12 +267,19 @@ void extrapolate(const FlipGrid& g, FlipWorkspace& w, int layers) {
         if (idx[a] + 1 < d[a]) fn(f + st[a]);
       }
     };
-    for (int f = 0; f < n; ++f) {
-      if (val[f]) continue;
-      bool near = false;
-      neighbours(f, [&](int nb) { near = near || val[nb]; });
-      if (near) front.push_back(f), mark[f] = 1;
-    }
+    // First front: invalid faces with a valid neighbour (loops, no index division).
+    for (int k = 0; k < d[2]; ++k)
+      for (int j = 0; j < d[1]; ++j) {
+        const int row = d[0] * (j + d[1] * k);
+        const bool ylo = j > 0, yhi = j + 1 < d[1], zlo = g.dim == 3 && k > 0, zhi = g.dim == 3 && k + 1 < d[2];
+        for (int i = 0; i < d[0]; ++i) {
+          const int f = row + i;
+          if (val[f]) continue;
+          const bool near = (i > 0 && val[f - 1]) || (i + 1 < d[0] && val[f + 1]) || (ylo && val[f - st[1]]) ||
+                            (yhi && val[f + st[1]]) || (zlo && val[f - st[2]]) || (zhi && val[f + st[2]]);
+          if (near) front.push_back(f), mark[f] = 1;
+        }
+      }
     for (int layer = 0; layer < layers && !front.empty(); ++layer) {
       value.resize(front.size());
       for (size_t q = 0; q < front.size(); ++q) {
@@ -253,51 +303,21 @@ void extrapolate(const FlipGrid& g, FlipWorkspace& w, int layers) {
   }
 }
 
-namespace {
-// Tent-kernel stencil of face component c at x: base index, strides, weights.
-struct Stencil {
-  int base, sy, sz;
-  float t[3];
-};
-
-inline Stencil stencil(const FlipGrid& g, int c, const float* x) {
-  const auto d = g.face_dims(c);
-  Stencil s{0, d[0], d[0] * d[1], {0, 0, 0}};
-  int i0[3] = {0, 0, 0};
-  for (int a = 0; a < g.dim; ++a) {
-    const float off = a == c ? 0.f : 0.5f;
-    const float f = float((x[a] - g.lo[a]) / g.h) - off;
-    const int i = std::clamp(int(std::floor(f)), 0, d[a] - 2);
-    i0[a] = i;
-    s.t[a] = std::clamp(f - float(i), 0.f, 1.f);
-  }
-  s.base = i0[0] + d[0] * (i0[1] + d[1] * i0[2]);
-  return s;
-}
-
-inline float apply(const FlipGrid& g, const Stencil& s, const float* field) {
-  const float* p = field + s.base;
-  const float* t = s.t;
-  const float a00 = p[0] + t[0] * (p[1] - p[0]);
-  const float a10 = p[s.sy] + t[0] * (p[s.sy + 1] - p[s.sy]);
-  const float b0 = a00 + t[1] * (a10 - a00);
-  if (g.dim == 2) return b0;
-  const float a01 = p[s.sz] + t[0] * (p[s.sz + 1] - p[s.sz]);
-  const float a11 = p[s.sz + s.sy] + t[0] * (p[s.sz + s.sy + 1] - p[s.sz + s.sy]);
-  const float b1 = a01 + t[1] * (a11 - a01);
-  return b0 + t[2] * (b1 - b0);
-}
-}  // namespace
-
 float interpolate(const FlipGrid& g, int c, const float* field, const float* x) {
-  return apply(g, stencil(g, c, x), field);
+  const GridMap gm(g);
+  GridSamples s;
+  gm.samples(x, &s);
+  return sample(g.dim, stencil_of(gm, s, c), field);
 }
 
 void interpolate_pair(const FlipGrid& g, int c, const float* a, const float* b, const float* x, float* va,
                       float* vb) {
-  const Stencil s = stencil(g, c, x);
-  *va = apply(g, s, a);
-  *vb = apply(g, s, b);
+  const GridMap gm(g);
+  GridSamples s;
+  gm.samples(x, &s);
+  const Stencil st = stencil_of(gm, s, c);
+  *va = sample(g.dim, st, a);
+  *vb = sample(g.dim, st, b);
 }
 
 }  // namespace pliant::liquid
