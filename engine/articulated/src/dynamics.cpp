@@ -12,15 +12,6 @@ Mat3 skew(const Vec3& v) {
   return s;
 }
 
-using DofMat = Eigen::Matrix<double, 6, Eigen::Dynamic, 0, 6, 6>;
-
-DofMat body_subspace(const Model& m, const Kinematics& k, int b) {
-  const Body& body = m.bodies[b];
-  DofMat s(6, body.dof_count);
-  for (int i = 0; i < body.dof_count; ++i) s.col(i) = k.cdof[body.dof_begin + i];
-  return s;
-}
-
 }  // namespace
 
 Vec6 cross_motion(const Vec6& v, const Vec6& u) {
@@ -60,6 +51,77 @@ Mat6 geometric_block_transposed(const Mat3& moment, const Vec3& force) {
   return q;
 }
 
+namespace {
+
+// Explicit inverse of a joint's pivot block d (n x n, n <= 6, symmetric) into the
+// top-left corner of dinv. Unpivoted LDL^T: its pivots are positive exactly when d is
+// positive definite (Sylvester), the case of every forward-dynamics and accepted LM
+// solve; otherwise (indefinite Newton model) Eigen's pivoted LDLT still solves.
+template <int N>
+bool invert_pivot_block(const Eigen::Matrix<double, N, N>& d, Mat6* dinv) {
+  Eigen::Matrix<double, N, N> l = Eigen::Matrix<double, N, N>::Identity();
+  Eigen::Matrix<double, N, 1> piv;
+  bool positive = true;
+  for (int j = 0; j < N && positive; ++j) {
+    double dj = d(j, j);
+    for (int k = 0; k < j; ++k) dj -= l(j, k) * l(j, k) * piv[k];
+    piv[j] = dj;
+    positive = dj > 0;
+    for (int i = j + 1; i < N && positive; ++i) {
+      double lij = d(i, j);
+      for (int k = 0; k < j; ++k) lij -= l(i, k) * l(j, k) * piv[k];
+      l(i, j) = lij / dj;
+    }
+  }
+  if (positive) {
+    // d^-1 = L^-T D^-1 L^-1 with the unit lower triangle inverted in place.
+    const Eigen::Matrix<double, N, N> linv =
+        l.template triangularView<Eigen::UnitLower>().solve(Eigen::Matrix<double, N, N>::Identity());
+    dinv->template topLeftCorner<N, N>().noalias() = linv.transpose() * piv.cwiseInverse().asDiagonal() * linv;
+    return true;
+  }
+  dinv->template topLeftCorner<N, N>() = d.ldlt().solve(Eigen::Matrix<double, N, N>::Identity());
+  return false;
+}
+
+// One body of the leaves-to-root pass with its joint block of fixed size N (the
+// subspace S is 6 x N): u = ia^T S, D = sym(S^T u) + armature, ia_p += ia - u D^-1 u^T,
+// pa_p += pa + u D^-1 (r - S^T pa). Fixed sizes: no dynamic loops, no allocation.
+template <int N>
+bool eliminate_body(const Kinematics& k, const Body& body, const VecX& armature, const VecX& rhs,
+                    const Mat6& ia, const Vec6& pa, Mat6* u, Mat6* dinv, Vec6* ures, Mat6* ia_p,
+                    Vec6* pa_p) {
+  Eigen::Matrix<double, 6, N> s;
+  for (int i = 0; i < N; ++i) s.col(i) = k.cdof[body.dof_begin + i];
+  const Eigen::Matrix<double, 6, N> ub = ia.transpose() * s;
+  Eigen::Matrix<double, N, N> d = s.transpose() * ub;
+  for (int i = 0; i < N; ++i) {
+    for (int j = 0; j < i; ++j) d(i, j) = d(j, i);
+    d(i, i) += armature[body.dof_begin + i];
+  }
+  const bool positive = invert_pivot_block<N>(d, dinv);
+  const Eigen::Matrix<double, N, 1> r = rhs.segment<N>(body.dof_begin) - s.transpose() * pa;
+  const Eigen::Matrix<double, 6, N> w = ub * dinv->template topLeftCorner<N, N>();
+  ia_p->noalias() += ia;
+  ia_p->noalias() -= w * ub.transpose();
+  pa_p->noalias() += pa + w * r;
+  u->template leftCols<N>() = ub;
+  ures->template head<N>() = r;
+  return positive;
+}
+
+template <int N>
+void back_substitute(const Kinematics& k, const Body& body, const Mat6& u, const Mat6& dinv,
+                     const Vec6& ures, const Vec6& ap, VecX* x, Vec6* acc) {
+  const Eigen::Matrix<double, N, 1> r = ures.head<N>() - u.leftCols<N>().transpose() * ap;
+  const Eigen::Matrix<double, N, 1> xb = dinv.topLeftCorner<N, N>() * r;
+  x->segment<N>(body.dof_begin) = xb;
+  *acc = ap;
+  for (int i = 0; i < N; ++i) *acc += k.cdof[body.dof_begin + i] * xb[i];
+}
+
+}  // namespace
+
 bool tree_solve(const Model& m, const Kinematics& k, const std::vector<Mat6>& h,
                 const VecX& armature, const VecX& rhs, VecX* x, TreeWorkspace* ws) {
   bool positive = true;
@@ -74,33 +136,33 @@ bool tree_solve(const Model& m, const Kinematics& k, const std::vector<Mat6>& h,
     ws->ia[b] = h[b];
     ws->pa[b].setZero();
   }
-  // Leaves to root: articulated inertia seen through each body's joints.
+  // Leaves to root: articulated inertia seen through each body's joints. For a
+  // non-symmetric composite block (exact PBAD Hessian, see tree_solve's header) entry
+  // (j, a) of the matrix is S_j^T ia_j S_a for a an ancestor dof, so the coupling
+  // column towards the ancestors is u = ia^T S; the joint's own block is the symmetric
+  // matrix whose upper triangle is S^T ia^T S. The elimination is a block LDL^T:
+  // positive pivots <=> positive definite.
   for (int b = nb - 1; b >= 1; --b) {
     const Body& body = m.bodies[b];
     const int p = body.parent;
-    if (body.dof_count == 0) {
-      ws->ia[p] += ws->ia[b];
-      ws->pa[p] += ws->pa[b];
-      continue;
+    bool pos = true;
+#define PLIANT_ELIMINATE(N)                                                                      \
+  pos = eliminate_body<N>(k, body, armature, rhs, ws->ia[b], ws->pa[b], &ws->u[b], &ws->dinv[b], \
+                          &ws->ures[b], &ws->ia[p], &ws->pa[p])
+    switch (body.dof_count) {
+      case 0:
+        ws->ia[p] += ws->ia[b];
+        ws->pa[p] += ws->pa[b];
+        break;
+      case 1: PLIANT_ELIMINATE(1); break;
+      case 2: PLIANT_ELIMINATE(2); break;
+      case 3: PLIANT_ELIMINATE(3); break;
+      case 4: PLIANT_ELIMINATE(4); break;
+      case 5: PLIANT_ELIMINATE(5); break;
+      default: PLIANT_ELIMINATE(6); break;  // model_finalize: at most 6 dofs per body
     }
-    const DofMat s = body_subspace(m, k, b);
-    // u = ia^T S: for a non-symmetric composite block (exact PBAD Hessian, see
-    // tree_solve's header) entry (j, a) of the matrix is S_j^T ia_j S_a for a an
-    // ancestor dof, so the coupling column towards the ancestors is ia^T S; the
-    // joint's own block is the symmetric matrix whose upper triangle is S^T ia^T S.
-    ws->u[b].noalias() = ws->ia[b].transpose() * s;
-    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6> d = s.transpose() * ws->u[b];
-    for (int i = 0; i < body.dof_count; ++i)
-      for (int j = 0; j < i; ++j) d(i, j) = d(j, i);
-    for (int i = 0; i < body.dof_count; ++i) d(i, i) += armature[body.dof_begin + i];
-    ws->dinv[b].compute(d);
-    // The tree elimination is a block LDL^T: positive pivots <=> positive definite.
-    positive = positive && (ws->dinv[b].vectorD().array() > 0).all();
-    ws->ures[b] = rhs.segment(body.dof_begin, body.dof_count) - s.transpose() * ws->pa[b];
-    const Eigen::Matrix<double, Eigen::Dynamic, 6, 0, 6, 6> ut = ws->u[b].transpose();
-    const Eigen::Matrix<double, Eigen::Dynamic, 6, 0, 6, 6> dinv_ut = ws->dinv[b].solve(ut);
-    ws->ia[p] += ws->ia[b] - ws->u[b] * dinv_ut;
-    ws->pa[p] += ws->pa[b] + ws->u[b] * ws->dinv[b].solve(ws->ures[b]);
+#undef PLIANT_ELIMINATE
+    positive = positive && pos;
   }
   // Root to leaves: joint solutions and accumulated body "accelerations".
   x->resize(m.nv);
@@ -108,14 +170,15 @@ bool tree_solve(const Model& m, const Kinematics& k, const std::vector<Mat6>& h,
   for (int b = 1; b < nb; ++b) {
     const Body& body = m.bodies[b];
     const Vec6& ap = ws->acc[body.parent];
-    if (body.dof_count == 0) {
-      ws->acc[b] = ap;
-      continue;
+    switch (body.dof_count) {
+      case 0: ws->acc[b] = ap; break;
+      case 1: back_substitute<1>(k, body, ws->u[b], ws->dinv[b], ws->ures[b], ap, x, &ws->acc[b]); break;
+      case 2: back_substitute<2>(k, body, ws->u[b], ws->dinv[b], ws->ures[b], ap, x, &ws->acc[b]); break;
+      case 3: back_substitute<3>(k, body, ws->u[b], ws->dinv[b], ws->ures[b], ap, x, &ws->acc[b]); break;
+      case 4: back_substitute<4>(k, body, ws->u[b], ws->dinv[b], ws->ures[b], ap, x, &ws->acc[b]); break;
+      case 5: back_substitute<5>(k, body, ws->u[b], ws->dinv[b], ws->ures[b], ap, x, &ws->acc[b]); break;
+      default: back_substitute<6>(k, body, ws->u[b], ws->dinv[b], ws->ures[b], ap, x, &ws->acc[b]); break;
     }
-    const Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 6, 1> r = ws->ures[b] - ws->u[b].transpose() * ap;
-    const Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 6, 1> xb = ws->dinv[b].solve(r);
-    x->segment(body.dof_begin, body.dof_count) = xb;
-    ws->acc[b] = ap + body_subspace(m, k, b) * xb;
   }
   return positive;
 }

@@ -136,6 +136,11 @@ void model_finalize(Model& m, const std::vector<bool>& has_inertial) {
     }
     body.joints = ids;
     body.dof_count = m.nv - body.dof_begin;
+    // A rigid body has 6 degrees of freedom; more joint dofs would make the tree
+    // solve's joint block singular (and it is specialised for at most 6).
+    if (body.dof_count > 6)
+      throw std::invalid_argument("body \"" + body.name + "\" has " + std::to_string(body.dof_count) +
+                                  " joint degrees of freedom (at most 6)");
   }
   m.joints = ordered;
   for (Actuator& a : m.actuators) {

@@ -574,7 +574,8 @@ void pbad_finish(const Model& m, const SimOptions& o, State& s, const PbadStep& 
   }
   s.qpos = p.q;
   // Normal forces for next step's friction.
-  if (!(ws.kin_at.size() == s.qpos.size() && ws.kin_at == s.qpos)) kinematics(m, s.qpos, &ws.kin);
+  // Poses only: contacts need them, and ws.kin goes to the past-frame cache.
+  if (!(ws.kin_at.size() == s.qpos.size() && ws.kin_at == s.qpos)) kinematics(m, s.qpos, &ws.kin, true);
   s.normal_force_prev.assign(ws.points.size() * ws.obstacles.size(), 0.0);
   find_contacts(m, ws.kin, ws.points, ws.obstacles, &ws.contacts);
   for (const Contact& c : ws.contacts) s.normal_force_prev[c.slot] = o.contact.stiffness * c.depth;

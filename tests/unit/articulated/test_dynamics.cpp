@@ -49,6 +49,25 @@ TEST(Dynamics, TreeSolveMatchesDenseSolve) {
   EXPECT_LT((d - mm.diagonal()).norm(), 1e-10);
 }
 
+// The fixed-size joint blocks (6, 3 and 2 dofs here) report definiteness and still
+// solve an indefinite (non-singular) system, as the LM loop's first tries need.
+TEST(Dynamics, TreeSolveReportsDefinitenessAndSolvesIndefiniteSystems) {
+  RandomState s;
+  const Eigen::MatrixXd mm = mass_matrix(s.m, s.k);
+  TreeWorkspace ws;
+  VecX x;
+  const VecX pd = VecX::Constant(s.m.nv, 1e-3);
+  EXPECT_TRUE(tree_solve(s.m, s.k, s.k.cinert, pd, s.v, &x, &ws));
+  // Shift the spectrum by about half the largest eigenvalue: indefinite.
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(mm);
+  const double shift = 0.5 * (eig.eigenvalues()[s.m.nv / 2] + eig.eigenvalues()[s.m.nv / 2 - 1]);
+  const VecX arm = VecX::Constant(s.m.nv, -shift);
+  EXPECT_FALSE(tree_solve(s.m, s.k, s.k.cinert, arm, s.v, &x, &ws));
+  const Eigen::MatrixXd a = mm + Eigen::MatrixXd(arm.asDiagonal());
+  const VecX ref = a.fullPivLu().solve(s.v);
+  EXPECT_LT((x - ref).norm(), 1e-6 * ref.norm());
+}
+
 TEST(Dynamics, GravityBiasIsPotentialGradient) {
   RandomState s;
   const VecX bias = bias_force(s.m, s.k, VecX::Zero(s.m.nv));

@@ -43,6 +43,11 @@ TEST(Mjcf, MalformedInputNamesTheElement) {
   EXPECT_NE(error_of("<robot/>").find("root element must be <mujoco>"), std::string::npos);
   EXPECT_NE(error_of("<mujoco><worldbody><body><joint/></body></worldbody></mujoco>").find("no mass"),
             std::string::npos);
+  // More than 6 joint dofs on one body (the tree solve's joint block would be singular).
+  EXPECT_NE(error_of("<mujoco><worldbody><body><joint type=\"ball\"/><joint type=\"ball\"/><joint/>"
+                     "<geom size=\"1\"/></body></worldbody></mujoco>")
+                .find("at most 6"),
+            std::string::npos);
 }
 
 TEST(Mjcf, DefaultsOrientationsAndRanges) {

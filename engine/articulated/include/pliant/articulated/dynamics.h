@@ -57,9 +57,10 @@ struct TreeWorkspace {
   std::vector<Mat6> ia;   // articulated inertias
   std::vector<Vec6> pa;   // articulated bias
   std::vector<Vec6> acc;
-  std::vector<Eigen::Matrix<double, 6, Eigen::Dynamic, 0, 6, 6>> u;
-  std::vector<Eigen::LDLT<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>>> dinv;
-  std::vector<Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 6, 1>> ures;
+  // Per body with n joint dofs (fixed-size storage, first n columns / entries used):
+  std::vector<Mat6> u;     // ia^T S (6 x n)
+  std::vector<Mat6> dinv;  // inverse of the joint's pivot block (n x n)
+  std::vector<Vec6> ures;  // joint residual (n)
 };
 
 // Solves (sum_b Phi_b^T H_b Phi_b + diag(armature)) x = rhs in O(N) with the
