@@ -61,9 +61,10 @@ struct FlipWorkspace {
   std::vector<double> vx, vb, vr, vz, vs, vq, vdiag;  // viscosity solve
   std::array<std::vector<double>, 3> vplus;
   std::vector<int> vindex;
-  std::vector<int> front, front_next;  // extrapolation band
-  std::vector<float> front_value;
+  std::array<std::vector<int>, 3> front, front_next;  // extrapolation band per component
+  std::array<std::vector<float>, 3> front_value;
   bool static_ready = false;
+  bool solids_fixed = false;  // no source, static target: open/solid_vel/solid_cell computed once
 };
 
 // Where a position falls on the staggered grid, per axis, for both kinds of

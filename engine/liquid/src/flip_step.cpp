@@ -29,7 +29,8 @@ FlipWorkspace& workspace(const LiquidModel& m) {
                            t.pose.position_m[0], t.pose.position_m[1], t.pose.position_m[2], t.pose.tilt_rad,
                            double(t.shape.type), t.shape.radius_m, t.shape.depth_m, t.shape.height_m,
                            t.shape.wall_m, t.shape.neck_radius_m, t.shape.body_height_m,
-                           m.target_velocity_mps[0], m.target_velocity_mps[1], m.target_velocity_mps[2]};
+                           m.target_velocity_mps[0], m.target_velocity_mps[1], m.target_velocity_mps[2],
+                           double(m.has_source)};
   if (!w || k != key) {
     w = std::make_unique<FlipWorkspace>();
     key = std::move(k);
@@ -56,6 +57,7 @@ double container_reach(const ContainerShape& c) {
 void build_solids(const FlipGrid& g, const LiquidModel& m, FlipWorkspace& w, double t) {
   const bool static_target = m.has_target && !target_moves(m);
   const bool moving_target = m.has_target && !static_target;
+  if (w.solids_fixed) return;  // nothing moves: last substep's fractions hold
   if (!w.static_ready) {
     for (int c = 0; c < g.dim; ++c) {
       const auto d = g.face_dims(c);
@@ -159,6 +161,7 @@ void build_solids(const FlipGrid& g, const LiquidModel& m, FlipWorkspace& w, dou
           if (w.solid_cell[hi_cell] || w.solid_cell[lo_cell]) w.open[c][i + d[0] * (j + d[1] * k)] = 0;
         }
   }
+  w.solids_fixed = !m.has_source && !moving_target;
 }
 
 // Counting sort of particles by cell; fills cell_start (size cells+1), order, particle_cell.
