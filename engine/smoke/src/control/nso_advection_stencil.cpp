@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cassert>
 
 #include "control_sampling.h"
 
@@ -25,6 +26,42 @@ inline std::array<double, 3> backtrace(const SpacetimeGrid& sg, const double* zb
   }
   return out;
 }
+
+// The samples of one row along each axis: 1 (size-1 axis) or 2 (low, high), as
+// index offsets in the component's layout and weights.
+struct RowAxes {
+  int n[3];
+  int64_t off[3][2];
+  double w[3][2];
+};
+
+inline void row_axes(const FieldLayout& l, int dim, const SlRow& r, RowAxes& ra) {
+  int64_t stride = 1;
+  for (int b = 0; b < 3; ++b) {
+    const int size = l.size[b];
+    if (b >= dim || size == 1) {
+      ra.n[b] = 1, ra.off[b][0] = 0, ra.w[b][0] = 1.0;
+    } else {
+      const int i0 = r.i0[b], i1 = l.periodic && i0 + 1 == size ? 0 : i0 + 1;
+      ra.n[b] = 2;
+      ra.off[b][0] = i0 * stride, ra.off[b][1] = i1 * stride;
+      ra.w[b][0] = 1.0 - double(r.f[b]), ra.w[b][1] = double(r.f[b]);
+    }
+    stride *= size;
+  }
+}
+
+// Calls visit(sample index within the component, weight) for each unique sample.
+template <class Visit>
+inline void for_each_sample(const FieldLayout& l, int dim, const SlRow& r, Visit&& visit) {
+  if (r.wall) return;
+  RowAxes ra;
+  row_axes(l, dim, r, ra);
+  for (int c = 0; c < ra.n[2]; ++c)
+    for (int b = 0; b < ra.n[1]; ++b)
+      for (int a = 0; a < ra.n[0]; ++a)
+        visit(ra.off[0][a] + ra.off[1][b] + ra.off[2][c], ra.w[0][a] * ra.w[1][b] * ra.w[2][c]);
+}
 }  // namespace
 
 bool is_wall_face(const SpacetimeGrid& sg, size_t phi) {
@@ -45,83 +82,109 @@ int64_t face_hi_partner(const SpacetimeGrid& sg, size_t phi) {
 
 void build_sl_stencil(const SpacetimeGrid& sg, const double* zbar, double dt, SlStencil& out) {
   const MacGrid& g = sg.g;
-  const size_t F = sg.faces();
-  const int K = g.dim == 3 ? 8 : 4;
-  out.K = K;
-  out.idx.assign(F * K, 0);
-  out.wt.assign(F * K, 0.0f);
-  out.ata_diag.assign(F, 0.0);
-  out.ata_hi.assign(F, 0.0);
+  out.rows.resize(sg.faces());
   const double dt_h = dt / g.h;
   for (int a = 0; a < g.dim; ++a) {
     const FieldLayout l = g.face_layout(a);
+    assert(l.size[0] < 65536 && l.size[1] < 65536 && l.size[2] < 65536);
 #pragma omp parallel for collapse(2) schedule(static) if (l.count() > kSpacetimeOmpMinWork)
     for (int k = 0; k < l.size[2]; ++k)
       for (int j = 0; j < l.size[1]; ++j)
         for (int i = 0; i < l.size[0]; ++i) {
-          const size_t row = sg.off[a] + l.index(i, j, k);
-          int32_t* id = &out.idx[row * K];
-          float* w = &out.wt[row * K];
-          for (int m = 0; m < K; ++m) id[m] = int32_t(row);
+          SlRow& r = out.rows[sg.off[a] + l.index(i, j, k)];
+          r = SlRow{{0, 0, 0}, {0, 0, 0}, 0};
           const int ia = a == 0 ? i : (a == 1 ? j : k);
-          if (!g.periodic && (ia == 0 || ia == g.n[a])) continue;  // wall: row of zeros
+          if (!g.periodic && (ia == 0 || ia == g.n[a])) {  // wall: row of zeros
+            r.wall = 1;
+            continue;
+          }
           const auto p = backtrace(sg, zbar, dt_h, {i + l.offset[0], j + l.offset[1], k + l.offset[2]});
-          const AxisWeights wx = axis_weights(p[0], l.size[0], l.offset[0], l.periodic);
-          const AxisWeights wy = axis_weights(p[1], l.size[1], l.offset[1], l.periodic);
-          AxisWeights wz{0, 0, 0.0};
-          if (g.dim == 3) wz = axis_weights(p[2], l.size[2], l.offset[2], l.periodic);
-          const int xi[2] = {wx.i0, wx.i1}, yi[2] = {wy.i0, wy.i1}, zi[2] = {wz.i0, wz.i1};
-          const double xw[2] = {1 - wx.f, wx.f}, yw[2] = {1 - wy.f, wy.f}, zw[2] = {1 - wz.f, wz.f};
-          int m = 0;
-          for (int c = 0; c < (g.dim == 3 ? 2 : 1); ++c)
-            for (int b = 0; b < 2; ++b)
-              for (int aa = 0; aa < 2; ++aa, ++m) {
-                id[m] = int32_t(sg.off[a] + l.index(xi[aa], yi[b], zi[c]));
-                w[m] = float(xw[aa] * yw[b] * (g.dim == 3 ? zw[c] : 1.0));
-              }
-          // Merge repeated samples (size-1 axes) so entries are unique per row.
-          for (int m1 = 0; m1 < K; ++m1)
-            for (int m2 = m1 + 1; m2 < K; ++m2)
-              if (id[m2] == id[m1] && w[m2] != 0.0f) {
-                w[m1] += w[m2];
-                w[m2] = 0.0f;
-              }
+          for (int b = 0; b < g.dim; ++b) {
+            const AxisWeights w = axis_weights(p[b], l.size[b], l.offset[b], l.periodic);
+            r.i0[b] = uint16_t(w.i0);
+            r.f[b] = float(w.f);
+          }
         }
-  }
-  // A^T A entries SCGS needs: the diagonal and the (lo, hi) pair of each cell.
-  for (size_t row = 0; row < F; ++row) {
-    const int32_t* id = &out.idx[row * K];
-    const float* w = &out.wt[row * K];
-    for (int m1 = 0; m1 < K; ++m1) {
-      if (w[m1] == 0.0f) continue;
-      out.ata_diag[id[m1]] += double(w[m1]) * w[m1];
-      const int64_t hi = face_hi_partner(sg, size_t(id[m1]));
-      if (hi < 0) continue;
-      for (int m2 = 0; m2 < K; ++m2)
-        if (m2 != m1 && id[m2] == hi) out.ata_hi[id[m1]] += double(w[m1]) * w[m2];
-    }
   }
 }
 
 void sl_apply(const SpacetimeGrid& sg, const SlStencil& s, const double* x, double* y) {
-  const size_t F = sg.faces();
-  const int K = s.K;
-  for (size_t row = 0; row < F; ++row) {
-    double acc = 0;
-    for (int m = 0; m < K; ++m) acc += double(s.wt[row * K + m]) * x[s.idx[row * K + m]];
-    y[row] = acc;
+  const MacGrid& g = sg.g;
+  for (int a = 0; a < g.dim; ++a) {
+    const FieldLayout l = g.face_layout(a);
+    const size_t o = sg.off[a], n = l.count();
+    const double* xa = x + o;
+    for (size_t e = 0; e < n; ++e) {
+      double acc = 0;
+      for_each_sample(l, g.dim, s.rows[o + e], [&](int64_t c, double w) { acc += w * xa[c]; });
+      y[o + e] = acc;
+    }
   }
 }
 
 void sl_apply_transpose_add(const SpacetimeGrid& sg, const SlStencil& s, double alpha, const double* x,
                             double* y) {
-  const size_t F = sg.faces();
-  const int K = s.K;
-  for (size_t row = 0; row < F; ++row) {
-    const double v = alpha * x[row];
-    if (v == 0.0) continue;
-    for (int m = 0; m < K; ++m) y[s.idx[row * K + m]] += double(s.wt[row * K + m]) * v;
+  const MacGrid& g = sg.g;
+  for (int a = 0; a < g.dim; ++a) {
+    const FieldLayout l = g.face_layout(a);
+    const size_t o = sg.off[a], n = l.count();
+    double* ya = y + o;
+    for (size_t e = 0; e < n; ++e) {
+      const double v = alpha * x[o + e];
+      if (v == 0.0) continue;
+      for_each_sample(l, g.dim, s.rows[o + e], [&](int64_t c, double w) { ya[c] += w * v; });
+    }
   }
+}
+
+void sl_ata(const SpacetimeGrid& sg, const SlStencil& s, double* diag, double* hi) {
+  const MacGrid& g = sg.g;
+  std::fill(diag, diag + sg.faces(), 0.0);
+  std::fill(hi, hi + sg.faces(), 0.0);
+  for (int a = 0; a < g.dim; ++a) {
+    const FieldLayout l = g.face_layout(a);
+    const size_t o = sg.off[a], n = l.count();
+    double *da = diag + o, *ha = hi + o;
+    for (size_t e = 0; e < n; ++e) {
+      const SlRow& r = s.rows[o + e];
+      if (r.wall) continue;
+      RowAxes ra;
+      row_axes(l, g.dim, r, ra);
+      // Along the row's own axis a the sample pair (i0, i1) is (face, its hi partner):
+      // i1 = i0 + 1, wrapped when periodic, exactly face_hi_partner's rule.
+      const int b1 = (a + 1) % 3, b2 = (a + 2) % 3;
+      for (int v = 0; v < ra.n[b2]; ++v)
+        for (int u = 0; u < ra.n[b1]; ++u) {
+          const double wo = ra.w[b1][u] * ra.w[b2][v];
+          const int64_t base = ra.off[b1][u] + ra.off[b2][v];
+          for (int p = 0; p < ra.n[a]; ++p) {
+            const double wp = wo * ra.w[a][p];
+            da[base + ra.off[a][p]] += wp * wp;
+          }
+          if (ra.n[a] == 2) ha[base + ra.off[a][0]] += wo * wo * ra.w[a][0] * ra.w[a][1];
+        }
+    }
+  }
+}
+
+int sl_row_entries(const SpacetimeGrid& sg, const SlStencil& s, size_t row, int64_t* idx, double* wt) {
+  const int a = face_axis(sg, row);
+  int n = 0;
+  for_each_sample(sg.g.face_layout(a), sg.g.dim, s.rows[row], [&](int64_t c, double w) {
+    idx[n] = int64_t(sg.off[a]) + c;
+    wt[n++] = w;
+  });
+  return n;
+}
+
+double sl_entry(const SpacetimeGrid& sg, const SlStencil& s, size_t row, size_t col) {
+  int64_t idx[8];
+  double wt[8];
+  const int n = sl_row_entries(sg, s, row, idx, wt);
+  double v = 0;
+  for (int m = 0; m < n; ++m)
+    if (size_t(idx[m]) == col) v += wt[m];
+  return v;
 }
 
 }  // namespace pliant::smoke

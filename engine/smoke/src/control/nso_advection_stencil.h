@@ -1,10 +1,14 @@
 // Picard linearisation of the velocity self-advection used by control_forward:
-// semi-Lagrangian, RK2-midpoint backtrace through a frozen velocity zbar, then
+// semi-Lagrangian, Euler backtrace through a frozen velocity zbar, then
 // bilinear/trilinear sampling of each component (advection.h). With the
 // backtrace frozen, A(zbar, z) is linear in z: row psi of A has 2^dim weights on
 // samples of the same component, so A, A^T and the entries of A^T A that SCGS
 // needs are cheap stencil operations. A(zbar, zbar) reproduces
-// advect_semi_lagrangian_velocity(zbar) (same float backtrace).
+// advect_semi_lagrangian_velocity(zbar) (same backtrace).
+// Storage (memory was the 3D limit: 80 bytes per face and frame with explicit
+// indices, weights and A^T A entries): per row only the low sample index and the
+// fraction per axis (20 bytes); the 2^dim indices and weights are rebuilt on use
+// (axis_weights' rule: i1 = i0 + 1, wrapped when periodic, i1 = i0 on size-1 axes).
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -13,12 +17,14 @@
 
 namespace pliant::smoke {
 
+struct SlRow {
+  float f[3];         // weight of the high sample per axis
+  uint16_t i0[3];     // low sample per axis (layout of the row's component)
+  uint16_t wall;      // 1: closed-wall face, row of zeros
+};
+
 struct SlStencil {
-  int K = 4;                      // samples per row (2^dim)
-  std::vector<int32_t> idx;       // faces*K source faces (frame-local face index)
-  std::vector<float> wt;          // faces*K weights (0 on closed walls)
-  std::vector<double> ata_diag;   // (A^T A)[phi, phi]
-  std::vector<double> ata_hi;     // (A^T A)[phi, hi partner of phi] (see face_hi_partner)
+  std::vector<SlRow> rows;  // one per frame-local face
 };
 
 // The face on the high side of the cell whose low face is phi (same component),
@@ -38,12 +44,12 @@ void sl_apply(const SpacetimeGrid& sg, const SlStencil& s, const double* x, doub
 // y += alpha A^T x (serial scatter; callers parallelise over frames).
 void sl_apply_transpose_add(const SpacetimeGrid& sg, const SlStencil& s, double alpha, const double* x,
                             double* y);
+// The unique (frame-local index, weight) pairs of row `row` (at most 8); returns the count.
+int sl_row_entries(const SpacetimeGrid& sg, const SlStencil& s, size_t row, int64_t* idx, double* wt);
+// The entries of A^T A that SCGS needs: diag[phi] = (A^T A)[phi, phi] and
+// hi[phi] = (A^T A)[phi, face_hi_partner(phi)] (overwrites both, faces values each).
+void sl_ata(const SpacetimeGrid& sg, const SlStencil& s, double* diag, double* hi);
 // A[row, col], 0 when col is not in row's stencil.
-inline double sl_entry(const SlStencil& s, size_t row, size_t col) {
-  double v = 0;
-  for (int k = 0; k < s.K; ++k)
-    if (size_t(s.idx[row * s.K + k]) == col) v += s.wt[row * s.K + k];
-  return v;
-}
+double sl_entry(const SpacetimeGrid& sg, const SlStencil& s, size_t row, size_t col);
 
 }  // namespace pliant::smoke

@@ -12,7 +12,6 @@ NsoLevel::NsoLevel(const SpacetimeGrid& sg) : sg_(sg) {
   x.assign(TF, 0.0);
   F.assign(TF, 0.0);
   res_mom.assign(TF, 0.0);
-  e_.assign(TF, 0.0);
   zbar.assign(TF, 0.0);
   q.assign(TC, 0.0);
   G.assign(TC, 0.0);
@@ -20,6 +19,8 @@ NsoLevel::NsoLevel(const SpacetimeGrid& sg) : sg_(sg) {
   wall_.resize(sg.faces());
   for (size_t f = 0; f < sg.faces(); ++f) wall_[f] = is_wall_face(sg, f);
   A_.resize(std::max(0, sg.T - 1));
+  ata_diag_.assign(size_t(std::max(0, sg.T - 1)) * sg.faces(), 0.0f);
+  ata_hi_.assign(ata_diag_.size(), 0.0f);
   ensure_scratch();
 }
 
@@ -36,15 +37,46 @@ void NsoLevel::ensure_scratch() {
     s.B.resize(blocks), s.L.resize(blocks), s.U.resize(blocks), s.schur.resize(blocks), s.sinv_u.resize(blocks);
     s.rhs.resize(size_t(sg_.T) * m);
     s.piv.resize(size_t(sg_.T) * m);
+    s.e0.resize(sg_.faces());
+    s.e1.resize(sg_.faces());
   }
+}
+
+size_t NsoLevel::bytes() const {
+  size_t b = (x.capacity() + q.capacity() + F.capacity() + G.capacity() + res_mom.capacity() +
+              res_div.capacity() + zbar.capacity()) * sizeof(double) +
+             (ata_diag_.capacity() + ata_hi_.capacity()) * sizeof(float) + wall_.capacity();
+  for (const SlStencil& a : A_) b += a.rows.capacity() * sizeof(SlRow);
+  for (const ThreadScratch& s : scratch_)
+    b += (s.B.capacity() + s.L.capacity() + s.U.capacity() + s.rhs.capacity() + s.schur.capacity() +
+          s.sinv_u.capacity() + s.e0.capacity() + s.e1.capacity()) * sizeof(double) + s.piv.capacity() * sizeof(int);
+  return b;
 }
 
 void NsoLevel::linearise(const double* zb, double dt) {
   const size_t Fn = sg_.faces();
   if (zb != zbar.data()) std::copy(zb, zb + size_t(sg_.T) * Fn, zbar.begin());
+  ensure_scratch();
 #pragma omp parallel for schedule(dynamic) if (sg_.parallel())
-  for (int t = 0; t < sg_.T - 1; ++t)
+  for (int t = 0; t < sg_.T - 1; ++t) {
+    ThreadScratch& s = scratch_[omp_get_thread_num()];
     build_sl_stencil(sg_, zbar.data() + t * Fn, dt, A_[t]);
+    sl_ata(sg_, A_[t], s.e0.data(), s.e1.data());
+    float* dg = ata_diag_.data() + t * Fn;
+    float* hg = ata_hi_.data() + t * Fn;
+    for (size_t f = 0; f < Fn; ++f) dg[f] = float(s.e0[f]), hg[f] = float(s.e1[f]);
+  }
+}
+
+void NsoLevel::frame_defect(const double* xx, int t, double* e) const {
+  const size_t Fn = sg_.faces();
+  const double* xt = xx + t * Fn;
+  if (t == 0) {
+    std::copy(xt, xt + Fn, e);
+    return;
+  }
+  sl_apply(sg_, A_[t - 1], xx + (t - 1) * Fn, e);
+  for (size_t f = 0; f < Fn; ++f) e[f] = xt[f] - e[f];
 }
 
 void NsoLevel::apply(const double* xx, const double* qq, double* out_mom, double* out_div) {
@@ -52,43 +84,43 @@ void NsoLevel::apply(const double* xx, const double* qq, double* out_mom, double
   const size_t Fn = sg_.faces(), Cn = sg_.cells();
   const int T = sg_.T;
   const double inv_h = 1.0 / g.h;
-  // e_t = x_t - A_{t-1} x_{t-1}
-#pragma omp parallel for schedule(static) if (sg_.parallel())
-  for (int t = 0; t < T; ++t) {
-    double* e = e_.data() + t * Fn;
-    const double* xt = xx + t * Fn;
-    if (t == 0) {
-      std::copy(xt, xt + Fn, e);
-    } else {
-      sl_apply(sg_, A_[t - 1], xx + (t - 1) * Fn, e);
-      for (size_t f = 0; f < Fn; ++f) e[f] = xt[f] - e[f];
-    }
-  }
-#pragma omp parallel for schedule(static) if (sg_.parallel())
-  for (int t = 0; t < T; ++t) {
-    double* o = out_mom + t * Fn;
-    const double* xt = xx + t * Fn;
-    const double* e = e_.data() + t * Fn;
-    for (size_t f = 0; f < Fn; ++f) o[f] = w_ * e[f] + bm_ * xt[f];
-    if (t + 1 < T) sl_apply_transpose_add(sg_, A_[t], -w_, e_.data() + (t + 1) * Fn, o);
-    // D^T q and D x, cell by cell.
-    const double* qt = qq + t * Cn;
-    double* d = out_div + t * Cn;
-    for (int k = 0; k < g.n[2]; ++k)
-      for (int j = 0; j < g.n[1]; ++j)
-        for (int i = 0; i < g.n[0]; ++i) {
-          const size_t c = g.cell(i, j, k);
-          double div = 0;
-          for (int a = 0; a < g.dim; ++a) {
-            const size_t lo = sg_.off[a] + g.face_lo(a, i, j, k), hi = sg_.off[a] + g.face_hi(a, i, j, k);
-            div += xt[hi] - xt[lo];
-            o[hi] += inv_h * qt[c];
-            o[lo] -= inv_h * qt[c];
+  ensure_scratch();
+  // Each thread takes a contiguous run of frames and walks it backwards, so the defect
+  // e_{t+1} = x_{t+1} - A_t x_t of the previous step is reused (no T*faces scratch;
+  // one extra defect per thread at the run's end).
+#pragma omp parallel if (sg_.parallel())
+  {
+    const int nth = omp_get_num_threads(), tid = omp_get_thread_num();
+    const int t0 = int(int64_t(T) * tid / nth), t1 = int(int64_t(T) * (tid + 1) / nth);
+    ThreadScratch& s = scratch_[tid];
+    double *cur = s.e0.data(), *next = s.e1.data();
+    if (t1 > t0 && t1 < T) frame_defect(xx, t1, next);
+    for (int t = t1 - 1; t >= t0; --t) {
+      frame_defect(xx, t, cur);
+      double* o = out_mom + t * Fn;
+      const double* xt = xx + t * Fn;
+      for (size_t f = 0; f < Fn; ++f) o[f] = w_ * cur[f] + bm_ * xt[f];
+      if (t + 1 < T) sl_apply_transpose_add(sg_, A_[t], -w_, next, o);
+      std::swap(cur, next);
+      // D^T q and D x, cell by cell.
+      const double* qt = qq + t * Cn;
+      double* d = out_div + t * Cn;
+      for (int k = 0; k < g.n[2]; ++k)
+        for (int j = 0; j < g.n[1]; ++j)
+          for (int i = 0; i < g.n[0]; ++i) {
+            const size_t c = g.cell(i, j, k);
+            double div = 0;
+            for (int a = 0; a < g.dim; ++a) {
+              const size_t lo = sg_.off[a] + g.face_lo(a, i, j, k), hi = sg_.off[a] + g.face_hi(a, i, j, k);
+              div += xt[hi] - xt[lo];
+              o[hi] += inv_h * qt[c];
+              o[lo] -= inv_h * qt[c];
+            }
+            d[c] = inv_h * div;
           }
-          d[c] = inv_h * div;
-        }
-    for (size_t f = 0; f < Fn; ++f)
-      if (wall_[f]) o[f] = xt[f];
+      for (size_t f = 0; f < Fn; ++f)
+        if (wall_[f]) o[f] = xt[f];
+    }
   }
 }
 
@@ -126,42 +158,50 @@ void NsoLevel::solve_cell(int i, int j, int k, int thread) {
   }
   for (int p = 0; p < 2 * dim; ++p) wall[p] = wall_[phi[p]];
   ThreadScratch& s = scratch_[thread];
-  std::fill(s.B.begin(), s.B.end(), 0.0);
-  std::fill(s.L.begin(), s.L.end(), 0.0);
-  std::fill(s.U.begin(), s.U.end(), 0.0);
+  // Only the structurally non-zero entries are written (walls write zeros there), so
+  // B, L, U keep their zero pattern from the allocation: no fills per cell.
   const int qi = 2 * dim;
   for (int t = 0; t < T; ++t) {
     double* B = s.B.data() + size_t(t) * mm;
     double* r = s.rhs.data() + size_t(t) * m;
+    const bool coupled = t + 1 < T;
+    const float* ad = coupled ? ata_diag_.data() + t * Fn : nullptr;
+    const float* ah = coupled ? ata_hi_.data() + t * Fn : nullptr;
     for (int p = 0; p < 2 * dim; ++p) {
       if (wall[p]) {
         B[p * m + p] = 1.0;
+        B[p * m + qi] = B[qi * m + p] = 0.0;
         r[p] = 0.0;
         continue;
       }
-      B[p * m + p] = w_ + bm_ + (t + 1 < T ? w_ * A_[t].ata_diag[phi[p]] : 0.0);
+      B[p * m + p] = w_ + bm_ + (coupled ? w_ * ad[phi[p]] : 0.0);
       B[p * m + qi] = B[qi * m + p] = sgn[p];
       r[p] = res_mom[t * Fn + phi[p]];
     }
     r[qi] = res_div[t * Cn + c];
     for (int a = 0; a < dim; ++a) {
       const int lo = 2 * a, hi = 2 * a + 1;
-      if (wall[lo] || wall[hi] || t + 1 >= T) continue;
-      const double v = w_ * A_[t].ata_hi[phi[lo]];
-      B[lo * m + hi] += v;
-      B[hi * m + lo] += v;
+      const double v = wall[lo] || wall[hi] || !coupled ? 0.0 : w_ * ah[phi[lo]];
+      B[lo * m + hi] = v;
+      B[hi * m + lo] = v;
     }
     if (t > 0) {  // L_t = -w A_{t-1}[local, local]; U_{t-1} = L_t^T
       double* L = s.L.data() + size_t(t) * mm;
       double* U = s.U.data() + size_t(t - 1) * mm;
       for (int a = 0; a < dim; ++a)
-        for (int p = 2 * a; p < 2 * a + 2; ++p)
+        for (int p = 2 * a; p < 2 * a + 2; ++p) {
+          int64_t idx[8];
+          double wt[8];
+          const int n = wall[p] ? 0 : sl_row_entries(sg_, A_[t - 1], phi[p], idx, wt);
           for (int pp = 2 * a; pp < 2 * a + 2; ++pp) {
-            if (wall[p] || wall[pp]) continue;
-            const double v = -w_ * sl_entry(A_[t - 1], phi[p], phi[pp]);
-            L[p * m + pp] = v;
-            U[pp * m + p] = v;
+            double v = 0;
+            if (!wall[pp])
+              for (int e = 0; e < n; ++e)
+                if (size_t(idx[e]) == phi[pp]) v += wt[e];
+            L[p * m + pp] = -w_ * v;
+            U[pp * m + p] = -w_ * v;
           }
+        }
     }
   }
   const BlockTridiagonalScratch bs{s.schur.data(), s.sinv_u.data(), s.piv.data()};

@@ -46,19 +46,29 @@ class NsoLevel {
   std::vector<double> x, q, F, G, res_mom, res_div;
   std::vector<double> zbar;  // linearisation point (restricted on coarse levels)
 
+  // Bytes held by this level (arrays and stencils), for memory reports.
+  size_t bytes() const;
+
  private:
   void smooth_colour(int colour);
   void ensure_scratch();
   void solve_cell(int i, int j, int k, int thread);
+  // A_{t-1} x_{t-1} subtracted from x_t (e_t of the header comment) into e (one frame).
+  void frame_defect(const double* xx, int t, double* e) const;
+  // A_t^T A_t entries SCGS needs, from the stencil of frame t (into ata_diag_/ata_hi_).
+  void build_ata(int t, double* diag, double* hi);
 
   SpacetimeGrid sg_;
   double w_ = 1, bm_ = 1;
   std::vector<SlStencil> A_;       // T-1 operators (A_t: frame t -> t+1)
+  // (A_t^T A_t)[phi, phi] and [phi, hi partner of phi] (face_hi_partner), (T-1)*faces,
+  // float: they only shape the SCGS blocks (a smoother), never the residual.
+  std::vector<float> ata_diag_, ata_hi_;
   std::vector<uint8_t> wall_;      // per face
-  std::vector<double> e_;          // T*faces scratch: x_t - A_{t-1} x_{t-1}
   struct ThreadScratch {
     std::vector<double> B, L, U, rhs, schur, sinv_u;
     std::vector<int> piv;
+    std::vector<double> e0, e1;  // two frames of defects (apply) or A^T A sums (linearise)
   };
   std::vector<ThreadScratch> scratch_;
 };
