@@ -78,13 +78,14 @@ void kinematics(const Model& m, const VecX& qpos, Kinematics* k, bool poses_only
           break;
         }
         case JointType::Hinge: {
-          const Vec3 anchor = x + r * j.pos;
-          const Vec3 axis = r * j.axis;
+          // Anchor at the body origin (the common case): the rotation leaves x alone.
+          const bool at_origin = j.pos.isZero(0);
+          const Vec3 anchor = at_origin ? x : Vec3(x + r * j.pos);
           const double half = 0.5 * qpos[j.qadr];
           const Vec3 sv = std::sin(half) * j.axis;
+          if (!poses_only) k->cdof[j.vadr] = twist(r * j.axis, anchor);
           r = r * Quat(std::cos(half), sv.x(), sv.y(), sv.z());
-          x = anchor - r * j.pos;
-          if (!poses_only) k->cdof[j.vadr] = twist(axis, anchor);
+          if (!at_origin) x = anchor - r * j.pos;
           break;
         }
         case JointType::Slide: {
