@@ -21,6 +21,8 @@ NsoLevel::NsoLevel(const SpacetimeGrid& sg) : sg_(sg) {
   A_.resize(std::max(0, sg.T - 1));
   ata_diag_.assign(size_t(std::max(0, sg.T - 1)) * sg.faces(), 0.0f);
   ata_hi_.assign(ata_diag_.size(), 0.0f);
+  frame_sm_.assign(sg.T, 0.0);
+  frame_sd_.assign(sg.T, 0.0);
   ensure_scratch();
 }
 
@@ -79,65 +81,74 @@ void NsoLevel::frame_defect(const double* xx, int t, double* e) const {
   for (size_t f = 0; f < Fn; ++f) e[f] = xt[f] - e[f];
 }
 
-void NsoLevel::apply(const double* xx, const double* qq, double* out_mom, double* out_div) {
+void NsoLevel::apply_frames(const double* xx, const double* qq, double* out_mom, double* out_div,
+                            const double* Fr, const double* Gr) {
   const MacGrid& g = sg_.g;
   const size_t Fn = sg_.faces(), Cn = sg_.cells();
   const int T = sg_.T;
   const double inv_h = 1.0 / g.h;
-  ensure_scratch();
-  // Each thread takes a contiguous run of frames and walks it backwards, so the defect
-  // e_{t+1} = x_{t+1} - A_t x_t of the previous step is reused (no T*faces scratch;
-  // one extra defect per thread at the run's end).
-#pragma omp parallel if (sg_.parallel())
-  {
-    const int nth = omp_get_num_threads(), tid = omp_get_thread_num();
-    const int t0 = int(int64_t(T) * tid / nth), t1 = int(int64_t(T) * (tid + 1) / nth);
-    ThreadScratch& s = scratch_[tid];
-    double *cur = s.e0.data(), *next = s.e1.data();
-    if (t1 > t0 && t1 < T) frame_defect(xx, t1, next);
-    for (int t = t1 - 1; t >= t0; --t) {
-      frame_defect(xx, t, cur);
-      double* o = out_mom + t * Fn;
-      const double* xt = xx + t * Fn;
-      for (size_t f = 0; f < Fn; ++f) o[f] = w_ * cur[f] + bm_ * xt[f];
-      if (t + 1 < T) sl_apply_transpose_add(sg_, A_[t], -w_, next, o);
-      std::swap(cur, next);
-      // D^T q and D x, cell by cell.
-      const double* qt = qq + t * Cn;
-      double* d = out_div + t * Cn;
-      for (int k = 0; k < g.n[2]; ++k)
-        for (int j = 0; j < g.n[1]; ++j)
-          for (int i = 0; i < g.n[0]; ++i) {
-            const size_t c = g.cell(i, j, k);
-            double div = 0;
-            for (int a = 0; a < g.dim; ++a) {
-              const size_t lo = sg_.off[a] + g.face_lo(a, i, j, k), hi = sg_.off[a] + g.face_hi(a, i, j, k);
-              div += xt[hi] - xt[lo];
-              o[hi] += inv_h * qt[c];
-              o[lo] -= inv_h * qt[c];
-            }
-            d[c] = inv_h * div;
+  // A contiguous run of frames walked backwards, so the defect e_{t+1} = x_{t+1} - A_t x_t
+  // of the previous step is reused (no T*faces scratch; one extra defect per run).
+  const int nth = omp_get_num_threads(), tid = omp_get_thread_num();
+  const int t0 = int(int64_t(T) * tid / nth), t1 = int(int64_t(T) * (tid + 1) / nth);
+  ThreadScratch& s = scratch_[tid];
+  double *cur = s.e0.data(), *next = s.e1.data();
+  if (t1 > t0 && t1 < T) frame_defect(xx, t1, next);
+  for (int t = t1 - 1; t >= t0; --t) {
+    frame_defect(xx, t, cur);
+    double* o = out_mom + t * Fn;
+    const double* xt = xx + t * Fn;
+    for (size_t f = 0; f < Fn; ++f) o[f] = w_ * cur[f] + bm_ * xt[f];
+    if (t + 1 < T) sl_apply_transpose_add(sg_, A_[t], -w_, next, o);
+    std::swap(cur, next);
+    // D^T q and D x, cell by cell.
+    const double* qt = qq + t * Cn;
+    double* d = out_div + t * Cn;
+    for (int k = 0; k < g.n[2]; ++k)
+      for (int j = 0; j < g.n[1]; ++j)
+        for (int i = 0; i < g.n[0]; ++i) {
+          const size_t c = g.cell(i, j, k);
+          double div = 0;
+          for (int a = 0; a < g.dim; ++a) {
+            const size_t lo = sg_.off[a] + g.face_lo(a, i, j, k), hi = sg_.off[a] + g.face_hi(a, i, j, k);
+            div += xt[hi] - xt[lo];
+            o[hi] += inv_h * qt[c];
+            o[lo] -= inv_h * qt[c];
           }
+          d[c] = inv_h * div;
+        }
+    if (!Fr) {
       for (size_t f = 0; f < Fn; ++f)
         if (wall_[f]) o[f] = xt[f];
+      continue;
     }
+    double sm = 0, sd = 0;
+    const double* Ft = Fr + t * Fn;
+    for (size_t f = 0; f < Fn; ++f) {
+      o[f] = wall_[f] ? 0.0 : Ft[f] - o[f];  // walls are fixed, not solved
+      sm += o[f] * o[f];
+    }
+    const double* Gt = Gr + t * Cn;
+    for (size_t c = 0; c < Cn; ++c) {
+      d[c] = Gt[c] - d[c];
+      sd += d[c] * d[c];
+    }
+    frame_sm_[t] = sm, frame_sd_[t] = sd;
   }
 }
 
+void NsoLevel::apply(const double* xx, const double* qq, double* out_mom, double* out_div) {
+  ensure_scratch();
+#pragma omp parallel if (sg_.parallel())
+  apply_frames(xx, qq, out_mom, out_div, nullptr, nullptr);
+}
+
 double NsoLevel::residual() {
-  apply(x.data(), q.data(), res_mom.data(), res_div.data());
+  ensure_scratch();
+#pragma omp parallel if (sg_.parallel())
+  apply_frames(x.data(), q.data(), res_mom.data(), res_div.data(), F.data(), G.data());
   double sm = 0, sd = 0;
-  const size_t TF = res_mom.size(), TC = res_div.size();
-#pragma omp parallel for schedule(static) reduction(+ : sm) if (sg_.parallel())
-  for (size_t e = 0; e < TF; ++e) {
-    res_mom[e] = wall_[e % sg_.faces()] ? 0.0 : F[e] - res_mom[e];  // walls are fixed, not solved
-    sm += res_mom[e] * res_mom[e];
-  }
-#pragma omp parallel for schedule(static) reduction(+ : sd) if (sg_.parallel())
-  for (size_t e = 0; e < TC; ++e) {
-    res_div[e] = G[e] - res_div[e];
-    sd += res_div[e] * res_div[e];
-  }
+  for (int t = 0; t < sg_.T; ++t) sm += frame_sm_[t], sd += frame_sd_[t];
   const double s = w_ * sg_.g.h;
   return std::sqrt(sm + s * s * sd);
 }
@@ -214,25 +225,25 @@ void NsoLevel::solve_cell(int i, int j, int k, int thread) {
   }
 }
 
-void NsoLevel::smooth_colour(int colour) {
-  residual();
-  const MacGrid& g = sg_.g;
-  const int pi = colour & 1, pj = (colour >> 1) & 1, pk = (colour >> 2) & 1;
-  const int nj = (g.n[1] - pj + 1) / 2, nk = g.dim == 3 ? (g.n[2] - pk + 1) / 2 : 1;
-  const bool par = sg_.parallel();
-#pragma omp parallel for collapse(2) schedule(dynamic, 4) if (par)
-  for (int kk = 0; kk < nk; ++kk)
-    for (int jj = 0; jj < nj; ++jj) {
-      const int k = g.dim == 3 ? 2 * kk + pk : 0, j = 2 * jj + pj;
-      const int thread = omp_get_thread_num();
-      for (int i = pi; i < g.n[0]; i += 2) solve_cell(i, j, k, thread);
-    }
-}
-
 void NsoLevel::smooth(bool forward) {
   ensure_scratch();
-  const int colours = 1 << sg_.g.dim;
-  for (int c = 0; c < colours; ++c) smooth_colour(forward ? c : colours - 1 - c);
+  const MacGrid& g = sg_.g;
+  const int colours = 1 << g.dim;
+#pragma omp parallel if (sg_.parallel())
+  for (int n = 0; n < colours; ++n) {
+    const int colour = forward ? n : colours - 1 - n;
+    apply_frames(x.data(), q.data(), res_mom.data(), res_div.data(), F.data(), G.data());
+#pragma omp barrier
+    const int pi = colour & 1, pj = (colour >> 1) & 1, pk = (colour >> 2) & 1;
+    const int nj = (g.n[1] - pj + 1) / 2, nk = g.dim == 3 ? (g.n[2] - pk + 1) / 2 : 1;
+    const int thread = omp_get_thread_num();
+#pragma omp for collapse(2) schedule(dynamic, 4)
+    for (int kk = 0; kk < nk; ++kk)
+      for (int jj = 0; jj < nj; ++jj) {
+        const int k = g.dim == 3 ? 2 * kk + pk : 0, j = 2 * jj + pj;
+        for (int i = pi; i < g.n[0]; i += 2) solve_cell(i, j, k, thread);
+      }
+  }
 }
 
 }  // namespace pliant::smoke

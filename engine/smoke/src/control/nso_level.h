@@ -16,6 +16,11 @@
 // cell's two faces of one axis, which is included); it is solved by block Thomas
 // (scgs_block_tridiagonal.h). Cells of one of the 2^dim parity colours share no
 // face, so one colour is updated in parallel from a residual computed before it.
+// Threads: one OpenMP region per sweep; per colour, each thread computes the residual of
+// a contiguous run of frames, one barrier, then the colour's cells are shared out (a
+// second barrier): 2 barriers per colour instead of 4 fork/joins (an oversubscribed
+// machine makes every barrier cost a scheduler time slice). Norms are summed per frame
+// and then over frames in order, so results do not depend on the thread count.
 #pragma once
 #include <vector>
 
@@ -50,7 +55,11 @@ class NsoLevel {
   size_t bytes() const;
 
  private:
-  void smooth_colour(int colour);
+  // The calling thread's share (a contiguous run of frames, by omp_get_thread_num /
+  // omp_get_num_threads) of out = KKT (xx, qq); with Fr/Gr, out is turned into the
+  // residual (Fr, Gr) - out (walls 0) and its per-frame squared norms are stored.
+  void apply_frames(const double* xx, const double* qq, double* out_mom, double* out_div, const double* Fr,
+                    const double* Gr);
   void ensure_scratch();
   void solve_cell(int i, int j, int k, int thread);
   // A_{t-1} x_{t-1} subtracted from x_t (e_t of the header comment) into e (one frame).
@@ -70,6 +79,7 @@ class NsoLevel {
     std::vector<int> piv;
     std::vector<double> e0, e1;  // two frames of defects (apply) or A^T A sums (linearise)
   };
+  std::vector<double> frame_sm_, frame_sd_;  // per-frame squared residual norms
   std::vector<ThreadScratch> scratch_;
 };
 

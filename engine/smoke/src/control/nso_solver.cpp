@@ -12,6 +12,28 @@ NsoSolver::NsoSolver(const ControlModel& m, control_detail::ForwardOps& ops)
   mg_ = std::make_unique<SpacetimeMultigrid>(SpacetimeGrid(ops.grid(), T_));
   mg_->pre_sweeps = mg_->post_sweeps = 2;
   a_.assign(F_, 0.0);
+  b_.assign(F_, 0.0);
+}
+
+size_t NsoSolver::bytes() const { return mg_->bytes() + (a_.capacity() + b_.capacity()) * sizeof(double); }
+
+double NsoSolver::energy_flat(const double* x, const std::vector<Vec>& d, double beta) {
+  const double dt = ops_.dt();
+  double ef = 0, ed = 0;
+  for (int t = 0; t < T_; ++t) {
+    const double* xt = x + size_t(t) * F_;
+    if (t == 0) {
+      std::fill(a_.begin(), a_.end(), 0.0);
+    } else {
+      std::copy(xt - F_, xt, b_.begin());
+      ops_.advect_velocity(b_, a_);
+    }
+    for (size_t f = 0; f < F_; ++f) {
+      ef += (xt[f] - a_[f]) * (xt[f] - a_[f]);
+      ed += (xt[f] - d[t][f]) * (xt[f] - d[t][f]);
+    }
+  }
+  return m_.r * ef / (dt * dt) + 0.5 * beta * ed;
 }
 
 double NsoSolver::energy(const std::vector<Vec>& z, const std::vector<Vec>& d, double beta) {
@@ -33,25 +55,24 @@ NsoStats NsoSolver::solve(std::vector<Vec>& z, const std::vector<Vec>& d, double
   const double dt = ops_.dt(), w = 2.0 * m_.r / (dt * dt);
   double E = energy(z, d, beta);
   st.e_before = E;
+  NsoLevel& L = mg_->fine();
   if (projected_start) {
     // Start from the per-frame projection P d when it is better: the exact solution for
     // r -> 0 (no dynamics term), and a much better guess than the last z while beta
-    // dominates 2r/dt^2, so fewer V-cycles reach the same residual.
-    std::vector<Vec>& pd = pd_;
-    pd.resize(T_);
+    // dominates 2r/dt^2, so fewer V-cycles reach the same residual. Built in the fine
+    // level's x (no T*faces copy).
     for (int t = 0; t < T_; ++t) {
-      pd[t] = d[t];
-      ops_.project(pd[t]);
+      b_ = d[t];
+      ops_.project(b_);
+      std::copy(b_.begin(), b_.end(), L.x.begin() + size_t(t) * F_);
     }
-    const double Ep = energy(pd, d, beta);
+    const double Ep = energy_flat(L.x.data(), d, beta);
     if (Ep < E) {
-      for (int t = 0; t < T_; ++t) z[t] = pd[t];
+      for (int t = 0; t < T_; ++t) std::copy(L.x.begin() + size_t(t) * F_, L.x.begin() + size_t(t + 1) * F_, z[t].begin());
       E = Ep;
       st.projected_start = true;
     }
   }
-  NsoLevel& L = mg_->fine();
-  std::vector<Vec> zn = z;
   for (int step = 0; step < lm_steps; ++step) {
     bool accepted = false;
     for (int attempt = 0; attempt < 3 && !accepted; ++attempt) {
@@ -75,12 +96,10 @@ NsoStats NsoSolver::solve(std::vector<Vec>& z, const std::vector<Vec>& d, double
         factors.push_back(prev > 0 ? res / prev : 0.0);
         prev = res;
       }
-      for (int t = 0; t < T_; ++t)
-        for (size_t f = 0; f < F_; ++f) zn[t][f] = L.x[t * F_ + f];
-      const double En = energy(zn, d, beta);
+      const double En = energy_flat(L.x.data(), d, beta);
       if (En <= E) {
         accepted = true;
-        z.swap(zn);
+        for (int t = 0; t < T_; ++t) std::copy(L.x.begin() + size_t(t) * F_, L.x.begin() + size_t(t + 1) * F_, z[t].begin());
         E = En;
         st.vcycle_factors = factors;
         mu_ = mu_ * 0.25 < 1e-3 * w ? 0.0 : mu_ * 0.25;

@@ -40,6 +40,8 @@ class NsoSolver {
   double energy(const std::vector<control_detail::Vec>& z, const std::vector<control_detail::Vec>& d,
                 double beta);
   SpacetimeMultigrid& multigrid() { return *mg_; }
+  // Bytes held by the solver (multigrid levels and scratch), for memory reports.
+  size_t bytes() const;
   // Levenberg-Marquardt damping carried to the next solve (ControlState::nso_damping).
   double damping() const { return mu_; }
   void set_damping(double mu) { mu_ = mu; }
@@ -51,9 +53,11 @@ class NsoSolver {
   control_detail::ForwardOps& ops_;
   int T_;
   size_t F_;
+  // E of the fine level's x (T*faces, frame-major): the candidate z without a copy.
+  double energy_flat(const double* x, const std::vector<control_detail::Vec>& d, double beta);
+
   std::unique_ptr<SpacetimeMultigrid> mg_;
-  control_detail::Vec a_;
-  std::vector<control_detail::Vec> pd_;
+  control_detail::Vec a_, b_;  // one frame each
   double mu_ = 0;
 };
 

@@ -11,12 +11,21 @@ SpacetimeMultigrid::SpacetimeMultigrid(const SpacetimeGrid& fine, int max_levels
     g = g.coarsened();
     levels_.emplace_back(g);
   }
-  for (auto& L : levels_) {
-    xc0_.emplace_back(L.x.size());
-    qc0_.emplace_back(L.q.size());
-    tmp_mom_.emplace_back(L.x.size());
-    tmp_div_.emplace_back(L.q.size());
+  for (size_t l = 0; l < levels_.size(); ++l) {
+    const size_t nx = l ? levels_[l].x.size() : 0, nq = l ? levels_[l].q.size() : 0;
+    xc0_.emplace_back(nx);
+    qc0_.emplace_back(nq);
+    tmp_mom_.emplace_back(nx);
+    tmp_div_.emplace_back(nq);
   }
+}
+
+size_t SpacetimeMultigrid::bytes() const {
+  size_t b = 0;
+  for (const NsoLevel& L : levels_) b += L.bytes();
+  for (size_t l = 0; l < levels_.size(); ++l)
+    b += (xc0_[l].capacity() + qc0_[l].capacity() + tmp_mom_[l].capacity() + tmp_div_[l].capacity()) * sizeof(double);
+  return b;
 }
 
 void SpacetimeMultigrid::setup(double dt, double w, double bm) {
@@ -50,10 +59,8 @@ void SpacetimeMultigrid::cycle(int l) {
   cycle(l + 1);
   for (size_t e = 0; e < C.x.size(); ++e) xc0_[l + 1][e] = C.x[e] - xc0_[l + 1][e];
   for (size_t e = 0; e < C.q.size(); ++e) qc0_[l + 1][e] = C.q[e] - qc0_[l + 1][e];
-  prolong_faces_series(fg, cg, xc0_[l + 1].data(), tmp_mom_[l].data());
-  prolong_cells_series(fg, cg, qc0_[l + 1].data(), tmp_div_[l].data());
-  for (size_t e = 0; e < L.x.size(); ++e) L.x[e] += tmp_mom_[l][e];
-  for (size_t e = 0; e < L.q.size(); ++e) L.q[e] += tmp_div_[l][e];
+  prolong_add_faces_series(fg, cg, xc0_[l + 1].data(), L.x.data());
+  prolong_add_cells_series(fg, cg, qc0_[l + 1].data(), L.q.data());
   for (int s = 0; s < post_sweeps; ++s) L.smooth(false);
 }
 

@@ -29,12 +29,16 @@ class SpacetimeMultigrid {
   // One FAS V-cycle on the fine level's (x, q) for its (F, G). Returns the fine
   // residual norm after the cycle.
   double vcycle();
+  // Bytes held by all levels and the cycle's temporaries.
+  size_t bytes() const;
 
   int pre_sweeps = 1, post_sweeps = 1, coarsest_sweeps = 8;
 
  private:
   void cycle(int l);
   std::vector<NsoLevel> levels_;
+  // Per coarse level (index 0 unused, empty): the restricted start and the restricted
+  // residual of the FAS cycle.
   std::vector<std::vector<double>> xc0_, qc0_, tmp_mom_, tmp_div_;
 };
 

@@ -49,14 +49,15 @@ inline void for_each_weight(const FieldLayout& lf, const FieldLayout& lc, int i,
       }
 }
 
-void prolong_layout(const FieldLayout& lf, const FieldLayout& lc, const double* xc, double* xf) {
+void prolong_layout(const FieldLayout& lf, const FieldLayout& lc, const double* xc, double* xf, bool add = false) {
 #pragma omp parallel for collapse(2) schedule(static) if (lf.count() > kSpacetimeOmpMinWork)
   for (int k = 0; k < lf.size[2]; ++k)
     for (int j = 0; j < lf.size[1]; ++j)
       for (int i = 0; i < lf.size[0]; ++i) {
         double acc = 0;
         for_each_weight(lf, lc, i, j, k, [&](size_t, size_t c, double w) { acc += w * xc[c]; });
-        xf[lf.index(i, j, k)] = acc;
+        double& out = xf[lf.index(i, j, k)];
+        out = add ? out + acc : acc;
       }
 }
 
@@ -96,6 +97,18 @@ void prolong_faces_series(const SpacetimeGrid& fine, const SpacetimeGrid& coarse
 void prolong_cells_series(const SpacetimeGrid& fine, const SpacetimeGrid& coarse, const double* xc, double* xf) {
 #pragma omp parallel for schedule(static) if (fine.parallel())
   for (int t = 0; t < fine.T; ++t) prolong_cells(fine, coarse, xc + t * coarse.cells(), xf + t * fine.cells());
+}
+void prolong_add_faces_series(const SpacetimeGrid& fine, const SpacetimeGrid& coarse, const double* xc, double* xf) {
+#pragma omp parallel for schedule(static) if (fine.parallel())
+  for (int t = 0; t < fine.T; ++t)
+    for (int a = 0; a < fine.g.dim; ++a)
+      prolong_layout(fine.g.face_layout(a), coarse.g.face_layout(a), xc + t * coarse.faces() + coarse.off[a],
+                     xf + t * fine.faces() + fine.off[a], true);
+}
+void prolong_add_cells_series(const SpacetimeGrid& fine, const SpacetimeGrid& coarse, const double* xc, double* xf) {
+#pragma omp parallel for schedule(static) if (fine.parallel())
+  for (int t = 0; t < fine.T; ++t)
+    prolong_layout(fine.g.cell_layout(), coarse.g.cell_layout(), xc + t * coarse.cells(), xf + t * fine.cells(), true);
 }
 void restrict_faces_series(const SpacetimeGrid& fine, const SpacetimeGrid& coarse, const double* xf, double* xc) {
 #pragma omp parallel for schedule(static) if (fine.parallel())

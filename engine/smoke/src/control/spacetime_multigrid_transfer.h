@@ -46,6 +46,9 @@ void restrict_cells(const SpacetimeGrid& fine, const SpacetimeGrid& coarse, cons
 // The same over all T frames (frame-parallel), arrays of T*faces / T*cells values.
 void prolong_faces_series(const SpacetimeGrid& fine, const SpacetimeGrid& coarse, const double* xc, double* xf);
 void prolong_cells_series(const SpacetimeGrid& fine, const SpacetimeGrid& coarse, const double* xc, double* xf);
+// x_fine += P x_coarse over all T frames (the FAS correction, no fine-sized temporary).
+void prolong_add_faces_series(const SpacetimeGrid& fine, const SpacetimeGrid& coarse, const double* xc, double* xf);
+void prolong_add_cells_series(const SpacetimeGrid& fine, const SpacetimeGrid& coarse, const double* xc, double* xf);
 void restrict_faces_series(const SpacetimeGrid& fine, const SpacetimeGrid& coarse, const double* xf, double* xc);
 void restrict_cells_series(const SpacetimeGrid& fine, const SpacetimeGrid& coarse, const double* xf, double* xc);
 
