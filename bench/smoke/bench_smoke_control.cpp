@@ -8,10 +8,20 @@
 // when L-BFGS stopped before its iteration budget, so it would never reach the target). Writes a JSON array with
 // case, pliant_s, lbfgs_s, speedup, iou_min, peak_mb plus per-keyframe IoU, L-BFGS's own
 // IoU, the ADMM profile (seconds per iteration by phase) and the FAS V-cycle factor.
-//   bench_smoke_control [--quick] [--iterations N] [--lbfgs-iterations N] [--out FILE] [scene.json ...]
+//   bench_smoke_control [--quick] [--iterations N] [--lbfgs-iterations N] [--polish N]
+//                       [--grid N] [--frames T] [--r R] [--coarse-to-fine] [--out FILE] [scene.json ...]
+// --grid / --frames rescale a scene (N cells per axis, same domain; T frames with the
+// keyframes moved proportionally) for the time-per-iteration vs cells x frames rows.
+// --coarse-to-fine runs BOTH solvers through their progressive preview (quarter and half
+// resolution first, control_coarse_to_fine.h), as `pliant run` does; times then include
+// the coarse levels and only fine-level objectives count towards the target.
 #include <sys/resource.h>
 
+#include <omp.h>
+
 #include <algorithm>
+#include <cmath>
+#include <cstdlib>
 #include <chrono>
 #include <cstdio>
 #include <fstream>
@@ -37,6 +47,11 @@ struct Run {
   int iterations = 0;  // the state's iteration count at the end
 };
 
+double load_average() {
+  double l[1] = {0};
+  return getloadavg(l, 1) == 1 ? l[0] : -1.0;
+}
+
 double peak_mb() {
   rusage ru{};
   getrusage(RUSAGE_SELF, &ru);
@@ -50,11 +65,14 @@ Run run(const ControlModel& m, bool admm, std::vector<AdmmIterationStats>* stats
   const auto t0 = std::chrono::steady_clock::now();
   ControlCallbacks cb;
   cb.on_iteration = [&](const ControlState& st) {
-    if (st.objective_history.empty()) return;
+    if (st.objective_history.empty() || st.level > 0) return;  // coarse levels: other objectives
     r.objective.push_back(st.objective_history.back());
     r.wall.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
   };
-  if (admm) {
+  if (m.progressive_preview) {  // --coarse-to-fine: the solvers' own full path
+    if (admm) control_solve_admm(m, s, progress, cb);
+    else control_solve_lbfgs(m, s, progress, cb);
+  } else if (admm) {
     // control_solve_admm without the progressive preview, with the per-iteration stats.
     admm_run(m, s, progress, cb, stats);
     if (m.polish_iterations > 0) {
@@ -83,12 +101,32 @@ double time_to(const Run& r, double target) {
   return -1;
 }
 
+// The scene rescaled to n cells per axis (same domain) and T frames (keyframes moved
+// proportionally, at least frame 1).
+void rescale_scene(Scene& scene, int n, int frames) {
+  auto& doc = scene.doc;
+  if (n > 0) {
+    auto& res = doc["grid"]["resolution"];
+    const double h = doc["grid"]["cell_size_m"].get<double>() * res[0].get<double>() / n;
+    for (auto& x : res) x = n;
+    doc["grid"]["cell_size_m"] = h;
+  }
+  if (frames > 0) {
+    const int T0 = doc["time"]["frames"].get<int>();
+    doc["time"]["frames"] = frames;
+    for (auto& k : doc["control"]["keyframes"])
+      k["frame"] = std::max(1, int(std::lround(k["frame"].get<double>() * frames / T0)));
+  }
+}
+
 
 }  // namespace
 
 int main(int argc, char** argv) {
   bool quick = false;
-  int iterations = 0, lbfgs_iterations = 0;
+  int iterations = 0, lbfgs_iterations = 0, polish = -1, grid = 0, frames = 0;
+  bool coarse_to_fine = false;
+  double r_override = 0;
   std::string out = "bench/results/smoke.json";
   std::vector<std::string> scenes;
   for (int i = 1; i < argc; ++i) {
@@ -97,6 +135,11 @@ int main(int argc, char** argv) {
     else if (a == "--iterations" && i + 1 < argc) iterations = std::stoi(argv[++i]);
     else if (a == "--lbfgs-iterations" && i + 1 < argc) lbfgs_iterations = std::stoi(argv[++i]);
     else if (a == "--out" && i + 1 < argc) out = argv[++i];
+    else if (a == "--polish" && i + 1 < argc) polish = std::stoi(argv[++i]);
+    else if (a == "--grid" && i + 1 < argc) grid = std::stoi(argv[++i]);
+    else if (a == "--frames" && i + 1 < argc) frames = std::stoi(argv[++i]);
+    else if (a == "--coarse-to-fine") coarse_to_fine = true;
+    else if (a == "--r" && i + 1 < argc) r_override = std::stod(argv[++i]);
     else scenes.push_back(a);
   }
   const std::string dir = std::string(PLIANT_ASSETS_DIR) + "/scenes/";
@@ -108,10 +151,14 @@ int main(int argc, char** argv) {
   if (quick && iterations == 0) iterations = 10;
   nlohmann::json results = nlohmann::json::array();
   for (const auto& path : scenes) {
-    ControlModel m = control_compile(load_scene(path));
+    Scene scene = load_scene(path);
+    rescale_scene(scene, grid, frames);
+    ControlModel m = control_compile(scene);
     if (iterations > 0) m.max_iterations = iterations;
     if (quick) m.polish_iterations = std::min(m.polish_iterations, 20);
-    m.progressive_preview = false;
+    if (polish >= 0) m.polish_iterations = polish;
+    if (r_override > 0) m.r = r_override;
+    m.progressive_preview = coarse_to_fine;
     ControlModel lm = m;  // the baseline gets as many iterations as ADMM and its polish together
     lm.max_iterations = lbfgs_iterations > 0 ? lbfgs_iterations : m.max_iterations + m.polish_iterations;
     std::vector<AdmmIterationStats> st;
@@ -134,9 +181,18 @@ int main(int argc, char** argv) {
     const double n = std::max<size_t>(1, st.size());
     nlohmann::json ious = nlohmann::json::array();
     for (const auto& k : cm.keyframes) ious.push_back({{"frame", k.frame}, {"iou", k.iou}, {"relative_l2", k.relative_l2}});
-    nlohmann::json j = {{"case", path.substr(path.find_last_of('/') + 1)},
+    std::string name = path.substr(path.find_last_of('/') + 1);
+    if (grid > 0 || frames > 0)
+      name += " " + std::to_string(m.sim.n[0]) + "^" + std::to_string(m.sim.dim) + "x" + std::to_string(m.sim.frames);
+    if (r_override > 0) name += " r=" + nlohmann::json(r_override).dump();
+    if (coarse_to_fine) name += " coarse-to-fine";
+    nlohmann::json j = {{"case", name},
+                        {"coarse_to_fine", coarse_to_fine},
+                        {"omp_threads", omp_get_max_threads()},
+                        {"load_average_1min", load_average()},
                         {"grid", m.sim.n},
                         {"frames", m.sim.frames},
+                        {"r", m.r},
                         {"admm_iterations", st.size()},
                         {"polish_iterations", m.polish_iterations},
                         {"lbfgs_iterations", lm.max_iterations},

@@ -35,22 +35,36 @@ std::vector<float> raster(const RasterGrid& g, int ss, F value) {
   return out;
 }
 
-// Point (metres) in the placement's local frame (inverse rotation about z, then /scale).
+// Point (metres) in the placement's local frame (inverse rotation R^T, then /scale).
 struct LocalFrame {
-  explicit LocalFrame(const Placement& p) : p(p) {
-    const double a = p.rotation_deg * std::numbers::pi / 180.0;
-    c = std::cos(a);
-    s = std::sin(a);
-  }
+  explicit LocalFrame(const Placement& p) : p(p), R(placement_rotation(p)) {}
   std::array<double, 3> operator()(double x, double y, double z) const {
-    const double dx = x - p.center_m[0], dy = y - p.center_m[1], dz = z - p.center_m[2];
-    return {(c * dx + s * dy) / p.scale, (-s * dx + c * dy) / p.scale, dz / p.scale};
+    const double d[3] = {x - p.center_m[0], y - p.center_m[1], z - p.center_m[2]};
+    std::array<double, 3> q;
+    for (int a = 0; a < 3; ++a) q[a] = (R[0][a] * d[0] + R[1][a] * d[1] + R[2][a] * d[2]) / p.scale;
+    return q;
   }
   Placement p;
-  double c, s;
+  Rotation3 R;
 };
 
 }  // namespace
+
+Rotation3 placement_rotation(const Placement& p) {
+  const auto& v = p.rotation_axis;
+  const double len = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+  if (!(len > 0)) throw GeomError("rotation_axis must not be zero");
+  const double k[3] = {v[0] / len, v[1] / len, v[2] / len};
+  const double a = p.rotation_deg * std::numbers::pi / 180.0, c = std::cos(a), s = std::sin(a);
+  // R = c I + s [k]x + (1 - c) k k^T
+  Rotation3 R;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) R[i][j] = (i == j ? c : 0.0) + (1 - c) * k[i] * k[j];
+  R[0][1] -= s * k[2], R[0][2] += s * k[1];
+  R[1][0] += s * k[2], R[1][2] -= s * k[0];
+  R[2][0] -= s * k[1], R[2][1] += s * k[0];
+  return R;
+}
 
 std::vector<float> raster_sphere(const RasterGrid& g, const Placement& p, double radius_m, int supersample) {
   const LocalFrame L(p);

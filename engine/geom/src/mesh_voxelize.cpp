@@ -5,7 +5,6 @@
 // style tie break) and the edge tests are strict. Rows are independent (OpenMP).
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 
 #include "pliant/geom/keyframe_raster.h"
 
@@ -36,14 +35,14 @@ std::vector<float> raster_mesh(const RasterGrid& g, const TriangleMesh& mesh, co
   double extent = 0;
   for (int a = 0; a < 3; ++a) extent = std::max(extent, bb[1][a] - bb[0][a]);
   if (!(extent > 0)) throw GeomError("mesh has a zero-size bounding box");
-  // World position of every vertex: centre the box, scale, rotate about z, move.
+  // World position of every vertex: centre the box, scale, rotate (any axis), move.
   const double s = size_m * p.scale / extent;
-  const double ang = p.rotation_deg * std::numbers::pi / 180.0, ca = std::cos(ang), sa = std::sin(ang);
+  const Rotation3 R = placement_rotation(p);
   std::vector<std::array<double, 3>> w(mesh.vertices.size());
   for (size_t i = 0; i < w.size(); ++i) {
     std::array<double, 3> q;
     for (int a = 0; a < 3; ++a) q[a] = (mesh.vertices[i][a] - 0.5 * (bb[0][a] + bb[1][a])) * s;
-    w[i] = {ca * q[0] - sa * q[1] + p.center_m[0], sa * q[0] + ca * q[1] + p.center_m[1], q[2] + p.center_m[2]};
+    for (int a = 0; a < 3; ++a) w[i][a] = R[a][0] * q[0] + R[a][1] * q[1] + R[a][2] * q[2] + p.center_m[a];
   }
   const int ss = std::max(1, supersample);
   const double h = g.cell_size_m, sub = h / ss;

@@ -15,6 +15,7 @@
 
 #include "admm_solver.h"
 #include "ao_solver.h"
+#include "control_coarse_to_fine.h"
 #include "control_forward_model.h"
 #include "nso_advection_stencil.h"
 #include "nso_solver.h"
@@ -177,6 +178,62 @@ TEST(Admm, EveryCheckpointResumesToTheUninterruptedResult) {
   EXPECT_TRUE(resumed_admm && resumed_polish);
 }
 
+// Coarse-to-fine levels checkpoint as well (ControlState::level): a run killed during
+// the 32^2 level of a 64^2 problem resumes there and ends bit-identically where the
+// uninterrupted run ends, for ADMM (from an ADMM iteration and from the polish) and
+// for the L-BFGS baseline (which uses the same levels).
+TEST(Admm, CoarseLevelCheckpointsResumeToTheUninterruptedResult) {
+  ControlModel m = circle_to_square_variant(
+      {{"[32, 32]", "[64, 64]"}, {"0.03125", "0.015625"}, {"\"frames\": 20", "\"frames\": 6"}, {"\"frame\": 20", "\"frame\": 6"}});
+  m.progressive_preview = true;
+  m.max_iterations = 2;
+  m.polish_iterations = 4;
+  Progress progress;
+  for (const ControlMethod method : {ControlMethod::Admm, ControlMethod::Lbfgs}) {
+    m.method = method;
+    auto solve = [&](ControlState& st, const ControlCallbacks& cb) {
+      if (method == ControlMethod::Admm) control_solve_admm(m, st, progress, cb);
+      else control_solve_lbfgs(m, st, progress, cb);
+    };
+    ControlState a = control_init(m);
+    std::vector<std::vector<uint8_t>> coarse;
+    int fine = 0;
+    ControlCallbacks cb;
+    cb.on_iteration = [&](const ControlState& st) {
+      if (st.level == 0) return void(++fine);
+      EXPECT_EQ(st.level, 1);
+      EXPECT_TRUE(control_state_fits(m, st));
+      coarse.push_back(control_state_serialize(st));
+    };
+    solve(a, cb);
+    EXPECT_EQ(a.level, 0);
+    ASSERT_GE(coarse.size(), method == ControlMethod::Admm ? 4u : 1u);  // ADMM: 2 + switch + polish chunk
+    EXPECT_GE(fine, 1);
+    // The first coarse checkpoint, and for ADMM the polish switch as well.
+    std::vector<size_t> picks{0};
+    if (method == ControlMethod::Admm)
+      for (size_t k = 1; k < coarse.size(); ++k)
+        if (control_state_deserialize(coarse[k]).phase == 1) {
+          picks.push_back(k);
+          break;
+        }
+    for (size_t k : picks) {
+      ControlState c = control_state_deserialize(coarse[k]);
+      ASSERT_EQ(c.level, 1);
+      solve(c, {});
+      EXPECT_EQ(c.level, 0);
+      const char* name = method == ControlMethod::Admm ? "admm" : "lbfgs";
+      ASSERT_EQ(c.iteration, a.iteration) << name << " coarse checkpoint " << k;
+      EXPECT_DOUBLE_EQ(c.objective_history.back(), a.objective_history.back()) << name << " coarse checkpoint " << k;
+      EXPECT_TRUE(c.force == a.force) << name << " coarse checkpoint " << k;
+    }
+  }
+  // A state of a level the model does not have is refused.
+  ControlState bad = control_init(m);
+  bad.level = 2;
+  EXPECT_FALSE(control_state_fits(m, bad));
+}
+
 TEST(Admm, StopsWhenTheObjectiveStalls) {
   EXPECT_FALSE(admm_stalled({10, 9, 8, 7, 6}));           // too short to judge
   EXPECT_FALSE(admm_stalled({10, 9, 8, 7, 6, 5.9}));      // still improving
@@ -243,7 +300,7 @@ TEST(Admm, ProgressivePreviewShowsTheCoarseSolutionFirst) {
     for (float v : density.back()) mT += v;
     EXPECT_NEAR(mT, m0, 1e-4 * m0);
   };
-  cb.on_iteration = [&](const ControlState&) { ++iterations; };
+  cb.on_iteration = [&](const ControlState& st) { iterations += st.level == 0; };  // coarse ones checkpoint too
   control_solve_admm(m, s, progress, cb);
   // One 32^2 level of 2 iterations: previews after its iterations 1 and 2 (powers of
   // two, so the editor sees the first within one coarse iteration) and at its end.

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <stb/stb_image_write.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <numbers>
@@ -150,6 +151,36 @@ TEST(ControlCompile, OtherBadInput) {
   EXPECT_NE(error_of(scene_with(R"([{"frame": 3, "target": {"type": "circle", "radius": 0.1, "colour": 1}}])"))
                 .find("/control/keyframes/0/target/colour"),
             std::string::npos);
+}
+
+// rotation_axis (axis-angle with rotation_deg): any axis in 3D, +z only in 2D; a box
+// turned 90 degrees about y has its long side along z. coarse_iterations and
+// max_iterations 0 (ADMM with a polish only).
+TEST(ControlCompile, RotationAxisAndIterationCounts) {
+  const std::string rod = R"({"type": "box", "half_size": [0.3, 0.1, 0.1], "rotation_deg": 90, "rotation_axis": [0, 1, 0]})";
+  const ControlModel m = control_compile(scene_with("[{\"frame\": 3, \"target\": " + rod + "}]", true));
+  // Extent of the target along x and z (cells with density > 0.5).
+  int lo[3] = {8, 8, 8}, hi[3] = {-1, -1, -1};
+  for (int k = 0; k < 8; ++k)
+    for (int j = 0; j < 8; ++j)
+      for (int i = 0; i < 8; ++i)
+        if (m.keyframes[0].density[i + 8 * (j + 8 * k)] > 0.5f) {
+          const int c[3] = {i, j, k};
+          for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], c[a]), hi[a] = std::max(hi[a], c[a]);
+        }
+  EXPECT_GT(hi[2] - lo[2], 2 * (hi[0] - lo[0])) << "long side along z";
+  EXPECT_NE(error_of(scene_with(R"([{"frame": 3, "target": {"type": "circle", "radius": 0.1, "rotation_axis": [1, 0, 0]}}])"))
+                .find("/control/keyframes/0/target/rotation_axis | 2D targets turn about +z only"),
+            std::string::npos);
+  EXPECT_NE(error_of(scene_with(R"([{"frame": 3, "target": {"type": "sphere", "radius": 0.1, "rotation_axis": [0, 0, 0]}}])", true))
+                .find("rotation_axis | expected a non-zero vector"),
+            std::string::npos);
+  const std::string kf = R"([{"frame": 3, "target": {"type": "circle", "radius": 0.1}}])";
+  EXPECT_NE(error_of(scene_with(kf, false, R"(, "max_iterations": 0)")).find("/control/max_iterations"), std::string::npos);
+  const ControlModel polish_only = control_compile(scene_with(
+      kf, false, R"(, "method": "admm", "max_iterations": 0, "coarse_iterations": 7, "admm": {"polish_iterations": 5})"));
+  EXPECT_EQ(polish_only.max_iterations, 0);
+  EXPECT_EQ(polish_only.coarse_iterations, 7);
 }
 
 TEST(ControlCompile, PaintedKeyframeFromTheEditor) {

@@ -218,8 +218,9 @@ bool admm_coarsen_model(const ControlModel& m, ControlModel& coarse) {
 void control_solve_admm(const ControlModel& m, ControlState& s, Progress& progress, const ControlCallbacks& cb) {
   // Progressive preview: ADMM (and its polish) at a quarter and half resolution first;
   // the fine ADMM starts from the trajectory of the prolonged forces.
-  if (m.progressive_preview && s.phase == 0)
-    control_coarse_to_fine(m, s, 3, cb, [&](const ControlModel& cm, ControlState& cs, const ControlCallbacks& lcb) {
+  // A coarse level's state (resumed from its checkpoint) continues there, whatever its phase.
+  if (m.progressive_preview && (s.phase == 0 || s.level > 0))
+    control_coarse_to_fine(m, s, kCoarseToFineLevels, cb, [&](const ControlModel& cm, ControlState& cs, const ControlCallbacks& lcb) {
       control_solve_admm(cm, cs, progress, lcb);
     });
   if (s.phase == 0) {

@@ -4,13 +4,16 @@
 //
 //   "control": {"method": "admm"|"lbfgs", "r": >0, "max_iterations", "tolerance",
 //     "admm": {"penalty", "ao_iterations", "nso_vcycles", "polish_iterations"}, "progressive_preview",
+//     "coarse_iterations" (outer iterations per coarse level of the progressive preview,
+//     default max_iterations),
 //     "initial_density": [TARGET], "obstacles": [TARGET],
 //     "keyframes": [{"frame": 1..T (one keyframe per frame), "weight": >0,
 //                    "target": TARGET or "targets": [TARGET] (their union)}],
 //     "sequence": {"images": "dir/" or "pattern%03d.png", "first_frame", "every",
 //                  "weight", + the placement fields of an image TARGET}}
 //   TARGET: {"type": circle|sphere|box|square|mask|image|text|mesh|painted, placement
-//     ("center" fraction of the domain or "center_m", "scale", "rotation_deg"),
+//     ("center" fraction of the domain or "center_m", "scale", "rotation_deg",
+//     3D "rotation_axis" [x, y, z]: rotation_deg about that axis, default +z),
 //     "supersample", and per type: radius|radius_m; half_size|half_size_m;
 //     file, channel (luma|alpha), threshold, height|height_m, depth|depth_m;
 //     text, font, height|height_m, threshold; file, size|size_m (mesh);
@@ -68,6 +71,14 @@ geom::Placement placement(JsonReader& r, const Ctx& c) {
   p.scale = r.number("scale", 1.0);
   if (!(p.scale > 0)) r.fail("scale", "expected a number > 0");
   p.rotation_deg = r.number("rotation_deg", 0.0);
+  // Axis-angle: rotation_deg about rotation_axis (default +z, the only axis in 2D).
+  if (r.has("rotation_axis")) {
+    const auto v = r.numbers("rotation_axis", {}, 3, 3);
+    if (!(v[0] * v[0] + v[1] * v[1] + v[2] * v[2] > 0)) r.fail("rotation_axis", "expected a non-zero vector");
+    if (dim == 2 && (v[0] != 0 || v[1] != 0 || !(v[2] > 0)))
+      r.fail("rotation_axis", "2D targets turn about +z only ([0, 0, 1]); use rotation_deg");
+    p.rotation_axis = {v[0], v[1], v[2]};
+  }
   return p;
 }
 
@@ -243,7 +254,9 @@ ControlModel control_compile(const Scene& scene) {
   m.method = c.choice("method", "admm", {"admm", "lbfgs"}) == "lbfgs" ? ControlMethod::Lbfgs : ControlMethod::Admm;
   m.r = c.number("r", m.r);
   if (!(m.r > 0)) c.fail("r", "expected a number > 0 (ghost-force regularisation)");
-  m.max_iterations = int(c.integer("max_iterations", m.max_iterations, 1, 1000000));
+  // 0 is allowed for ADMM with a polish: the fine level then only polishes what the
+  // coarse levels found (see coarse_iterations).
+  m.max_iterations = int(c.integer("max_iterations", m.max_iterations, 0, 1000000));
   m.tolerance = c.number("tolerance", m.tolerance);
   if (!(m.tolerance > 0 && m.tolerance < 1)) c.fail("tolerance", "expected a number in (0, 1)");
   if (auto a = c.object("admm")) {
@@ -255,6 +268,9 @@ ControlModel control_compile(const Scene& scene) {
     a->finish();
   }
   m.progressive_preview = c.boolean("progressive_preview", m.progressive_preview);
+  m.coarse_iterations = int(c.integer("coarse_iterations", m.coarse_iterations, -1, 1000000));
+  if (m.max_iterations == 0 && !(m.method == ControlMethod::Admm && m.polish_iterations > 0))
+    c.fail("max_iterations", "expected >= 1 (0 only for ADMM with admm.polish_iterations > 0)");
 
   std::string source;
   if (c.has("initial_density")) {

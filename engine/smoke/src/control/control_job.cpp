@@ -15,6 +15,7 @@
 #include <cstring>
 #include <stdexcept>
 
+#include "control_coarse_to_fine.h"
 #include "control_forward_model.h"
 #include "pliant/core/error.h"
 #include "pliant/smoke/control.h"
@@ -89,7 +90,7 @@ nlohmann::json smoke_control_run_job(JobContext& ctx) {
   const int T = m.sim.frames;
 
   ControlState s = control_init(m);
-  int resumed_from = -1;
+  int resumed_from = -1, resumed_level = -1;
   if (ctx.resume) {
     TakeReader reader(ctx.take.dir());
     Record r;
@@ -101,12 +102,14 @@ nlohmann::json smoke_control_run_job(JobContext& ctx) {
         throw InputError(ctx.scene.file, "/control",
                          std::string(e.what()) + "; the take cannot be resumed, run without --resume");
       }
-      if (int(c.force.size()) != T || c.force[0].size() != s.force[0].size())
+      if (!control_state_fits(m, c))
         throw InputError(ctx.scene.file, "/control",
                          "the take's checkpoint was made for a different grid or frame count; run without --resume");
       s = std::move(c);
       resumed_from = s.iteration;
-      ctx.events.log("info", "resuming from the checkpoint of iteration " + std::to_string(s.iteration));
+      resumed_level = s.level;
+      ctx.events.log("info", "resuming from the checkpoint of iteration " + std::to_string(s.iteration) +
+                                 (s.level > 0 ? " of coarse level " + std::to_string(s.level) : std::string()));
     }
   }
 
@@ -178,6 +181,7 @@ nlohmann::json smoke_control_run_job(JobContext& ctx) {
           {"cells", g.cells()},
           {"iterations", s.iteration},
           {"resumed_from_iteration", resumed_from},
+          {"resumed_from_level", resumed_level},
           {"objective", cm.objective},
           {"control_energy", cm.control_energy},
           {"max_divergence_per_s", cm.max_divergence},

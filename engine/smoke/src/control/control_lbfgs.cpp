@@ -78,7 +78,7 @@ void control_solve_lbfgs(const ControlModel& m, ControlState& s, Progress& progr
   // Progressive preview: L-BFGS at a quarter and half resolution first, the fine solve
   // starts from the prolonged forces (control_coarse_to_fine.h).
   if (m.progressive_preview)
-    control_coarse_to_fine(m, s, 3, cb, [&](const ControlModel& cm, ControlState& cs, const ControlCallbacks& lcb) {
+    control_coarse_to_fine(m, s, kCoarseToFineLevels, cb, [&](const ControlModel& cm, ControlState& cs, const ControlCallbacks& lcb) {
       control_solve_lbfgs(cm, cs, progress, lcb);
     });
   Eigen::VectorXd x(Eigen::Index(size_t(T) * nf));
@@ -91,7 +91,7 @@ void control_solve_lbfgs(const ControlModel& m, ControlState& s, Progress& progr
   obj.history = &s.objective_history;
   progress.stage(m.stage_label.empty() ? "lbfgs" : "lbfgs " + m.stage_label, m.max_iterations);
 
-  while (s.iteration < m.max_iterations) {
+  while (s.iteration < m.max_iterations && !s.lbfgs_stopped) {
     // The objective at the end of the previous chunk (from the state, so a resumed
     // run makes the same stopping decision).
     const double previous =
@@ -139,13 +139,14 @@ void control_solve_lbfgs(const ControlModel& m, ControlState& s, Progress& progr
         x[Eigen::Index(size_t(i) * nf + e)] = v;
       }
     s.wall_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const bool converged = (!line_search_failed && k < param.max_iterations) ||
+                           std::abs(previous - fx) <= m.tolerance * std::max(std::abs(fx), 1e-300);
+    // In the state, so a run resumed from this checkpoint stops here too.
+    s.lbfgs_stopped = stalled || converged;
     // Checkpoint first, then report: whoever sees the progress event can rely on
     // the checkpoint being in the take.
     if (cb.on_iteration) cb.on_iteration(s);
     progress.report(std::min(s.iteration, m.max_iterations), fx);
-    const bool converged = (!line_search_failed && k < param.max_iterations) ||
-                           std::abs(previous - fx) <= m.tolerance * std::max(std::abs(fx), 1e-300);
-    if (stalled || converged) break;
   }
 }
 

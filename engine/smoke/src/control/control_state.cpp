@@ -1,8 +1,9 @@
 // ControlState: initial state and a versioned little-endian binary serialisation
 // for checkpoints (every size is checked against the bytes that remain).
-//   "PLCS" u32 version(1) i32 iteration f64 wall_s
+//   "PLCS" u32 version i32 iteration f64 wall_s
 //   4 x FaceSeries (force, velocity, split, dual): u32 frames, per frame u64 n + n f32
 //   3 x double series (objective, primal residual, dual residual): u64 n + n f64
+//   i32 phase f64 nso_damping (version >= 2), i32 level u8 lbfgs_stopped (version >= 3)
 #include <cstring>
 #include <stdexcept>
 #include <string>
@@ -15,7 +16,7 @@ namespace pliant::smoke {
 namespace {
 
 constexpr uint32_t kMagic = 0x53434c50;  // "PLCS"
-constexpr uint32_t kVersion = 2;  // 2: phase and NSO damping
+constexpr uint32_t kVersion = 3;  // 2: phase and NSO damping; 3: coarse-to-fine level, L-BFGS stop
 
 template <class T>
 void put(std::vector<uint8_t>& b, const T& v) {
@@ -90,6 +91,8 @@ std::vector<uint8_t> control_state_serialize(const ControlState& s) {
   for (const auto* h : {&s.objective_history, &s.primal_residual_history, &s.dual_residual_history}) put_array(b, *h);
   put<int32_t>(b, s.phase);
   put<double>(b, s.nso_damping);
+  put<int32_t>(b, s.level);
+  put<uint8_t>(b, s.lbfgs_stopped ? 1 : 0);
   return b;
 }
 
@@ -97,7 +100,7 @@ ControlState control_state_deserialize(const std::vector<uint8_t>& bytes) {
   Reader r{bytes};
   if (r.get<uint32_t>() != kMagic) r.bad("not a control checkpoint (bad magic)");
   const uint32_t version = r.get<uint32_t>();
-  if (version != kVersion) r.bad("unsupported version " + std::to_string(version));
+  if (version < 2 || version > kVersion) r.bad("unsupported version " + std::to_string(version));
   ControlState s;
   s.iteration = r.get<int32_t>();
   if (s.iteration < 0) r.bad("negative iteration");
@@ -109,6 +112,13 @@ ControlState control_state_deserialize(const std::vector<uint8_t>& bytes) {
   if (s.phase < 0 || s.phase > 1) r.bad("bad phase " + std::to_string(s.phase));
   s.nso_damping = r.get<double>();
   if (!(s.nso_damping >= 0)) r.bad("bad NSO damping");
+  if (version >= 3) {  // version 2 checkpoints were always written on the fine level
+    s.level = r.get<int32_t>();
+    if (s.level < 0 || s.level > 8) r.bad("bad coarse-to-fine level " + std::to_string(s.level));
+    const uint8_t stopped = r.get<uint8_t>();
+    if (stopped > 1) r.bad("bad L-BFGS stop flag");
+    s.lbfgs_stopped = stopped == 1;
+  }
   if (r.pos != bytes.size()) r.bad("trailing bytes");
   return s;
 }

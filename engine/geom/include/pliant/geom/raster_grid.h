@@ -18,13 +18,20 @@ struct RasterGrid {
   double extent_m(int axis) const { return n[axis] * cell_size_m; }
 };
 
-// A 2D similarity placement (3D: rotation about z): a target's local frame is scaled,
-// rotated counter-clockwise by rotation_deg and moved to center_m.
+// A similarity placement: a target's local frame is scaled, rotated by rotation_deg
+// counter-clockwise (right-handed) about rotation_axis and moved to center_m. The
+// axis defaults to +z (the 2D rotation); 3D targets may turn about any axis.
 struct Placement {
   std::array<double, 3> center_m{0, 0, 0};
   double scale = 1.0;
   double rotation_deg = 0.0;
+  std::array<double, 3> rotation_axis{0, 0, 1};  // any length > 0; normalised on use
 };
+
+// Row-major rotation matrix of the placement (Rodrigues' formula); throws GeomError
+// for a zero axis. local -> world: w = R q.
+using Rotation3 = std::array<std::array<double, 3>, 3>;
+Rotation3 placement_rotation(const Placement& p);
 
 // Failure to build a target. The message already names the file or input and the
 // problem ("assets/masks/x.png: cannot read image: ..."); callers add the scene

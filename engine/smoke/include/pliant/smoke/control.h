@@ -62,6 +62,7 @@ struct ControlModel {
   // polish makes the re-simulated keyframes exact up to what the discretisation allows.
   int polish_iterations = 0;
   bool progressive_preview = true;     // write coarse-level previews first
+  int coarse_iterations = -1;          // outer iterations per coarse level (-1: max_iterations)
   std::string stage_label;             // progress stage suffix ("32x32" on coarse levels)
 };
 
@@ -106,6 +107,13 @@ struct ControlState {
   // resumed run continues exactly where an uninterrupted one would be.
   int phase = 0;
   double nso_damping = 0;
+  // Progressive preview: the coarse-to-fine level this state belongs to (0 = the scene's
+  // grid, l = space coarsened l times), so a run killed during a coarse level resumes
+  // there (control_coarse_to_fine.h).
+  int level = 0;
+  // L-BFGS (baseline or polish) stopped by its own rule (converged or stalled) before
+  // its iteration cap: a run resumed from this state stops as the uninterrupted one did.
+  bool lbfgs_stopped = false;
 };
 ControlState control_init(const ControlModel& m);  // zero forces, rest fluid
 std::vector<uint8_t> control_state_serialize(const ControlState& s);
