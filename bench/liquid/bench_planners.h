@@ -7,6 +7,7 @@
 #include <omp.h>
 
 #include <cstdio>
+#include <string>
 #include <nlohmann/json.hpp>
 #include <vector>
 
@@ -15,10 +16,17 @@
 #include "pliant/liquid/feedback.h"
 #include "pliant/liquid/problem_generator.h"
 
-inline std::vector<nlohmann::json> bench_planners(bool quick, int count_override = 0) {
+// Case names: planner_<mode>_2d (TRANSFER+ZERO) or planner_<mode>_follow_2d
+// (TRANSFER+FOLLOW: the same held-out ids with a moving target).
+inline std::string planner_case(const char* mode, pliant::liquid::Family family) {
+  return std::string("planner_") + mode + (family == pliant::liquid::Family::Follow ? "_follow" : "") + "_2d";
+}
+
+inline std::vector<nlohmann::json> bench_planners(bool quick, int count_override = 0,
+                                                  pliant::liquid::Family family = pliant::liquid::Family::Zero) {
   using namespace pliant::liquid;
   const int count = count_override > 0 ? count_override : quick ? 3 : 20;
-  const auto problems = held_out_problems(count, 2026);
+  const auto problems = held_out_problems(count, 2026, 2, family);
   std::vector<nlohmann::json> out;
   for (Planner planner : {Planner::Simplified, Planner::Correction}) {
     int success = 0;
@@ -39,7 +47,8 @@ inline std::vector<nlohmann::json> bench_planners(bool quick, int count_override
       per.push_back({{"id", p.id}, {"in_target", fr[0]}, {"spilled", fr[1]}, {"in_source", fr[2]}, {"plan_s", t1 - t0}});
       std::fprintf(stderr, "  problem %d: in target %.3f spilled %.3f\n", p.id, fr[0], fr[1]);
     }
-    out.push_back({{"case", std::string("planner_") + (planner == Planner::Simplified ? "simplified" : "correction") + "_2d"},
+    out.push_back({{"case", planner_case(planner == Planner::Simplified ? "simplified" : "correction", family)},
+                   {"family", family_name(family)},
                    {"problems", count},
                    {"split", "held_out (generator seed 2026)"},
                    {"success_at_5", double(success) / count},
@@ -56,10 +65,10 @@ inline std::vector<nlohmann::json> bench_planners(bool quick, int count_override
 // closed loop (MPC decisions + full simulator) is the validation run.
 //   mpc_step_ms: mean time of one MPC decision (the networks over all
 //   candidates and the horizon); the simulator's frames are not included.
-inline nlohmann::json bench_feedback(int count) {
+inline nlohmann::json bench_feedback(int count, pliant::liquid::Family family = pliant::liquid::Family::Zero) {
   using namespace pliant::liquid;
   const FeedbackPredictor net = FeedbackPredictor::load(default_feedback_network());
-  const auto problems = held_out_problems(count, 2026);
+  const auto problems = held_out_problems(count, 2026, 2, family);
   int success = 0;
   double transfer = 0, wall = 0, step_ms = 0, step_cpu_ms = 0, step_max = 0, plan_s = 0;
   nlohmann::json per = nlohmann::json::array();
@@ -80,7 +89,8 @@ inline nlohmann::json bench_feedback(int count) {
                    {"mpc_step_ms", run.mpc_step_ms_mean}});
     std::fprintf(stderr, "  feedback problem %d: in target %.3f spilled %.3f left %.3f\n", p.id, fr[0], fr[1], fr[2]);
   }
-  return {{"case", "planner_feedback_2d"},
+  return {{"case", planner_case("feedback", family)},
+          {"family", family_name(family)},
           {"problems", count},
           {"split", "held_out (generator seed 2026)"},
           {"training_samples", net.samples},

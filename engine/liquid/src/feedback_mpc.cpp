@@ -29,9 +29,9 @@ double gravity_norm(const LiquidModel& m) {
 
 // Robot-side limits: the source stays above the target's rim where it is over
 // the target, above the floor, and inside the domain (squared violation, m^2).
-double pose_violation(const LiquidModel& m, const Pose& pose) {
+double pose_violation(const LiquidModel& m, const Pose& pose, double t) {
   const ContainerShape& c = m.source.shape;
-  const Pose& tp = m.target.pose;
+  const Pose tp = target_pose_at(m, t);
   const double rim = tp.position_m[1] + m.target.shape.height_m + 0.01;
   const double reach = m.target.shape.radius_m + m.target.shape.wall_m + 0.01;
   double v = 0;
@@ -56,7 +56,6 @@ MpcAction mpc_decide(const FeedbackContext& c, const FeedbackPredictor& net, con
   const double dt = net.interval_s, g = gravity_norm(m);
   const double max_tilt = m.planner.max_tilt_rad;
   const double rim = m.target.pose.position_m[1] + m.target.shape.height_m;
-  const double centre = m.target.pose.position_m[0];
   const double inner = m.target.shape.opening_radius() - 0.3 * m.target.shape.wall_m;
   // Candidates: every (tilt rate, vx, vy) of the settings' grid.
   std::vector<MpcAction> cand;
@@ -91,7 +90,10 @@ MpcAction mpc_decide(const FeedbackContext& c, const FeedbackPredictor& net, con
       const double wz = -w;
       const double vx = a.vx - wz * (lip[1] - r.y) + E(2, i), vy = a.vy + wz * (lip[0] - r.x) + E(3, i);
       const double disc = vy * vy + 2 * g * (ey - rim);
-      const double land = disc >= 0 ? ex + vx * (vy + std::sqrt(disc)) / g : ex;
+      const double flight = disc >= 0 ? (vy + std::sqrt(disc)) / g : 0.0;
+      const double land = ex + vx * flight;
+      // Measured against where the (FOLLOW: moving) target is when the stream arrives.
+      const double centre = target_pose_at(m, t_end - 0.5 * dt + flight).position_m[0];
       const double d = std::abs(land - centre) / inner;
       const double spill = std::clamp((d - 0.25) / 0.4, 0.0, 1.0);
       cost[i] += 6 * dv * spill - dv * (1 - spill) + 1.0 * std::max(dv, 0.01) * d * d;
@@ -100,7 +102,18 @@ MpcAction mpc_decide(const FeedbackContext& c, const FeedbackPredictor& net, con
       r.x += a.vx * dt, r.y += a.vy * dt;
       p.position_m = {r.x, r.y, 0};
       p.tilt_rad = r.tilt;
-      cost[i] += 1e3 * pose_violation(m, p);
+      cost[i] += 1e3 * pose_violation(m, p, t_end);
+      // Approach: before the flow has started, bring the lip over the near part
+      // of the opening. The first trickle falls almost straight down from the
+      // lip, later than and short of where the networks' mean stream lands, so
+      // a source still far from the target at the onset spilled it (the main
+      // failure of the first MPC on validation problems).
+      const double pre = std::clamp((r.fraction - 0.9) / 0.07, 0.0, 1.0);
+      if (ms.approach_weight > 0 && pre > 0) {
+        const double goal = target_pose_at(m, t_end + 0.2).position_m[0] - ms.approach_goal * inner;
+        const double e = (c.lip(p)[0] - goal) / inner;
+        cost[i] += ms.approach_weight * pre * e * e;
+      }
       if (step == ms.horizon) {
         // Liquid still in the source weighs more as the pour's time runs out;
         // a little tilt progress gets the flow started at all.

@@ -21,13 +21,19 @@ double gravity_magnitude(const LiquidModel& m) {
   return std::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
 }
 
+// Where the planners aim: the target's x when the pour is well under way (a
+// FOLLOW target moves; a static one is where it is).
+double target_x_while_pouring(const LiquidModel& m) {
+  return target_pose_at(m, 0.6 * m.planner.pour_time_s).position_m[0];
+}
+
 // Search box of the key poses, relative to the start pose.
 struct KeyBox {
   double x_lo, x_hi, y_lo, y_hi, tilt_hi;
 };
 
 KeyBox key_box(const LiquidModel& m) {
-  const double D = m.target.pose.position_m[0] - m.source.pose.position_m[0];
+  const double D = target_x_while_pouring(m) - m.source.pose.position_m[0];
   // Keep the whole container (any tilt) inside the domain.
   const auto& c = m.source.shape;
   const double reach = std::hypot(c.radius_m + c.wall_m, c.height_m) + 0.01;
@@ -61,7 +67,7 @@ Trajectory decode(const LiquidModel& m, const Eigen::VectorXd& u) {
 Eigen::VectorXd initial_guess(const LiquidModel& m) {
   const KeyBox b = key_box(m);
   const int K = m.planner.keys;
-  const double D = m.target.pose.position_m[0] - m.source.pose.position_m[0];
+  const double D = target_x_while_pouring(m) - m.source.pose.position_m[0];
   Eigen::VectorXd u(3 * K);
   for (int k = 0; k < K; ++k) {
     const double s = double(k + 1) / K;
@@ -184,7 +190,6 @@ Trajectory plan_correction(const LiquidModel& m, Progress& progress, nlohmann::j
   LiquidModel cur = m;
   if (cur.source_path.keys.size() < 2) cur.source_path = decode(m, initial_guess(m));
   const int iters = m.planner.iterations;
-  const Vec3 c = m.target.pose.to_world({0, m.target.shape.height_m, 0});
   const double inner = m.target.shape.opening_radius() - 0.3 * m.target.shape.wall_m;
   Trajectory best = cur.source_path;
   double best_transfer = -1;
@@ -221,7 +226,7 @@ Trajectory plan_correction(const LiquidModel& m, Progress& progress, nlohmann::j
       // A particle counts as a miss when it lands outside the opening, or lands
       // inside but ends up spilled (splashed over the far wall): either way its
       // landing offset says which way to move.
-      const Pose end_pose = source_pose_at(cur, s.time_s);
+      const Pose end_pose = source_pose_at(cur, s.time_s), target_end = target_pose_at(cur, s.time_s);
       for (size_t p = 0; p < tracks.tracks().size(); ++p) {
         const auto& t = tracks.tracks()[p];
         if (t.leave_time < 0 || !t.landed) continue;
@@ -229,9 +234,10 @@ Trajectory plan_correction(const LiquidModel& m, Progress& progress, nlohmann::j
         while (k < K - 1 && t.leave_time > keys[k].time_s) ++k;
         ++total[k];
         const Vec3 x{s.x[3 * p], s.x[3 * p + 1], s.x[3 * p + 2]};
-        const bool spilled = !m.target.shape.in_cavity(m.target.pose.to_local(x), m.dim) &&
+        const bool spilled = !m.target.shape.in_cavity(target_end.to_local(x), m.dim) &&
                              !m.source.shape.in_cavity(end_pose.to_local(x), m.dim);
-        const double dx = t.landing[0] - c[0];
+        // Miss relative to where the (possibly moving) opening was at landing.
+        const double dx = t.landing_offset[0];
         if (std::abs(dx) > inner || spilled) miss[k] += dx, ++count[k];
       }
       direction.assign(K, 0.0);

@@ -6,7 +6,9 @@
 
 namespace pliant::liquid {
 
-TransferProblem generate_problem(int id, uint64_t seed, int dim) {
+const char* family_name(Family f) { return f == Family::Follow ? "transfer_follow" : "transfer_zero"; }
+
+TransferProblem generate_problem(int id, uint64_t seed, int dim, Family family) {
   std::mt19937_64 rng(seed * 1000003ULL + uint64_t(id) * 7919ULL + 17);
   std::uniform_real_distribution<double> U(0, 1);
   auto uni = [&](double a, double b) { return a + (b - a) * U(rng); };
@@ -44,12 +46,19 @@ TransferProblem generate_problem(int id, uint64_t seed, int dim) {
   m.planner.pour_time_s = 2.0;
   m.planner.iterations = 4;
   m.seed = uint64_t(id) + 1;
+  // FOLLOW draws after every ZERO draw, so problem id of both families differs
+  // only by the target's motion (side-by-side comparison).
+  const double speed = uni(0.015, 0.04);
+  if (family == Family::Follow) {
+    p.family = family_name(family);
+    m.target_velocity_mps = {m.target.pose.position_m[0] < 0.22 ? speed : -speed, 0, 0};
+  }
   return p;
 }
 
-std::vector<TransferProblem> held_out_problems(int count, uint64_t seed, int dim) {
+std::vector<TransferProblem> held_out_problems(int count, uint64_t seed, int dim, Family family) {
   std::vector<TransferProblem> out;
-  for (int id = 0; int(out.size()) < count; id += 5) out.push_back(generate_problem(id, seed, dim));
+  for (int id = 0; int(out.size()) < count; id += 5) out.push_back(generate_problem(id, seed, dim, family));
   return out;
 }
 

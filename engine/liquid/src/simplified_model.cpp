@@ -122,8 +122,7 @@ SimplifiedResult simulate_simplified(const LiquidModel& m, const OutflowTables& 
   if (c.type == ContainerShape::Bottle) vol0 = std::min(vol0, t.capacity);
   double vol = vol0, in = 0, out = 0, collision = 0;
   const double ro = c.opening_radius();
-  const Pose& tp = m.target.pose;
-  const double rim = tp.position_m[1] + m.target.shape.height_m;
+  const double height = m.target.shape.height_m;
   // The stream has a width and the model is coarse: count a parcel as caught
   // only when it lands well inside the opening.
   const double probe = 0.3 * m.target.shape.opening_radius();
@@ -132,6 +131,8 @@ SimplifiedResult simulate_simplified(const LiquidModel& m, const OutflowTables& 
   for (int s = 0; s < steps; ++s) {
     const double time = s * dt;
     const Pose pose = path.at(time);
+    const Pose tp = target_pose_at(m, time);  // FOLLOW: the target moves
+    const double rim = tp.position_m[1] + height;
     Vec3 lin;
     double rate;
     path.velocity(time, &lin, &rate);
@@ -165,9 +166,10 @@ SimplifiedResult simulate_simplified(const LiquidModel& m, const OutflowTables& 
       if (tl >= 0) {
         const Vec3 land{lip[0] + v[0] * tl, rim - 1e-4, lip[2] + v[2] * tl};
         landed_in = true;
+        const Pose tl_pose = target_pose_at(m, time + tl);  // where the target is on landing
         for (double off : {-probe, probe}) {
           const Vec3 q{land[0] + off, land[1], land[2]};
-          landed_in = landed_in && m.target.shape.in_extended_cavity(tp.to_local(q), m.dim);
+          landed_in = landed_in && m.target.shape.in_extended_cavity(tl_pose.to_local(q), m.dim);
         }
       }
     }

@@ -2,15 +2,97 @@
 // Gathers the samples of every finished take under DIR (the out folder of
 // `pliant sweep assets/sweeps/liquid_dataset.json`, all shards) and trains the
 // feedback planner's networks; writes NET.json and prints one JSON line.
+//
+// liquid_train --evaluate NET.json [--first ID] [--count N] [--seed S]
+//   [--family zero|follow]
+// Runs the feedback closed loop (MPC + full 2D simulation) on N validation
+// problems of the generator: training-split ids from ID on (id % 5 != 0, so the
+// held-out split is never touched) that the shipped dataset does not use
+// (it uses ids 1..59). This is where MPC settings are tuned; prints one JSON
+// line per problem and a summary line.
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
+#include <functional>
 #include <string>
 
 #include "pliant/liquid/feedback.h"
+#include "pliant/liquid/problem_generator.h"
+
+namespace {
+
+int evaluate(int argc, char** argv) {
+  using namespace pliant::liquid;
+  if (argc < 3) {
+    std::fprintf(stderr, "usage: liquid_train --evaluate NET.json [--first ID] [--count N] [--seed S]\n");
+    return 2;
+  }
+  int first = 60, count = 30, trace = -1;
+  uint64_t seed = 2026;
+  std::string family = "zero";
+  for (int i = 3; i + 1 < argc; i += 2) {
+    const std::string k = argv[i];
+    if (k == "--first") first = std::atoi(argv[i + 1]);
+    else if (k == "--count") count = std::atoi(argv[i + 1]);
+    else if (k == "--seed") seed = std::strtoull(argv[i + 1], nullptr, 10);
+    else if (k == "--family") family = argv[i + 1];
+    else if (k == "--trace") trace = std::atoi(argv[i + 1]);  // per-frame lines of one problem
+    else {
+      std::fprintf(stderr, "liquid_train: unknown option %s\n", k.c_str());
+      return 2;
+    }
+  }
+  const FeedbackPredictor net = FeedbackPredictor::load(argv[2]);
+  int done = 0, success = 0;
+  double transfer = 0, spilled = 0;
+  for (int id = trace >= 0 ? trace : first; done < count; ++id) {
+    if (id % 5 == 0) continue;  // held out: never used for tuning
+    const TransferProblem p = generate_problem(id, seed, 2, family == "follow" ? Family::Follow : Family::Zero);
+    std::function<void(const LiquidModel&, const LiquidState&)> on_frame;
+    if (trace >= 0) {
+      count = 1;
+      const LiquidModel& pm = p.model;
+      std::fprintf(stderr, "shape %d radius %.3f height %.3f fill %.2f mu %.4f target x %.3f r %.3f h %.3f\n",
+                   int(pm.source.shape.type), pm.source.shape.radius_m, pm.source.shape.height_m, pm.fill_fraction,
+                   pm.viscosity_pa_s, pm.target.pose.position_m[0], pm.target.shape.radius_m,
+                   pm.target.shape.height_m);
+      on_frame = [](const LiquidModel& m, const LiquidState& s) {
+        const Pose q = source_pose_at(m, s.time_s);
+        const auto fr = liquid_fractions(m, s);
+        std::fprintf(stderr, "t %.2f x %.3f y %.3f tilt %5.1f  target %.3f  in %.3f spill %.3f left %.3f\n",
+                     s.time_s, q.position_m[0], q.position_m[1], q.tilt_rad * 57.2958,
+                     target_pose_at(m, s.time_s).position_m[0], fr[0], fr[1], fr[2]);
+      };
+    }
+    const FeedbackRun run = run_feedback(p.model, net, MpcSettings{}, liquid_init(p.model), {}, on_frame);
+    LiquidModel m = p.model;
+    m.source_path = run.path;
+    const auto fr = liquid_fractions(m, run.final_state);
+    ++done;
+    success += fr[1] < 0.05;
+    transfer += fr[0];
+    spilled += fr[1];
+    std::printf("{\"id\": %d, \"in_target\": %.4f, \"spilled\": %.4f, \"in_source\": %.4f}\n", id, fr[0], fr[1],
+                fr[2]);
+    std::fflush(stdout);
+  }
+  std::printf("{\"problems\": %d, \"success_at_5\": %.4f, \"mean_transfer\": %.4f, \"mean_spilled\": %.4f}\n",
+              count, double(success) / count, transfer / count, spilled / count);
+  return 0;
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   using namespace pliant::liquid;
+  if (argc >= 2 && std::string(argv[1]) == "--evaluate") {
+    try {
+      return evaluate(argc, argv);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "liquid_train: %s\n", e.what());
+      return 1;
+    }
+  }
   if (argc < 3) {
     std::fprintf(stderr, "usage: liquid_train DIR NET.json [--epochs N] [--hidden H] [--seed S]\n");
     return 2;

@@ -61,6 +61,29 @@ TEST(Planners, FeedbackTransfersNinetyPercent) {
   }
 }
 
+// TRANSFER+FOLLOW: problem 0 with the target moving away from the source at
+// 3 cm/s (7.8 cm over the run); every planner must follow it.
+TEST(Planners, FollowTargetEachPlannerTransfersNinetyPercent) {
+  LiquidModel m = problem(0);
+  m.target_velocity_mps = {0.03, 0, 0};
+  const FeedbackPredictor net =
+      FeedbackPredictor::load(std::filesystem::path(PLIANT_ASSETS_DIR) / "sweeps/liquid_dataset_net.json");
+  const FeedbackRun run = run_feedback(m, net, MpcSettings{}, liquid_init(m), {}, nullptr);
+  LiquidModel fb = m;
+  fb.source_path = run.path;
+  const auto f0 = liquid_fractions(fb, run.final_state);
+  EXPECT_GE(f0[0], 0.9) << "feedback: spilled " << f0[1] << ", left " << f0[2];
+  for (Planner planner : {Planner::Correction, Planner::Simplified}) {
+    LiquidModel p = m;
+    Progress progress;
+    p.source_path = planner == Planner::Simplified ? plan_simplified(p, progress, nullptr)
+                                                   : plan_correction(p, progress, nullptr);
+    const auto fr = simulate_fractions(p);
+    EXPECT_GE(fr[0], 0.9) << (planner == Planner::Simplified ? "simplified" : "correction") << ": spilled "
+                          << fr[1] << ", left " << fr[2];
+  }
+}
+
 TEST(Planners, CorrectionTransfersNinetyPercent) { expect_transfer(Planner::Correction); }
 TEST(Planners, SimplifiedTransfersNinetyPercent) { expect_transfer(Planner::Simplified); }
 

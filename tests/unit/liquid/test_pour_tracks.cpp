@@ -40,5 +40,37 @@ TEST(PourTracks, ParabolaCrossingAndObjective) {
   EXPECT_NEAR(cobj, std::abs(xc - 0.3), 1e-4);  // the fitted parabola is exact
 }
 
+// A moving (FOLLOW) target: the landing offset and C_OBJ are measured against
+// where the opening is when the particle crosses the rim, not where it started.
+TEST(PourTracks, MovingTargetOffsetAtLandingTime) {
+  LiquidModel m = test::still_container_2d();
+  m.has_target = true;
+  m.target.shape.radius_m = 0.05, m.target.shape.height_m = 0.05;
+  m.target.pose.position_m = {0.3, 0, 0};
+  m.target_velocity_mps = {-0.2, 0, 0};
+  LiquidState s;
+  s.x = {0.0f, 0.05f, 0.f};
+  s.v = {0, 0, 0};
+  PourTracks tracks(m, s);
+  const double x0 = 0.0, y0 = 0.2, vx = 1.0, vy = 0.5, g = 9.81, dt = 0.01;
+  for (int f = 1; f <= 40; ++f) {
+    const double t = f * dt;
+    s.time_s = t;
+    s.x = {float(x0 + vx * t), float(y0 + vy * t - 0.5 * g * t * t), 0.f};
+    tracks.record(s);
+  }
+  const auto& tr = tracks.tracks()[0];
+  ASSERT_TRUE(tr.landed);
+  const double a = -0.5 * g, b = vy, c = y0 - 0.05;
+  const double tc = (-b - std::sqrt(b * b - 4 * a * c)) / (2 * a);
+  const double xc = x0 + vx * tc, centre = 0.3 - 0.2 * tc;
+  EXPECT_NEAR(tr.landing_time, tc, 0.005);
+  EXPECT_NEAR(tr.landing_offset[0], xc - centre, 0.01);
+  EXPECT_NEAR(tracks.opening_centre(tc)[0], centre, 1e-9);
+  int useful = 0;
+  EXPECT_NEAR(tracks.objective(1e-4, &useful), std::abs(xc - centre), 1e-4);
+  EXPECT_EQ(useful, 1);
+}
+
 }  // namespace
 }  // namespace pliant::liquid

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 namespace pliant::liquid {
 namespace {
 
@@ -25,6 +27,36 @@ TEST(ProblemGenerator, ProblemsAreValidScenes) {
     const LiquidState s = liquid_init(m);
     EXPECT_GT(s.count(), 100u) << id;
     EXPECT_DOUBLE_EQ(liquid_fractions(m, s)[2], 1.0) << id;  // all liquid starts in the source
+  }
+}
+
+// TRANSFER+FOLLOW: the same draws as TRANSFER+ZERO plus a constant horizontal
+// target velocity that keeps the whole target inside the domain for the run;
+// the held-out split is the same ids in both families.
+TEST(ProblemGenerator, FollowFamilyMovesTheTargetInsideTheDomain) {
+  for (int id = 0; id < 40; ++id) {
+    const TransferProblem z = generate_problem(id, 2026), f = generate_problem(id, 2026, 2, Family::Follow);
+    EXPECT_EQ(z.family, "transfer_zero");
+    EXPECT_EQ(f.family, "transfer_follow");
+    EXPECT_EQ(z.held_out, f.held_out);
+    EXPECT_FALSE(target_moves(z.model));
+    EXPECT_EQ(z.model.fill_fraction, f.model.fill_fraction);
+    EXPECT_EQ(z.model.target.pose.position_m[0], f.model.target.pose.position_m[0]);
+    const double v = f.model.target_velocity_mps[0];
+    EXPECT_GE(std::abs(v), 0.015) << id;
+    EXPECT_LE(std::abs(v), 0.04) << id;
+    EXPECT_EQ(f.model.target_velocity_mps[1], 0.0);
+    const double end = f.model.frames * f.model.dt_s;
+    const double reach = f.model.target.shape.radius_m + f.model.target.shape.wall_m;
+    for (double t : {0.0, end}) {
+      const double x = target_pose_at(f.model, t).position_m[0];
+      EXPECT_GT(x - reach, f.model.source.pose.position_m[0] + f.model.source.shape.radius_m) << id;
+      EXPECT_LT(x + reach, f.model.domain_max_m[0]) << id;
+    }
+  }
+  for (const auto& p : held_out_problems(5, 2026, 2, Family::Follow)) {
+    EXPECT_TRUE(p.held_out);
+    EXPECT_TRUE(target_moves(p.model));
   }
 }
 
