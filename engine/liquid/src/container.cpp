@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "container_mesh.h"
 #include "pliant/liquid/liquid.h"
 
 namespace pliant::liquid {
@@ -58,6 +59,7 @@ double outer_sdf(const ContainerShape& c, double r, double y) {
 }  // namespace
 
 double ContainerShape::wall_sdf(const Vec3& p, int dim) const {
+  if (type == Mesh) return mesh->distance({p[0], p[1], dim == 3 ? p[2] : 0.0});
   const double r = radial(*this, p, dim);
   double d = std::max(outer_sdf(*this, r, p[1]), -cavity_sdf(*this, r, p[1]));
   if (type == Cup) {
@@ -72,15 +74,21 @@ double ContainerShape::wall_sdf(const Vec3& p, int dim) const {
 }
 
 bool ContainerShape::in_cavity(const Vec3& p, int dim) const {
+  if (type == Mesh) return p[1] <= height_m && mesh->in_cavity({p[0], p[1], dim == 3 ? p[2] : 0.0});
   const double r = radial(*this, p, dim);
   return p[1] <= height_m && cavity_sdf(*this, r, p[1]) < 0;
 }
 
 bool ContainerShape::in_extended_cavity(const Vec3& p, int dim) const {
+  if (type == Mesh) {
+    const Vec3 q{p[0], p[1], dim == 3 ? p[2] : 0.0};
+    return p[1] <= height_m ? mesh->in_cavity(q) : mesh->column_open(q);
+  }
   return cavity_sdf(*this, radial(*this, p, dim), p[1]) < 0;
 }
 
 double ContainerShape::cavity_volume(int dim) const {
+  if (type == Mesh) return dim == 3 ? mesh->volume3 : mesh->area2;
   const double pi = 3.14159265358979323846;
   auto section = [&](double rad) {
     if (dim == 2) return 2 * rad;

@@ -6,11 +6,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <memory>
 #include <random>
 #include <stdexcept>
 #include <string>
 
+#include "container_mesh.h"
 #include "flip_grid.h"
 
 namespace pliant::liquid {
@@ -30,7 +32,7 @@ FlipWorkspace& workspace(const LiquidModel& m) {
                            double(t.shape.type), t.shape.radius_m, t.shape.depth_m, t.shape.height_m,
                            t.shape.wall_m, t.shape.neck_radius_m, t.shape.body_height_m,
                            m.target_velocity_mps[0], m.target_velocity_mps[1], m.target_velocity_mps[2],
-                           double(m.has_source)};
+                           double(m.has_source), double(reinterpret_cast<uintptr_t>(t.shape.mesh.get()))};
   if (!w || k != key) {
     w = std::make_unique<FlipWorkspace>();
     key = std::move(k);
@@ -48,6 +50,7 @@ Vec3 source_point_velocity(const LiquidModel& m, double t, const Pose& pose, con
 
 // Reach of a container from its origin (bounding sphere radius).
 double container_reach(const ContainerShape& c) {
+  if (c.type == ContainerShape::Mesh) return c.mesh->reach_m;
   const double r = c.radius_m + c.wall_m + (c.type == ContainerShape::Cup ? 0.6 * c.height_m : 0.0);
   return std::sqrt(r * r + std::max(c.depth_m, r) * std::max(c.depth_m, r) + c.height_m * c.height_m) + c.wall_m;
 }

@@ -9,6 +9,9 @@
 #include "pliant/core/error.h"
 #include "pliant/core/json_reader.h"
 #include "pliant/core/scene.h"
+#include "pliant/geom/raster_grid.h"
+#include "pliant/geom/triangle_mesh.h"
+#include "container_mesh.h"
 #include "pliant/liquid/feedback.h"
 #include "pliant/liquid/liquid.h"
 #include "pliant/liquid/problem_generator.h"
@@ -32,9 +35,32 @@ Vec3 required_vec(JsonReader& r, std::string_view key, int dim) {
   return read_vec(r, key, {0, 0, 0}, dim);
 }
 
-ContainerShape read_shape(JsonReader& r) {
+// {"shape": "mesh", "file": "mug.obj", "scale": 1}: a closed triangle mesh
+// (assimp formats), file relative to `base` (the container file's folder, or
+// the scene's for an inline container), sampled at half the cell size.
+ContainerShape read_mesh_shape(JsonReader& r, const std::filesystem::path& base, double cell) {
+  const std::string rel = r.string("file", "");
+  if (rel.empty()) r.fail("file", "missing required field; expected the path of a closed triangle mesh");
+  const double scale = r.number("scale", 1.0, 1e-6, 1e6);
+  r.accept("comment");
+  r.accept("origin");
+  r.finish();
+  const std::filesystem::path path = std::filesystem::path(rel).is_absolute() ? std::filesystem::path(rel) : base / rel;
+  try {
+    ContainerShape c = mesh_container(geom::load_mesh(path, path.string()), scale, 0.5 * cell);
+    c.mesh_file = path.string();
+    return c;
+  } catch (const geom::GeomError& e) {
+    r.fail("file", e.what());
+  } catch (const MeshContainerError& e) {
+    r.fail("file", path.string() + ": " + e.what());
+  }
+}
+
+ContainerShape read_shape(JsonReader& r, const std::filesystem::path& base, double cell) {
   ContainerShape c;
-  const std::string type = r.choice("shape", "cylinder", {"cylinder", "oval", "box", "cup", "bottle"});
+  const std::string type = r.choice("shape", "cylinder", {"cylinder", "oval", "box", "cup", "bottle", "mesh"});
+  if (type == "mesh") return read_mesh_shape(r, base, cell);
   c.type = type == "oval"     ? ContainerShape::Oval
            : type == "box"    ? ContainerShape::Box
            : type == "cup"    ? ContainerShape::Cup
@@ -58,13 +84,17 @@ ContainerShape read_shape(JsonReader& r) {
 
 // Walls thinner than a cell let the grid leak (no cell centre inside the wall).
 void check_wall(const ContainerShape& c, double cell, JsonReader& parent) {
+  if (c.type == ContainerShape::Mesh && c.wall_m < cell)
+    parent.fail("container", "the mesh's wall at the rim (" + std::to_string(c.wall_m) +
+                                 " m) is thinner than /domain/cell_size_m " + std::to_string(cell) +
+                                 "; walls need at least one cell (scale the mesh up or refine the grid)");
   if (c.wall_m < cell)
     parent.fail("container", "wall_m " + std::to_string(c.wall_m) + " is thinner than /domain/cell_size_m " +
                                  std::to_string(cell) + "; walls need at least one cell");
 }
 
 // "container": an object, or a path to a JSON file holding one.
-ContainerShape read_container(JsonReader& parent, const Scene& scene) {
+ContainerShape read_container(JsonReader& parent, const Scene& scene, double cell) {
   if (!parent.has("container")) parent.fail("container", "missing required field; expected a container object or file");
   const nlohmann::json& v = parent.value().at("container");
   parent.accept("container");
@@ -82,11 +112,11 @@ ContainerShape read_container(JsonReader& parent, const Scene& scene) {
       throw InputError(path.string(), "", std::string("invalid JSON: ") + e.what());
     }
     JsonReader r(doc, path.string());
-    return read_shape(r);
+    return read_shape(r, path.parent_path(), cell);
   }
   if (!v.is_object()) parent.fail("container", "expected a container object or a file path");
   JsonReader r(v, parent.file(), parent.child_pointer("container"));
-  return read_shape(r);
+  return read_shape(r, scene.asset_path("."), cell);
 }
 
 Pose read_pose(JsonReader& r, int dim, bool position_required) {
@@ -200,7 +230,7 @@ LiquidModel liquid_compile(const Scene& scene) {
     l->finish();
   }
   if (auto s = root.object("source")) {
-    m.source.shape = read_container(*s, scene);
+    m.source.shape = read_container(*s, scene, m.cell_size_m);
     m.source.pose = read_pose(*s, m.dim, true);
     check_wall(m.source.shape, m.cell_size_m, *s);
     const auto keys = s->objects("trajectory");
@@ -219,7 +249,7 @@ LiquidModel liquid_compile(const Scene& scene) {
     m.has_source = false;
   }
   if (auto t = root.object("target")) {
-    m.target.shape = read_container(*t, scene);
+    m.target.shape = read_container(*t, scene, m.cell_size_m);
     m.target.pose = read_pose(*t, m.dim, true);
     m.target_velocity_mps = read_vec(*t, "velocity_mps", {0, 0, 0}, m.dim);
     for (int a = 0; a < m.dim; ++a)

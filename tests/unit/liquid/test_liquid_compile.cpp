@@ -71,7 +71,7 @@ TEST(LiquidCompile, ErrorsNameTheirPointer) {
 }
 
 TEST(LiquidCompile, ContainerFilesOfTheAssetsLoad) {
-  for (const char* name : {"cylinder", "oval", "box", "cup", "bottle", "target_basin"}) {
+  for (const char* name : {"cylinder", "oval", "box", "cup", "bottle", "target_basin", "mug"}) {
     auto d = nlohmann::json::parse(kGood);
     d["dim"] = 3;
     d["domain"]["min_m"] = {-0.1, 0, -0.1};

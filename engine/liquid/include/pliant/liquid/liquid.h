@@ -16,12 +16,15 @@
 //   constant mu away from the free surface).
 // - Substeps: CFL on the largest particle/grid speed (cfl cells per substep).
 // - Containers: analytic signed distance fields (cylinder, oval, box, cup with
-//   handle, long bottle) in the container's frame; the source moves along a
+//   handle, long bottle) or a closed triangle mesh (assimp) sampled into a
+//   signed distance grid (ray-parity sign, exact distance in a band) in the
+//   container's frame; the source moves along a
 //   key-pose trajectory (translation + tilt about z, Catmull-Rom in time); the
 //   target moves at a constant velocity (TRANSFER+FOLLOW; zero = static), its
 //   walls impose that velocity on the liquid like the source's do.
 #pragma once
 #include <array>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -34,16 +37,23 @@ namespace pliant::liquid {
 
 using Vec3 = std::array<double, 3>;
 
+struct MeshContainerField;  // a mesh container's sampled SDF and cavity (container_mesh.h)
+
 // A container in its own frame: open top at y = height, floor at y = 0, axis +y.
 // The solid wall is the shell between the cavity and the cavity grown by wall_m.
 struct ContainerShape {
-  enum Type { Cylinder, Oval, Box, Cup, Bottle } type = Cylinder;
+  enum Type { Cylinder, Oval, Box, Cup, Bottle, Mesh } type = Cylinder;
   double radius_m = 0.05;       // cavity radius (oval/box: half width along x)
   double depth_m = 0.05;        // oval/box: half width along z (3D only)
   double height_m = 0.12;
   double wall_m = 0.02;
   double neck_radius_m = 0.02;  // bottle: neck cavity radius
   double body_height_m = 0.12;  // bottle: height where the neck starts
+  // Mesh: the sampled field (shared, read-only) and the file it came from. For a
+  // mesh, radius_m / depth_m are the opening's half widths along x / z, wall_m
+  // the wall at the rim, height_m the rim above the cavity floor.
+  std::shared_ptr<const MeshContainerField> mesh;
+  std::string mesh_file;
   // Signed distance to the solid wall (negative inside the wall material).
   double wall_sdf(const Vec3& local, int dim) const;
   // Inside the cavity (below the opening)?
