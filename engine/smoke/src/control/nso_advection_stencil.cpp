@@ -108,33 +108,90 @@ void build_sl_stencil(const SpacetimeGrid& sg, const double* zbar, double dt, Sl
   }
 }
 
-void sl_apply(const SpacetimeGrid& sg, const SlStencil& s, const double* x, double* y) {
-  const MacGrid& g = sg.g;
-  for (int a = 0; a < g.dim; ++a) {
-    const FieldLayout l = g.face_layout(a);
+namespace {
+// Two samples per axis always (i1 = i0 on a size-1 axis: the two weights then add up
+// to the merged weight), unrolled for the dimension: y = A x and y += alpha A^T x are
+// linear, so unmerged duplicates give the same sums.
+template <int DIM>
+struct Corners {
+  int64_t idx[1 << DIM];
+  double w[1 << DIM];
+};
+
+template <int DIM>
+inline void corners(const FieldLayout& l, const SlRow& r, Corners<DIM>& c) {
+  int64_t o[3][2];
+  double w[3][2];
+  int64_t stride = 1;
+  for (int b = 0; b < DIM; ++b) {
+    const int size = l.size[b], i0 = r.i0[b];
+    const int i1 = size == 1 ? i0 : (l.periodic && i0 + 1 == size ? 0 : i0 + 1);
+    o[b][0] = i0 * stride, o[b][1] = i1 * stride;
+    w[b][0] = 1.0 - double(r.f[b]), w[b][1] = double(r.f[b]);
+    stride *= size;
+  }
+  if constexpr (DIM == 2) {
+    for (int y = 0; y < 2; ++y)
+      for (int x = 0; x < 2; ++x) c.idx[2 * y + x] = o[0][x] + o[1][y], c.w[2 * y + x] = w[0][x] * w[1][y];
+  } else {
+    for (int z = 0; z < 2; ++z)
+      for (int y = 0; y < 2; ++y)
+        for (int x = 0; x < 2; ++x) {
+          const int m = 4 * z + 2 * y + x;
+          c.idx[m] = o[0][x] + o[1][y] + o[2][z];
+          c.w[m] = w[0][x] * w[1][y] * w[2][z];
+        }
+  }
+}
+
+template <int DIM>
+void apply_t(const SpacetimeGrid& sg, const SlStencil& s, const double* x, double* y) {
+  for (int a = 0; a < DIM; ++a) {
+    const FieldLayout l = sg.g.face_layout(a);
     const size_t o = sg.off[a], n = l.count();
     const double* xa = x + o;
+    const SlRow* rows = s.rows.data() + o;
     for (size_t e = 0; e < n; ++e) {
+      if (rows[e].wall) {
+        y[o + e] = 0.0;
+        continue;
+      }
+      Corners<DIM> c;
+      corners<DIM>(l, rows[e], c);
       double acc = 0;
-      for_each_sample(l, g.dim, s.rows[o + e], [&](int64_t c, double w) { acc += w * xa[c]; });
+      for (int m = 0; m < (1 << DIM); ++m) acc += c.w[m] * xa[c.idx[m]];
       y[o + e] = acc;
     }
   }
 }
 
-void sl_apply_transpose_add(const SpacetimeGrid& sg, const SlStencil& s, double alpha, const double* x,
-                            double* y) {
-  const MacGrid& g = sg.g;
-  for (int a = 0; a < g.dim; ++a) {
-    const FieldLayout l = g.face_layout(a);
+template <int DIM>
+void transpose_add_t(const SpacetimeGrid& sg, const SlStencil& s, double alpha, const double* x, double* y) {
+  for (int a = 0; a < DIM; ++a) {
+    const FieldLayout l = sg.g.face_layout(a);
     const size_t o = sg.off[a], n = l.count();
     double* ya = y + o;
+    const SlRow* rows = s.rows.data() + o;
     for (size_t e = 0; e < n; ++e) {
       const double v = alpha * x[o + e];
-      if (v == 0.0) continue;
-      for_each_sample(l, g.dim, s.rows[o + e], [&](int64_t c, double w) { ya[c] += w * v; });
+      if (v == 0.0 || rows[e].wall) continue;
+      Corners<DIM> c;
+      corners<DIM>(l, rows[e], c);
+      for (int m = 0; m < (1 << DIM); ++m) ya[c.idx[m]] += c.w[m] * v;
     }
   }
+}
+}  // namespace
+
+void sl_apply(const SpacetimeGrid& sg, const SlStencil& s, const double* x, double* y) {
+  if (sg.g.dim == 3) apply_t<3>(sg, s, x, y);
+  else apply_t<2>(sg, s, x, y);
+}
+
+void sl_apply_transpose_add(const SpacetimeGrid& sg, const SlStencil& s, double alpha, const double* x,
+                            double* y) {
+  if (sg.g.dim == 3) transpose_add_t<3>(sg, s, alpha, x, y);
+  else transpose_add_t<2>(sg, s, alpha, x, y);
 }
 
 void sl_ata(const SpacetimeGrid& sg, const SlStencil& s, double* diag, double* hi) {

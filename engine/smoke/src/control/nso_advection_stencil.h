@@ -49,6 +49,20 @@ int sl_row_entries(const SpacetimeGrid& sg, const SlStencil& s, size_t row, int6
 // The entries of A^T A that SCGS needs: diag[phi] = (A^T A)[phi, phi] and
 // hi[phi] = (A^T A)[phi, face_hi_partner(phi)] (overwrites both, faces values each).
 void sl_ata(const SpacetimeGrid& sg, const SlStencil& s, double* diag, double* hi);
+// A[row, col] for rows and columns of one component, given col's coordinates in that
+// component's layout l (SCGS's local blocks: no search over the row's samples).
+inline double sl_entry_at(const FieldLayout& l, int dim, const SlRow& r, const int* col) {
+  if (r.wall) return 0.0;
+  double w = 1.0;
+  for (int b = 0; b < dim; ++b) {
+    const int size = l.size[b];
+    if (size == 1) continue;  // the merged sample: weight 1
+    const int i0 = r.i0[b], i1 = l.periodic && i0 + 1 == size ? 0 : i0 + 1;
+    const double f = r.f[b];
+    w *= (col[b] == i0 ? 1.0 - f : 0.0) + (col[b] == i1 ? f : 0.0);
+  }
+  return w;
+}
 // A[row, col], 0 when col is not in row's stencil.
 double sl_entry(const SpacetimeGrid& sg, const SlStencil& s, size_t row, size_t col);
 

@@ -18,6 +18,7 @@ NsoLevel::NsoLevel(const SpacetimeGrid& sg) : sg_(sg) {
   res_div.assign(TC, 0.0);
   wall_.resize(sg.faces());
   for (size_t f = 0; f < sg.faces(); ++f) wall_[f] = is_wall_face(sg, f);
+  for (int a = 0; a < 3; ++a) lay_[a] = sg.g.face_layout(a);
   A_.resize(std::max(0, sg.T - 1));
   ata_diag_.assign(size_t(std::max(0, sg.T - 1)) * sg.faces(), 0.0f);
   ata_hi_.assign(ata_diag_.size(), 0.0f);
@@ -168,6 +169,14 @@ void NsoLevel::solve_cell(int i, int j, int k, int thread) {
     sgn[2 * a + 1] = 1.0 / g.h;
   }
   for (int p = 0; p < 2 * dim; ++p) wall[p] = wall_[phi[p]];
+  // Coordinates of the cell's faces in their component's layout (hi: +1, wrapped).
+  int coord[6][3];
+  for (int a = 0; a < dim; ++a) {
+    int* lo = coord[2 * a];
+    int* hi = coord[2 * a + 1];
+    lo[0] = hi[0] = i, lo[1] = hi[1] = j, lo[2] = hi[2] = k;
+    hi[a] = g.periodic && hi[a] + 1 == g.n[a] ? 0 : hi[a] + 1;
+  }
   ThreadScratch& s = scratch_[thread];
   // Only the structurally non-zero entries are written (walls write zeros there), so
   // B, L, U keep their zero pattern from the allocation: no fills per cell.
@@ -199,20 +208,17 @@ void NsoLevel::solve_cell(int i, int j, int k, int thread) {
     if (t > 0) {  // L_t = -w A_{t-1}[local, local]; U_{t-1} = L_t^T
       double* L = s.L.data() + size_t(t) * mm;
       double* U = s.U.data() + size_t(t - 1) * mm;
-      for (int a = 0; a < dim; ++a)
-        for (int p = 2 * a; p < 2 * a + 2; ++p) {
-          int64_t idx[8];
-          double wt[8];
-          const int n = wall[p] ? 0 : sl_row_entries(sg_, A_[t - 1], phi[p], idx, wt);
+      const SlRow* rows = A_[t - 1].rows.data();
+      for (int a = 0; a < dim; ++a) {
+        const FieldLayout& l = lay_[a];
+        for (int p = 2 * a; p < 2 * a + 2; ++p)
           for (int pp = 2 * a; pp < 2 * a + 2; ++pp) {
-            double v = 0;
-            if (!wall[pp])
-              for (int e = 0; e < n; ++e)
-                if (size_t(idx[e]) == phi[pp]) v += wt[e];
-            L[p * m + pp] = -w_ * v;
-            U[pp * m + p] = -w_ * v;
+            const double v =
+                wall[p] || wall[pp] ? 0.0 : -w_ * sl_entry_at(l, dim, rows[phi[p]], coord[pp]);
+            L[p * m + pp] = v;
+            U[pp * m + p] = v;
           }
-        }
+      }
     }
   }
   const BlockTridiagonalScratch bs{s.schur.data(), s.sinv_u.data(), s.piv.data()};

@@ -74,6 +74,7 @@ class NsoLevel {
   // float: they only shape the SCGS blocks (a smoother), never the residual.
   std::vector<float> ata_diag_, ata_hi_;
   std::vector<uint8_t> wall_;      // per face
+  FieldLayout lay_[3];             // face layouts per component
   struct ThreadScratch {
     std::vector<double> B, L, U, rhs, schur, sinv_u;
     std::vector<int> piv;
