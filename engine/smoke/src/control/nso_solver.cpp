@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 namespace pliant::smoke {
 
@@ -18,6 +19,7 @@ NsoSolver::NsoSolver(const ControlModel& m, control_detail::ForwardOps& ops)
 size_t NsoSolver::bytes() const { return mg_->bytes() + (a_.capacity() + b_.capacity()) * sizeof(double); }
 
 double NsoSolver::energy_flat(const double* x, const std::vector<Vec>& d, double beta) {
+  const control_detail::SerialBelow serial(ops_.cells());
   const double dt = ops_.dt();
   double ef = 0, ed = 0;
   for (int t = 0; t < T_; ++t) {
@@ -37,6 +39,7 @@ double NsoSolver::energy_flat(const double* x, const std::vector<Vec>& d, double
 }
 
 double NsoSolver::energy(const std::vector<Vec>& z, const std::vector<Vec>& d, double beta) {
+  const control_detail::SerialBelow serial(ops_.cells());
   const double dt = ops_.dt();
   double ef = 0, ed = 0;
   for (int t = 0; t < T_; ++t) {
@@ -61,11 +64,13 @@ NsoStats NsoSolver::solve(std::vector<Vec>& z, const std::vector<Vec>& d, double
     // r -> 0 (no dynamics term), and a much better guess than the last z while beta
     // dominates 2r/dt^2, so fewer V-cycles reach the same residual. Built in the fine
     // level's x (no T*faces copy).
+    std::optional<control_detail::SerialBelow> serial(std::in_place, ops_.cells());
     for (int t = 0; t < T_; ++t) {
       b_ = d[t];
       ops_.project(b_);
       std::copy(b_.begin(), b_.end(), L.x.begin() + size_t(t) * F_);
     }
+    serial.reset();
     const double Ep = energy_flat(L.x.data(), d, beta);
     if (Ep < E) {
       for (int t = 0; t < T_; ++t) std::copy(L.x.begin() + size_t(t) * F_, L.x.begin() + size_t(t + 1) * F_, z[t].begin());

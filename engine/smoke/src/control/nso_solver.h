@@ -11,6 +11,10 @@
 // damping (mu/2)||z - zbar||^2 and runs `vcycles` FAS V-cycles on the KKT system;
 // the step is accepted when the true nonlinear E decreases, else mu grows and the
 // step is retried (at most 3 tries), so E never increases.
+// Threads: the forward model's operators (projection, self-advection) run on one thread
+// below kControlParallelCells cells, like the rest of the control code (their fine-grained
+// fork/joins cost more than they save there: 64^2 x 40 NSO solve 4 s on 1 thread, 61 s
+// on 2 at load average 15); the multigrid has its own threshold (kSpacetimeOmpMinWork).
 // Start: z = P d (per-frame projection) when its E is below the warm start's. With the
 // scenes' small r (2r/dt^2 << beta) P d is nearly the solution, and one or two V-cycles
 // then suffice (measured on circle-to-square 32^2 x 20: with 1 V-cycle per solve and no
