@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Writes mug.obj: a mug with a handle, as two closed triangle surfaces that do
 not overlap (a body of revolution and a curved tube). Metres, +y up, rim at
-y = 0.1. Made for Pliant (CC0). Usage: python3 make_mug.py > mug.obj"""
+y = 0.1, handle on -x. Made for Pliant (CC0). Usage: python3 make_mug.py > mug.obj"""
 import math
 
 RO, RI, H, F = 0.052, 0.040, 0.100, 0.012  # outer/inner radius, height, floor
@@ -31,9 +31,10 @@ def body():
 
 
 def handle():
-    cx, cy, rh, t = RO, 0.055, 0.030, 0.006  # arc centre, arc radius, tube radius
+    # On -x: a mug held by its handle pours toward +x over the opposite lip.
+    cx, cy, rh, t = -RO, 0.055, 0.030, 0.006  # arc centre, arc radius, tube radius
     K, M = 24, 12
-    lo, hi = math.radians(-70), math.radians(70)
+    lo, hi = math.radians(110), math.radians(250)
     rings = []
     for k in range(K + 1):
         phi = lo + (hi - lo) * k / K

@@ -1,6 +1,7 @@
 // bench_liquid [--quick] [--out FILE] [--sim-only | --planners-only | --feedback-only]
-//   [--no-feedback] [--problems N] [--feedback-problems N]: prints one JSON object per case and
-// writes them as an array to bench/results/liquid.json.
+//   [--no-feedback] [--problems N] [--feedback-problems N] [--case NAME] [--sim-s S]: prints one
+// JSON object per case and merges them into bench/results/liquid.json (rows of
+// other cases are kept).
 //   sim_<dim>d_<n>k_t<threads>: dam-break-style collapse, particle_steps_per_s
 //   dam_break_3d: 0.5 m cube in a 1 m box (~60k particles), wall_per_sim_s
 //   planner cases: see planner_cases() (success_at_5, mean_transfer, plan_s).
@@ -149,8 +150,23 @@ int main(int argc, char** argv) {
   if (planners)
     for (auto& j : bench_planners(quick, problems)) emit(j);
   if (feedback) emit(bench_feedback(feedback_problems > 0 ? feedback_problems : quick ? 5 : 100));
+  // Merge into the results file: rows of the cases run now replace theirs, the
+  // other rows (e.g. planner cases run separately) are kept, in their order.
+  nlohmann::json merged = nlohmann::json::array();
+  {
+    std::ifstream in(out);
+    nlohmann::json old;
+    if (in) old = nlohmann::json::parse(in, nullptr, false);
+    if (old.is_array()) merged = old;
+  }
+  for (const auto& row : all) {
+    bool replaced = false;
+    for (auto& o : merged)
+      if (o.is_object() && o.value("case", "") == row["case"]) o = row, replaced = true;
+    if (!replaced) merged.push_back(row);
+  }
   std::ofstream f(out);
-  f << all.dump(2) << "\n";
+  f << merged.dump(2) << "\n";
   std::fprintf(stderr, "wrote %s\n", out.c_str());
   return 0;
 }

@@ -16,7 +16,7 @@ const std::string kAssets = PLIANT_ASSETS_DIR;
 const std::string kMeshes = kAssets + "/../tests/meshes/";
 
 // The shipped mug (make_mug.py): cavity radius 0.04, rim 0.1 above the base,
-// floor 0.012 thick, wall 0.012; a handle tube on +x.
+// floor 0.012 thick, wall 0.012; a handle tube on -x.
 ContainerShape mug(double h = 0.0025) {
   return mesh_container(geom::load_mesh(kAssets + "/containers/mug.obj", "mug"), 1.0, h);
 }
@@ -52,14 +52,14 @@ TEST(ContainerMesh, MugFrameCavityAndDistances) {
   EXPECT_NEAR(c.wall_sdf({0.0, 0.092, 0.0}, 3) , c.wall_sdf({0.0, 0.092, 0.0}, 2), 1e-12);  // 2D: z = 0 section
   EXPECT_GT(c.wall_sdf({0.0, 0.05, 0}, 3), 0.005);                  // deep in the cavity (clamped band)
   EXPECT_GT(c.wall_sdf({0.3, 0.05, 0}, 3), 0.2);                    // far outside the sampled box
-  EXPECT_LT(c.wall_sdf({0.082, 0.043, 0}, 3), 0.0);                 // inside the handle tube
+  EXPECT_LT(c.wall_sdf({-0.082, 0.043, 0}, 3), 0.0);                 // inside the handle tube
   EXPECT_TRUE(c.in_cavity({0.0, 0.05, 0}, 3));
   EXPECT_TRUE(c.in_cavity({0.02, 0.01, -0.02}, 3));
-  EXPECT_FALSE(c.in_cavity({0.066, 0.043, 0}, 3));  // beside the mug, inside the handle's loop
-  EXPECT_GT(c.wall_sdf({0.066, 0.043, 0}, 3), 0.0);
+  EXPECT_FALSE(c.in_cavity({-0.066, 0.043, 0}, 3));  // beside the mug, inside the handle's loop
+  EXPECT_GT(c.wall_sdf({-0.066, 0.043, 0}, 3), 0.0);
   EXPECT_FALSE(c.in_cavity({0.0, 0.12, 0}, 3));    // above the rim
   EXPECT_TRUE(c.in_extended_cavity({0.0, 0.3, 0}, 3));
-  EXPECT_FALSE(c.in_extended_cavity({0.066, 0.3, 0}, 3));
+  EXPECT_FALSE(c.in_extended_cavity({-0.066, 0.3, 0}, 3));
 }
 
 TEST(ContainerMesh, BadMeshesAreRefusedWithTheirProblem) {
