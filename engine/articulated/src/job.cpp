@@ -39,7 +39,7 @@ ArticulatedScene articulated_compile(const Scene& scene) {
     }
   } else {
     auto mr = r.object("model");
-    a.model = model_from_json(*mr);
+    a.model = model_from_json(*mr, scene.asset_path("."));
     mr->finish();
   }
   const Model& m = a.model;

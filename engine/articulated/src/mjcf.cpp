@@ -234,16 +234,11 @@ void read_geom(Ctx& c, const XmlElement& e, const std::string& path, int body) {
       throw InputError(c.file, path + "/@mesh",
                        "no mesh named \"" + *name + "\"" + (near.empty() ? "" : "; did you mean \"" + near + "\"?"));
     }
-    // Re-centre at the mesh's centre of mass (vertices stay in the geom frame).
-    double volume;
-    Vec3 centre;
-    mesh_volume_moments(*it->second, &volume, &centre, nullptr);
-    if (!(volume > 0))
-      throw InputError(c.file, path + "/@mesh", "mesh \"" + *name + "\" has no positive volume (not closed or inward-facing)");
-    auto shifted = std::make_shared<MeshShape>(*it->second);
-    for (Vec3& v : shifted->vertices) v -= centre;
-    g.mesh = shifted;
-    g.pos += g.quat * centre;
+    try {
+      geom_set_mesh(g, it->second);
+    } catch (const std::invalid_argument& err) {
+      throw InputError(c.file, path + "/@mesh", "mesh \"" + *name + "\" " + err.what());
+    }
   } else if (e.attr("mesh")) {
     throw InputError(c.file, path + "/@mesh", "mesh= needs type=\"mesh\"");
   }
@@ -314,11 +309,14 @@ void read_body(Ctx& c, const XmlElement& e, const std::string& path, int parent)
         j.limited = limited == "true" || (limited == "auto" && c.autolimits && ch.attr("range"));
         if (j.limited) {
           if (!ch.attr("range")) throw InputError(c.file, p + "/@range", "a limited joint needs a range");
-          if (j.type != JointType::Hinge && j.type != JointType::Slide)
-            throw InputError(c.file, p + "/@range", "only hinge and slide joints take a range");
+          if (j.type == JointType::Free)
+            throw InputError(c.file, p + "/@range", "free joints take no range");
           const auto r = numbers(c, ch, p, "range", 2, 2);
           if (!(r[0] < r[1])) throw InputError(c.file, p + "/@range", "lower bound must be below the upper bound");
-          const double scale = j.type == JointType::Hinge ? c.angle_scale : 1.0;
+          // Ball: MuJoCo's cone, range="0 max" bounds the joint's total rotation angle.
+          if (j.type == JointType::Ball && r[0] != 0)
+            throw InputError(c.file, p + "/@range", "a ball joint's range is \"0 max_angle\" (the lower bound must be 0)");
+          const double scale = j.type == JointType::Slide ? 1.0 : c.angle_scale;
           j.range_min = r[0] * scale;
           j.range_max = r[1] * scale;
         }
@@ -368,19 +366,37 @@ void read_assets(Ctx& c, const XmlElement& e, const std::string& path, const std
     const std::filesystem::path file = base_dir / c.mesh_dir / *ch.attr("file");
     std::string name = ch.attr("name") ? *ch.attr("name") : file.stem().string();
     const Vec3 scale = vec3(c, ch, p, "scale", Vec3::Ones());
-    geom::TriangleMesh tm;
+    std::shared_ptr<const MeshShape> shape;
     try {
-      tm = geom::load_mesh(file, file.string());
+      shape = mesh_load_file(file, scale);
     } catch (const std::exception& err) {
       throw InputError(c.file, p + "/@file", err.what());
     }
-    auto shape = std::make_shared<MeshShape>();
-    for (const auto& v : tm.vertices) shape->vertices.emplace_back(v[0] * scale.x(), v[1] * scale.y(), v[2] * scale.z());
-    for (const auto& t : tm.triangles)
-      shape->triangles.push_back({static_cast<int>(t[0]), static_cast<int>(t[1]), static_cast<int>(t[2])});
     if (c.meshes.count(name)) throw InputError(c.file, p + "/@name", "mesh \"" + name + "\" defined twice");
     c.meshes[name] = shape;
   }
+}
+
+std::shared_ptr<const MeshShape> mesh_load_file(const std::filesystem::path& file, const Vec3& scale) {
+  const geom::TriangleMesh tm = geom::load_mesh(file, file.string());
+  auto shape = std::make_shared<MeshShape>();
+  for (const auto& v : tm.vertices) shape->vertices.emplace_back(v[0] * scale.x(), v[1] * scale.y(), v[2] * scale.z());
+  for (const auto& t : tm.triangles)
+    shape->triangles.push_back({static_cast<int>(t[0]), static_cast<int>(t[1]), static_cast<int>(t[2])});
+  return shape;
+}
+
+void geom_set_mesh(Geom& g, const std::shared_ptr<const MeshShape>& shape) {
+  // Re-centre at the mesh's centre of mass (vertices stay in the geom frame).
+  double volume;
+  Vec3 centre;
+  mesh_volume_moments(*shape, &volume, &centre, nullptr);
+  if (!(volume > 0)) throw std::invalid_argument("has no positive volume (not closed or inward-facing)");
+  auto shifted = std::make_shared<MeshShape>(*shape);
+  for (Vec3& v : shifted->vertices) v -= centre;
+  g.type = GeomType::Mesh;
+  g.mesh = shifted;
+  g.pos += g.quat * centre;
 }
 
 Model model_from_mjcf(const std::string& text, const std::string& file, const std::filesystem::path& base_dir) {
@@ -499,7 +515,7 @@ Model model_load_file(const std::filesystem::path& path, const std::string& labe
     throw InputError(label, "", std::string("JSON syntax error: ") + e.what());
   }
   JsonReader r(doc, label);
-  Model m = model_from_json(r);
+  Model m = model_from_json(r, path.parent_path());
   r.finish();
   return m;
 }

@@ -28,22 +28,45 @@ VecX read_range(JsonReader& r) {
   return out;
 }
 
-Geom read_geom(JsonReader& r, int body) {
+Geom read_geom(JsonReader& r, int body, const std::filesystem::path& base_dir) {
   Geom g;
   g.body = body;
   g.name = r.string("name", "");
-  const std::string type = r.choice("type", "sphere", {"plane", "sphere", "capsule", "box"});
+  const std::string type = r.choice("type", "sphere", {"plane", "sphere", "capsule", "box", "mesh"});
   g.type = type == "plane" ? GeomType::Plane
            : type == "sphere" ? GeomType::Sphere
            : type == "capsule" ? GeomType::Capsule
-                               : GeomType::Box;
+           : type == "box" ? GeomType::Box
+                           : GeomType::Mesh;
   g.pos = vec3(r, "pos", Vec3::Zero());
   g.quat = quat(r);
   g.density = r.number("density", 1000, 0);
   g.mass = r.has("mass") ? r.number("mass", 1, 0) : -1;
   g.contact = r.boolean("contact", true);
   const size_t need = g.type == GeomType::Box ? 3 : (g.type == GeomType::Capsule && !r.has("fromto") ? 2 : 1);
-  if (g.type != GeomType::Plane) {
+  if (g.type == GeomType::Mesh) {
+    // As MJCF's <asset><mesh file scale>: the file relative to the model's folder.
+    if (r.has("size")) r.fail("size", "a mesh geom takes its size from \"file\" and \"scale\"");
+    const std::string file = r.required_string("file");
+    const Vec3 scale = vec3(r, "scale", Vec3::Ones());
+    if (!(scale.array() > 0).all()) r.fail("scale", "scale factors must be positive");
+    const std::filesystem::path path = std::filesystem::path(file).is_absolute() ? std::filesystem::path(file) : base_dir / file;
+    std::shared_ptr<const MeshShape> shape;
+    try {
+      shape = mesh_load_file(path, scale);
+    } catch (const std::exception& e) {
+      r.fail("file", e.what());
+    }
+    try {
+      geom_set_mesh(g, shape);
+    } catch (const std::invalid_argument& e) {
+      r.fail("file", "mesh \"" + file + "\" " + e.what());
+    }
+  } else {
+    if (r.has("file")) r.fail("file", "\"file\" needs \"type\": \"mesh\"");
+    if (r.has("scale")) r.fail("scale", "\"scale\" needs \"type\": \"mesh\"");
+  }
+  if (g.type != GeomType::Plane && g.type != GeomType::Mesh) {
     if (!r.has("size")) r.fail("size", "geom needs a size");
     const auto s = r.numbers("size", {}, need, 3, 1e-9);
     for (size_t k = 0; k < s.size(); ++k) g.size[k] = s[k];
@@ -63,7 +86,7 @@ Geom read_geom(JsonReader& r, int body) {
 
 }  // namespace
 
-Model model_from_json(JsonReader& r) {
+Model model_from_json(JsonReader& r, const std::filesystem::path& base_dir) {
   Model m;
   if (auto ch = r.object("chain")) {
     const int links = static_cast<int>(ch->integer("links", 10, 1, 100000));
@@ -109,9 +132,11 @@ Model model_from_json(JsonReader& r) {
         jt.damping = j.number("damping", 0, 0);
         jt.armature = j.number("armature", 0, 0);
         if (j.has("range")) {
-          if (jt.type == JointType::Ball || jt.type == JointType::Free)
-            j.fail("range", "only hinge and slide joints take a range");
+          if (jt.type == JointType::Free) j.fail("range", "free joints take no range");
           const VecX r = read_range(j);
+          // Ball: [0, max] bounds the total rotation angle (MuJoCo's cone).
+          if (jt.type == JointType::Ball && r[0] != 0)
+            j.fail("range", "a ball joint's range is [0, max_angle] (the lower bound must be 0)");
           jt.limited = true;
           jt.range_min = r[0];
           jt.range_max = r[1];
@@ -119,7 +144,7 @@ Model model_from_json(JsonReader& r) {
         j.finish();
         m.joints.push_back(jt);
       }
-      for (JsonReader& g : b.objects("geoms")) m.geoms.push_back(read_geom(g, id));
+      for (JsonReader& g : b.objects("geoms")) m.geoms.push_back(read_geom(g, id, base_dir));
       if (auto in = b.object("inertial")) {
         m.bodies[id].mass = in->required_number("mass", 1e-12);
         m.bodies[id].com = vec3(*in, "pos", Vec3::Zero());
@@ -154,7 +179,7 @@ Model model_from_json(JsonReader& r) {
   m.name = r.string("name", m.name);
   m.gravity = vec3(r, "gravity", m.gravity);
   m.timestep = r.number("timestep", m.timestep, 1e-9);
-  for (JsonReader& g : r.objects("obstacles")) m.geoms.push_back(read_geom(g, 0));
+  for (JsonReader& g : r.objects("obstacles")) m.geoms.push_back(read_geom(g, 0, base_dir));
   return m;
 }
 

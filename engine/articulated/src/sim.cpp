@@ -31,6 +31,24 @@ double limit_terms(const Model& m, const SimOptions& o, const VecX& q, VecX* for
   double e = 0;
   for (const Joint& j : m.joints) {
     if (!j.limited) continue;
+    if (j.type == JointType::Ball) {
+      // Cone: rotation angle theta = |log q| <= range_max. With the local velocity
+      // (q' = q exp(dv)), d theta / d dv = the rotation's unit axis n; the Hessian
+      // k n n^T is replaced by k I (diagonal for the tree solve; exact along n, stiffer
+      // across, so LM steps stay conservative).
+      Eigen::Vector4d qb(q[j.qadr], q[j.qadr + 1], q[j.qadr + 2], q[j.qadr + 3]);
+      qb.normalize();
+      if (qb[0] < 0) qb = -qb;
+      const Vec3 v = qb.tail<3>();
+      const double sv = v.norm();
+      const double theta = 2 * std::atan2(sv, qb[0]);
+      const double d = theta - j.range_max;
+      if (d <= 0 || sv < 1e-300) continue;
+      e += 0.5 * k * d * d;
+      if (force) force->segment<3>(j.vadr) = k * d * v / sv;
+      if (hdiag) hdiag->segment<3>(j.vadr).setConstant(k);
+      continue;
+    }
     const double x = q[j.qadr];
     const double d = x > j.range_max ? x - j.range_max : x < j.range_min ? x - j.range_min : 0;
     if (d == 0) continue;

@@ -86,7 +86,11 @@ TEST(Mjcf, MalformedDefaultsOrientationsAndRangesNameTheField) {
             std::string::npos);
   EXPECT_NE(error_of(w + "<joint limited=\"true\"/>" + e).find("joint[0]/@range | a limited joint needs a range"),
             std::string::npos);
-  EXPECT_NE(error_of(w + "<joint type=\"ball\" limited=\"true\" range=\"0 1\"/>" + e).find("joint[0]/@range"), std::string::npos);
+  EXPECT_NE(error_of(w + "<joint type=\"ball\" limited=\"true\" range=\"-1 1\"/>" + e).find("joint[0]/@range | a ball joint's range"),
+            std::string::npos);
+  EXPECT_NE(error_of("<mujoco><worldbody><body><joint type=\"free\" limited=\"true\" range=\"0 1\"/>" + e)
+                .find("joint[0]/@range | free joints take no range"),
+            std::string::npos);
   EXPECT_NE(error_of(w + "<joint limited=\"yes\" range=\"0 1\"/>" + e).find("joint[0]/@limited"), std::string::npos);
   EXPECT_NE(error_of("<mujoco><worldbody><body euler=\"1 2\">" + e).find("body[0]/@euler | expected 3 numbers"),
             std::string::npos);

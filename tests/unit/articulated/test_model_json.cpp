@@ -2,6 +2,7 @@
 
 #include "pliant/articulated/io.h"
 #include "pliant/core/error.h"
+#include "mesh_fixture.h"
 
 namespace pliant::articulated {
 namespace {
@@ -55,8 +56,65 @@ TEST(ModelJson, ErrorsNameTheField) {
   EXPECT_EQ(pointer_of({{"bodies", {{{"name", "a"}, {"jionts", nlohmann::json::array()}}}}}), "/bodies/0/jionts");
   EXPECT_EQ(pointer_of({{"chain", {{"links", 0}}}}), "/chain/links");
   EXPECT_EQ(pointer_of({{"bodies", {{{"name", "a"}, {"joints", {{{"range", {1, 0}}}}}}}}}), "/bodies/0/joints/0/range");
-  EXPECT_EQ(pointer_of({{"bodies", {{{"name", "a"}, {"joints", {{{"type", "ball"}, {"range", {0, 1}}}}}}}}}),
+  EXPECT_EQ(pointer_of({{"bodies", {{{"name", "a"}, {"joints", {{{"type", "ball"}, {"range", {-1, 1}}}}}}}}}),
             "/bodies/0/joints/0/range");
+  EXPECT_EQ(pointer_of({{"bodies", {{{"name", "a"}, {"joints", {{{"type", "free"}, {"range", {0, 1}}}}}}}}}),
+            "/bodies/0/joints/0/range");
+}
+
+TEST(ModelJson, BallRangeIsAConeAngle) {
+  const Model m = from_json({{"bodies",
+                              {{{"name", "a"},
+                                {"joints", {{{"type", "ball"}, {"range", {0, 0.6}}}}},
+                                {"geoms", {{{"type", "sphere"}, {"size", {0.1}}}}}}}}});
+  EXPECT_TRUE(m.joints[0].limited);
+  EXPECT_EQ(m.joints[0].range_min, 0);
+  EXPECT_EQ(m.joints[0].range_max, 0.6);
+}
+
+// Mesh geoms as in MJCF (file + scale; the same loader): equal mass properties and
+// geometry, files relative to the model's folder; errors name the geom's field.
+TEST(ModelJson, MeshGeomsMatchMjcf) {
+  const std::string obj = test::write_box_obj("pliant_json_mesh", 0.1, 0.2, 0.05, 0.3, 0, 0);
+  const std::filesystem::path path(obj);
+  const nlohmann::json geom = {{"type", "mesh"}, {"file", path.filename().string()}, {"scale", {2, 1, 1}},
+                               {"pos", {0, 0, 1}}};
+  const nlohmann::json doc = {{"bodies", {{{"name", "a"}, {"joints", {{{"type", "free"}}}}, {"geoms", {geom}}}}}};
+  JsonReader r(doc, "m.json");
+  const Model json = model_from_json(r, path.parent_path());
+  const Model mjcf = model_from_mjcf("<mujoco><asset><mesh name=\"b\" file=\"" + obj +
+                                         "\" scale=\"2 1 1\"/></asset><worldbody><body><freejoint/>"
+                                         "<geom type=\"mesh\" mesh=\"b\" pos=\"0 0 1\"/></body></worldbody></mujoco>",
+                                     "m.xml");
+  ASSERT_EQ(json.geoms[0].type, GeomType::Mesh);
+  EXPECT_EQ(json.bodies[1].mass, mjcf.bodies[1].mass);
+  EXPECT_NEAR(json.bodies[1].mass, 1000 * 0.4 * 0.4 * 0.1, 1e-6);  // scaled box 0.4 x 0.4 x 0.1
+  EXPECT_EQ((json.bodies[1].inertia - mjcf.bodies[1].inertia).norm(), 0);
+  EXPECT_EQ((json.geoms[0].pos - mjcf.geoms[0].pos).norm(), 0);
+  EXPECT_EQ(json.geoms[0].mesh->vertices.size(), mjcf.geoms[0].mesh->vertices.size());
+
+  auto pointer_of = [&](nlohmann::json g) {
+    try {
+      const nlohmann::json bad = {{"bodies", {{{"name", "a"}, {"geoms", {g}}}}}};
+      JsonReader rr(bad, "m.json");
+      model_from_json(rr, path.parent_path());
+    } catch (const InputError& e) {
+      return e.pointer() + " | " + e.problem();
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(pointer_of({{"type", "mesh"}}).find("/bodies/0/geoms/0/file"), std::string::npos);
+  EXPECT_NE(pointer_of({{"type", "mesh"}, {"file", "no_such_file.obj"}}).find("/bodies/0/geoms/0/file"),
+            std::string::npos);
+  EXPECT_NE(pointer_of({{"type", "mesh"}, {"file", obj}, {"scale", {1, -1, 1}}}).find("/bodies/0/geoms/0/scale"),
+            std::string::npos);
+  EXPECT_NE(pointer_of({{"type", "mesh"}, {"file", obj}, {"size", {1}}}).find("/bodies/0/geoms/0/size"),
+            std::string::npos);
+  EXPECT_NE(pointer_of({{"type", "box"}, {"size", {1, 1, 1}}, {"file", obj}}).find("/bodies/0/geoms/0/file"),
+            std::string::npos);
+  EXPECT_NE(pointer_of({{"type", "mesh"}, {"file", obj}, {"scale", {1, 1}}}).find("/bodies/0/geoms/0/scale"),
+            std::string::npos);
+  std::filesystem::remove(obj);
 }
 
 TEST(ModelJson, ChainGeneratorMatchesMjcf) {

@@ -140,6 +140,7 @@ TEST(MujocoReference, DefaultsEulerAxisangleAndRangesMatch) {
           <body pos="0 0 -0.3" euler="0 -15 5"><joint axis="1 0 0" range="-10 10"/>
             <geom class="foot" pos="0 0 -0.1"/>
             <geom class="main" fromto="0 0 0 0.1 0 0" euler="0 0 0"/>
+            <body pos="0.1 0 0"><joint type="ball" range="0 45"/><geom class="foot"/></body>
           </body>
         </body>
       </body>

@@ -5,6 +5,7 @@
 // (e.g. /mujoco/worldbody/body[0]/geom[1]/@size).
 #pragma once
 #include <filesystem>
+#include <memory>
 #include <string>
 
 #include "pliant/articulated/model.h"
@@ -16,7 +17,16 @@ namespace pliant::articulated {
 // file's folder; compiler meshdir is appended).
 Model model_from_mjcf(const std::string& text, const std::string& file,
                       const std::filesystem::path& base_dir = {});
-Model model_from_json(JsonReader& r);
+// Mesh geoms' files ("type": "mesh", "file", "scale") are read relative to base_dir
+// (the model file's folder, or the scene's for an inline model).
+Model model_from_json(JsonReader& r, const std::filesystem::path& base_dir = {});
+// Shared by MJCF <asset><mesh> and JSON mesh geoms: a triangle mesh file (OBJ, STL,
+// PLY, ... through pliant_geom's assimp loader) scaled per axis (throws
+// std::exception with the loader's message), and a geom made a mesh geom of it,
+// re-centred at the mesh's centre of mass (geom pos moved to compensate; throws
+// std::invalid_argument when the mesh has no positive volume).
+std::shared_ptr<const MeshShape> mesh_load_file(const std::filesystem::path& file, const Vec3& scale);
+void geom_set_mesh(Geom& g, const std::shared_ptr<const MeshShape>& shape);
 // .xml -> MJCF, .json -> Pliant JSON model (the whole document is the model).
 Model model_load_file(const std::filesystem::path& path, const std::string& label);
 

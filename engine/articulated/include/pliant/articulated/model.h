@@ -36,7 +36,9 @@ struct Joint {
   double armature = 0;  // added rotor inertia (diagonal of M)
   // Joint range (hinge rad, slide m): a one-sided penalty 1/2 k (q - bound)^2 outside
   // it (k = ContactOptions::limit_stiffness), in PBAD's energy and as a force in the
-  // explicit integrators. Ball and free joints have no limits.
+  // explicit integrators. Ball joints: range_min = 0, range_max bounds the total
+  // rotation angle (MuJoCo's cone), penalty 1/2 k (angle - range_max)^2. Free joints
+  // have no limits.
   bool limited = false;
   double range_min = 0, range_max = 0;
 };
