@@ -2,7 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include <optional>
+#include <omp.h>
 
 namespace pliant::smoke {
 
@@ -12,45 +12,71 @@ NsoSolver::NsoSolver(const ControlModel& m, control_detail::ForwardOps& ops)
     : m_(m), ops_(ops), T_(m.sim.frames), F_(ops.faces()) {
   mg_ = std::make_unique<SpacetimeMultigrid>(SpacetimeGrid(ops.grid(), T_));
   mg_->pre_sweeps = mg_->post_sweeps = 2;
-  a_.assign(F_, 0.0);
-  b_.assign(F_, 0.0);
 }
 
-size_t NsoSolver::bytes() const { return mg_->bytes() + (a_.capacity() + b_.capacity()) * sizeof(double); }
+size_t NsoSolver::bytes() const {
+  size_t b = mg_->bytes();
+  for (const Worker& w : workers_) b += (w.a.capacity() + w.b.capacity()) * sizeof(double);
+  return b;  // (the workers' ForwardOps are not counted)
+}
+
+control_detail::ForwardOps& NsoSolver::worker_ops(int thread) {
+  if (thread == 0) return ops_;
+  Worker& w = workers_[thread];
+  if (!w.ops) w.ops = std::make_unique<control_detail::ForwardOps>(m_, control_detail::kControlPressureTolerance);
+  return *w.ops;
+}
+
+template <class Frame>
+void NsoSolver::for_frames(Frame&& frame) {
+  const size_t threads = size_t(std::max(1, omp_get_max_threads()));
+  if (workers_.size() < threads) workers_.resize(threads);
+  for (size_t k = 0; k < threads; ++k)
+    if (workers_[k].a.size() != F_) workers_[k].a.assign(F_, 0.0), workers_[k].b.assign(F_, 0.0);
+  // Frames are independent here: one fork/join per pass, each thread with its own
+  // ForwardOps (their scratch is not shared); the operators' own loops inside run on one
+  // thread (no nested parallelism), so results do not depend on the thread count.
+#pragma omp parallel for schedule(dynamic) if (threads > 1 && T_ > 1)
+  for (int t = 0; t < T_; ++t) {
+    const int k = omp_get_thread_num();
+    frame(t, worker_ops(k), workers_[k]);
+  }
+  for (size_t k = 1; k < workers_.size(); ++k) {
+    control_detail::ForwardOps* o = workers_[k].ops.get();
+    if (!o) continue;
+    ops_.projections += o->projections, ops_.pressure_iterations += o->pressure_iterations;
+    ops_.worst_pressure_residual = std::max(ops_.worst_pressure_residual, o->worst_pressure_residual);
+    o->projections = o->pressure_iterations = 0;
+  }
+}
 
 double NsoSolver::energy_flat(const double* x, const std::vector<Vec>& d, double beta) {
-  const control_detail::SerialBelow serial(ops_.cells());
   const double dt = ops_.dt();
-  double ef = 0, ed = 0;
-  for (int t = 0; t < T_; ++t) {
+  frame_ef_.assign(T_, 0.0), frame_ed_.assign(T_, 0.0);
+  for_frames([&](int t, control_detail::ForwardOps& ops, Worker& w) {
     const double* xt = x + size_t(t) * F_;
     if (t == 0) {
-      std::fill(a_.begin(), a_.end(), 0.0);
+      std::fill(w.a.begin(), w.a.end(), 0.0);
     } else {
-      std::copy(xt - F_, xt, b_.begin());
-      ops_.advect_velocity(b_, a_);
+      std::copy(xt - F_, xt, w.b.begin());
+      ops.advect_velocity(w.b, w.a);
     }
+    double ef = 0, ed = 0;
     for (size_t f = 0; f < F_; ++f) {
-      ef += (xt[f] - a_[f]) * (xt[f] - a_[f]);
+      ef += (xt[f] - w.a[f]) * (xt[f] - w.a[f]);
       ed += (xt[f] - d[t][f]) * (xt[f] - d[t][f]);
     }
-  }
+    frame_ef_[t] = ef, frame_ed_[t] = ed;
+  });
+  double ef = 0, ed = 0;
+  for (int t = 0; t < T_; ++t) ef += frame_ef_[t], ed += frame_ed_[t];
   return m_.r * ef / (dt * dt) + 0.5 * beta * ed;
 }
 
 double NsoSolver::energy(const std::vector<Vec>& z, const std::vector<Vec>& d, double beta) {
-  const control_detail::SerialBelow serial(ops_.cells());
-  const double dt = ops_.dt();
-  double ef = 0, ed = 0;
-  for (int t = 0; t < T_; ++t) {
-    if (t == 0) std::fill(a_.begin(), a_.end(), 0.0);
-    else ops_.advect_velocity(z[t - 1], a_);
-    for (size_t f = 0; f < F_; ++f) {
-      ef += (z[t][f] - a_[f]) * (z[t][f] - a_[f]);
-      ed += (z[t][f] - d[t][f]) * (z[t][f] - d[t][f]);
-    }
-  }
-  return m_.r * ef / (dt * dt) + 0.5 * beta * ed;
+  NsoLevel& L = mg_->fine();
+  for (int t = 0; t < T_; ++t) std::copy(z[t].begin(), z[t].end(), L.x.begin() + size_t(t) * F_);
+  return energy_flat(L.x.data(), d, beta);
 }
 
 NsoStats NsoSolver::solve(std::vector<Vec>& z, const std::vector<Vec>& d, double beta, int vcycles, int lm_steps) {
@@ -64,13 +90,11 @@ NsoStats NsoSolver::solve(std::vector<Vec>& z, const std::vector<Vec>& d, double
     // r -> 0 (no dynamics term), and a much better guess than the last z while beta
     // dominates 2r/dt^2, so fewer V-cycles reach the same residual. Built in the fine
     // level's x (no T*faces copy).
-    std::optional<control_detail::SerialBelow> serial(std::in_place, ops_.cells());
-    for (int t = 0; t < T_; ++t) {
-      b_ = d[t];
-      ops_.project(b_);
-      std::copy(b_.begin(), b_.end(), L.x.begin() + size_t(t) * F_);
-    }
-    serial.reset();
+    for_frames([&](int t, control_detail::ForwardOps& ops, Worker& w) {
+      w.b = d[t];
+      ops.project(w.b);
+      std::copy(w.b.begin(), w.b.end(), L.x.begin() + size_t(t) * F_);
+    });
     const double Ep = energy_flat(L.x.data(), d, beta);
     if (Ep < E) {
       for (int t = 0; t < T_; ++t) std::copy(L.x.begin() + size_t(t) * F_, L.x.begin() + size_t(t + 1) * F_, z[t].begin());

@@ -11,10 +11,11 @@
 // damping (mu/2)||z - zbar||^2 and runs `vcycles` FAS V-cycles on the KKT system;
 // the step is accepted when the true nonlinear E decreases, else mu grows and the
 // step is retried (at most 3 tries), so E never increases.
-// Threads: the forward model's operators (projection, self-advection) run on one thread
-// below kControlParallelCells cells, like the rest of the control code (their fine-grained
-// fork/joins cost more than they save there: 64^2 x 40 NSO solve 4 s on 1 thread, 61 s
-// on 2 at load average 15); the multigrid has its own threshold (kSpacetimeOmpMinWork).
+// Threads: the per-frame work (projections of the start, energies) runs frame-parallel,
+// one ForwardOps per thread and one fork/join per pass. The operators' own fine-grained
+// loops cost more in fork/joins than they save on an oversubscribed machine (64^2 x 40
+// NSO solve: 4 s on 1 thread, 61 s on 2 at load average 15). The multigrid has its own
+// threshold (kSpacetimeOmpMinWork).
 // Start: z = P d (per-frame projection) when its E is below the warm start's. With the
 // scenes' small r (2r/dt^2 << beta) P d is nearly the solution, and one or two V-cycles
 // then suffice (measured on circle-to-square 32^2 x 20: with 1 V-cycle per solve and no
@@ -57,11 +58,20 @@ class NsoSolver {
   control_detail::ForwardOps& ops_;
   int T_;
   size_t F_;
+  struct Worker {
+    std::unique_ptr<control_detail::ForwardOps> ops;  // threads > 0 (thread 0: ops_)
+    control_detail::Vec a, b;                         // one frame each
+  };
+  control_detail::ForwardOps& worker_ops(int thread);
+  // frame(t, ops, worker) for t = 0..T-1, frame-parallel.
+  template <class Frame>
+  void for_frames(Frame&& frame);
   // E of the fine level's x (T*faces, frame-major): the candidate z without a copy.
   double energy_flat(const double* x, const std::vector<control_detail::Vec>& d, double beta);
 
   std::unique_ptr<SpacetimeMultigrid> mg_;
-  control_detail::Vec a_, b_;  // one frame each
+  std::vector<Worker> workers_;
+  std::vector<double> frame_ef_, frame_ed_;  // per-frame energy terms (summed in order)
   double mu_ = 0;
 };
 

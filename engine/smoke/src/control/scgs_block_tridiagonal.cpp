@@ -1,5 +1,6 @@
 #include "scgs_block_tridiagonal.h"
 
+#include <algorithm>
 #include <cmath>
 #include <utility>
 
@@ -52,11 +53,41 @@ void lu_solve_t(int m_rt, const double* lu, const int* piv, double* b, int nrhs_
   }
 }
 
+// The same for the first nc columns of a row-major m x m right-hand side (columns
+// nc..m-1 are zero and stay zero: SCGS's U blocks have no dual column).
+template <int M>
+void lu_solve_cols_t(int m_rt, const double* lu, const int* piv, double* b, int nc) {
+  const int m = M > 0 ? M : m_rt;
+  for (int k = 0; k < m; ++k)
+    if (piv[k] != k)
+      for (int c = 0; c < nc; ++c) std::swap(b[k * m + c], b[piv[k] * m + c]);
+  for (int i = 1; i < m; ++i)
+    for (int k = 0; k < i; ++k) {
+      const double l = lu[i * m + k];
+      if (l != 0.0)
+        for (int c = 0; c < nc; ++c) b[i * m + c] -= l * b[k * m + c];
+    }
+  for (int i = m - 1; i >= 0; --i) {
+    const double inv = 1.0 / lu[i * m + i];
+    for (int c = 0; c < nc; ++c) {
+      double s = b[i * m + c];
+      for (int k = i + 1; k < m; ++k) s -= lu[i * m + k] * b[k * m + c];
+      b[i * m + c] = s * inv;
+    }
+  }
+}
+
 template <int M>
 bool block_solve_t(int T, int m_rt, const double* B, const double* L, const double* U, double* rhs,
                    const BlockTridiagonalScratch& s) {
   const int m = M > 0 ? M : m_rt;
   const int mm = m * m;
+  // Columns of the U blocks after the last non-zero one are zero, and so are those of
+  // S^-1 U: solve and eliminate only the leading nc columns.
+  int nc = 0;
+  for (int t = 0; t + 1 < T; ++t)
+    for (int e = 0; e < mm; ++e)
+      if (U[size_t(t) * mm + e] != 0.0) nc = std::max(nc, e % m + 1);
   // Forward elimination: S_0 = B_0; S_t = B_t - L_t S_{t-1}^-1 U_{t-1};
   // y_t = r_t - L_t S_{t-1}^-1 y_{t-1} (y overwrites rhs, already multiplied by S^-1).
   for (int t = 0; t < T; ++t) {
@@ -71,7 +102,7 @@ bool block_solve_t(int T, int m_rt, const double* B, const double* L, const doub
         for (int k = 0; k < m; ++k) {
           const double l = Lt[i * m + k];
           if (l == 0.0) continue;
-          for (int j = 0; j < m; ++j) S[i * m + j] -= l * X[k * m + j];
+          for (int j = 0; j < nc; ++j) S[i * m + j] -= l * X[k * m + j];
           y[i] -= l * yp[k];
         }
     }
@@ -81,7 +112,7 @@ bool block_solve_t(int T, int m_rt, const double* B, const double* L, const doub
     if (t + 1 < T) {
       double* X = s.sinv_u + size_t(t) * mm;
       for (int e = 0; e < mm; ++e) X[e] = U[size_t(t) * mm + e];
-      lu_solve_t<M, M>(m, S, piv, X, m);
+      lu_solve_cols_t<M>(m, S, piv, X, nc);
     }
   }
   // Back substitution: x_t = y_t - S_t^-1 U_t x_{t+1}.
@@ -91,7 +122,7 @@ bool block_solve_t(int T, int m_rt, const double* B, const double* L, const doub
     const double* xn = rhs + size_t(t + 1) * m;
     for (int i = 0; i < m; ++i) {
       double acc = 0;
-      for (int k = 0; k < m; ++k) acc += X[i * m + k] * xn[k];
+      for (int k = 0; k < nc; ++k) acc += X[i * m + k] * xn[k];
       x[i] -= acc;
     }
   }
