@@ -14,7 +14,11 @@
 // keyframes moved proportionally) for the time-per-iteration vs cells x frames rows.
 // --coarse-to-fine runs BOTH solvers through their progressive preview (quarter and half
 // resolution first, control_coarse_to_fine.h), as `pliant run` does; times then include
-// the coarse levels and only fine-level objectives count towards the target.
+// the coarse levels and only fine-level objectives count towards the target; L-BFGS
+// gets ADMM's iterations + polish on every coarse level. Scenes with max_iterations 0
+// (fine level polish only, the shipped FLUID) always run this way.
+// pliant_cpu_s / lbfgs_cpu_s / speedup_cpu: the same with process CPU time, the figure
+// to read on a loaded machine (run with OMP_NUM_THREADS=1).
 #include <sys/resource.h>
 
 #include <omp.h>
@@ -41,11 +45,20 @@ using namespace pliant::smoke;
 namespace {
 
 struct Run {
-  std::vector<double> objective, wall;  // per outer iteration (cumulative seconds)
+  std::vector<double> objective, wall, cpu;  // per outer iteration (cumulative seconds)
   FaceSeries force;
-  double total_s = 0;
+  double total_s = 0, total_cpu_s = 0;
   int iterations = 0;  // the state's iteration count at the end
 };
+
+// Process CPU time (user + system): on a loaded shared machine the wall time of a
+// single-threaded run is mostly waiting; its CPU time is what a quiet machine's wall
+// time would be (OMP_NUM_THREADS=1).
+double cpu_s() {
+  rusage ru{};
+  getrusage(RUSAGE_SELF, &ru);
+  return ru.ru_utime.tv_sec + ru.ru_stime.tv_sec + 1e-6 * (ru.ru_utime.tv_usec + ru.ru_stime.tv_usec);
+}
 
 double load_average() {
   double l[1] = {0};
@@ -63,11 +76,13 @@ Run run(const ControlModel& m, bool admm, std::vector<AdmmIterationStats>* stats
   ControlState s = control_init(m);
   Progress progress;
   const auto t0 = std::chrono::steady_clock::now();
+  const double c0 = cpu_s();
   ControlCallbacks cb;
   cb.on_iteration = [&](const ControlState& st) {
     if (st.objective_history.empty() || st.level > 0) return;  // coarse levels: other objectives
     r.objective.push_back(st.objective_history.back());
     r.wall.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    r.cpu.push_back(cpu_s() - c0);
   };
   if (m.progressive_preview) {  // --coarse-to-fine: the solvers' own full path
     if (admm) control_solve_admm(m, s, progress, cb);
@@ -90,14 +105,16 @@ Run run(const ControlModel& m, bool admm, std::vector<AdmmIterationStats>* stats
   if (r.objective.empty()) {  // a solver that stopped before its first iteration
     r.objective.push_back(control_objective(m, s.force, nullptr));
     r.wall.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    r.cpu.push_back(cpu_s() - c0);
   }
+  r.total_cpu_s = cpu_s() - c0;
   r.total_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return r;
 }
 
-double time_to(const Run& r, double target) {
+double time_to(const Run& r, double target, bool cpu = false) {
   for (size_t i = 0; i < r.objective.size(); ++i)
-    if (r.objective[i] <= target) return r.wall[i];
+    if (r.objective[i] <= target) return cpu ? r.cpu[i] : r.wall[i];
   return -1;
 }
 
@@ -158,9 +175,14 @@ int main(int argc, char** argv) {
     if (quick) m.polish_iterations = std::min(m.polish_iterations, 20);
     if (polish >= 0) m.polish_iterations = polish;
     if (r_override > 0) m.r = r_override;
-    m.progressive_preview = coarse_to_fine;
+    // A scene whose fine level only polishes (max_iterations 0: the shipped FLUID) is
+    // solved coarse-to-fine, as `pliant run` does it: both solvers then.
+    const bool c2f = coarse_to_fine || m.max_iterations == 0;
+    m.progressive_preview = c2f;
     ControlModel lm = m;  // the baseline gets as many iterations as ADMM and its polish together
     lm.max_iterations = lbfgs_iterations > 0 ? lbfgs_iterations : m.max_iterations + m.polish_iterations;
+    // Coarse levels: L-BFGS gets ADMM's iterations plus its polish there too.
+    lm.coarse_iterations = (m.coarse_iterations >= 0 ? m.coarse_iterations : m.max_iterations) + m.polish_iterations;
     std::vector<AdmmIterationStats> st;
     const Run a = run(m, true, &st);
     const Run l = run(lm, false, nullptr);
@@ -170,6 +192,7 @@ int main(int argc, char** argv) {
     const double ta = time_to(a, target), tl_reached = time_to(l, target);
     const bool lower_bound = tl_reached < 0;
     const double tl = lower_bound ? l.total_s : tl_reached;
+    const double ca = time_to(a, target, true), cl = lower_bound ? l.total_cpu_s : time_to(l, target, true);
     const ControlMetrics cm = control_evaluate(m, a.force);
     const ControlMetrics lmx = control_evaluate(m, l.force);
     double ao = 0, nso = 0, forces = 0, vc = 0;
@@ -179,15 +202,22 @@ int main(int argc, char** argv) {
       for (double f : s.vcycle_factors) vc += f, ++nvc;
     }
     const double n = std::max<size_t>(1, st.size());
+    // CPU seconds per ADMM iteration from the callbacks' CPU clock (the first ADMM
+    // iterations' entries; the first includes the start-up re-simulation).
+    double admm_cpu_per_iteration = 0;
+    if (st.size() >= 2 && a.cpu.size() >= st.size())
+      admm_cpu_per_iteration = (a.cpu[st.size() - 1] - a.cpu[0]) / double(st.size() - 1);
+    else if (st.size() == 1 && !a.cpu.empty())
+      admm_cpu_per_iteration = a.cpu[0];
     nlohmann::json ious = nlohmann::json::array();
     for (const auto& k : cm.keyframes) ious.push_back({{"frame", k.frame}, {"iou", k.iou}, {"relative_l2", k.relative_l2}});
     std::string name = path.substr(path.find_last_of('/') + 1);
     if (grid > 0 || frames > 0)
       name += " " + std::to_string(m.sim.n[0]) + "^" + std::to_string(m.sim.dim) + "x" + std::to_string(m.sim.frames);
     if (r_override > 0) name += " r=" + nlohmann::json(r_override).dump();
-    if (coarse_to_fine) name += " coarse-to-fine";
+    if (c2f) name += " coarse-to-fine";
     nlohmann::json j = {{"case", name},
-                        {"coarse_to_fine", coarse_to_fine},
+                        {"coarse_to_fine", c2f},
                         {"omp_threads", omp_get_max_threads()},
                         {"load_average_1min", load_average()},
                         {"grid", m.sim.n},
@@ -203,10 +233,15 @@ int main(int argc, char** argv) {
                         {"lbfgs_s", tl},
                         {"speedup", (ta > 0 && tl > 0) ? tl / ta : 0.0},
                         {"speedup_is_lower_bound", lower_bound},
+                        {"pliant_cpu_s", ca},
+                        {"lbfgs_cpu_s", cl},
+                        {"speedup_cpu", (ca > 0 && cl > 0) ? cl / ca : 0.0},
                         // L-BFGS stopped early (converged or line search failed) above the
                         // target: it never gets there, whatever the time.
                         {"lbfgs_stalled", lower_bound && l.iterations < lm.max_iterations},
                         {"admm_total_s", a.total_s},
+                        {"admm_total_cpu_s", a.total_cpu_s},
+                        {"lbfgs_total_cpu_s", l.total_cpu_s},
                         {"lbfgs_total_s", l.total_s},
                         {"iou_min", cm.iou_min},
                         {"keyframes", ious},
@@ -214,6 +249,7 @@ int main(int argc, char** argv) {
                         {"control_energy", cm.control_energy},
                         {"max_divergence", cm.max_divergence},
                         {"admm_s_per_iteration", (ao + nso + forces) / n},
+                        {"admm_cpu_s_per_iteration", admm_cpu_per_iteration},
                         {"admm_ao_s", ao / n},
                         {"admm_nso_s", nso / n},
                         {"admm_forces_s", forces / n},
