@@ -1,6 +1,7 @@
 #include "doc/liquid_scene_edit.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <fstream>
 
@@ -94,6 +95,36 @@ json liquid_move_key(const json& scene, int index, double time_s) {
   return out;
 }
 
+json liquid_move_key_position(const json& scene, int index, double dx, double dy) {
+  const std::vector<double> times = liquid_key_times(scene);
+  if (index < 0 || index >= int(times.size())) return scene;
+  json out = scene;
+  json& k = out["source"]["trajectory"][index];
+  json p = pose_of(k, liquid_dim(scene))["position_m"];
+  p[0] = p[0].get<double>() + dx;
+  p[1] = p[1].get<double>() + dy;
+  k["position_m"] = p;
+  return out;
+}
+
+json liquid_adopt_trajectory(const json& scene, const json& keys) {
+  if (!keys.is_array() || keys.empty() || !scene.contains("source") || !scene["source"].is_object()) return scene;
+  const int dim = liquid_dim(scene);
+  json out = scene;
+  json traj = json::array();
+  for (const json& k : keys) {
+    if (!k.is_object()) return scene;
+    json key = pose_of(k, dim);
+    // The planner reports 3 coordinates in 2D too; the scene takes dim of them.
+    while (int(key["position_m"].size()) > dim) key["position_m"].erase(key["position_m"].size() - 1);
+    key["time_s"] = k.value("time_s", 0.0);
+    traj.push_back(key);
+  }
+  out["source"]["trajectory"] = traj;
+  out["planner"]["mode"] = "none";
+  return out;
+}
+
 json liquid_move_container(const json& scene, ContainerRole role, double dx, double dy) {
   if (!scene.contains(role) || !scene[role].is_object()) return scene;
   const int dim = liquid_dim(scene);
@@ -149,6 +180,23 @@ bool liquid_inline_container(json* scene, ContainerRole role, const fs::path& sc
   obj.erase("comment");
   c["container"] = obj;
   return true;
+}
+
+json liquid_set_mesh_container(const json& scene, ContainerRole role, const std::string& file) {
+  json out = scene;
+  if (!out.contains(role) || !out[role].is_object()) {
+    json zero = json::array();
+    for (int i = 0; i < liquid_dim(scene); ++i) zero.push_back(0.0);
+    out[role] = {{"position_m", zero}};
+  }
+  out[role]["container"] = {{"shape", "mesh"}, {"file", file}};
+  return out;
+}
+
+bool liquid_is_mesh_file(const fs::path& path) {
+  std::string ext = path.extension().string();
+  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return ext == ".obj" || ext == ".stl" || ext == ".ply";
 }
 
 std::vector<fs::path> liquid_container_library(const fs::path& dir) {

@@ -28,6 +28,14 @@ nlohmann::json liquid_delete_key(const nlohmann::json& scene, int index);
 // Moves key `index` to time_s, clamped strictly between its neighbours.
 nlohmann::json liquid_move_key(const nlohmann::json& scene, int index, double time_s);
 
+// Moves key `index`'s position by (dx, dy) metres (x-y plane; z and tilt kept).
+nlohmann::json liquid_move_key_position(const nlohmann::json& scene, int index, double dx, double dy);
+// Makes a planned trajectory (a take's metrics "trajectory": [{time_s,
+// position_m, tilt_deg}]) the scene's hand-drawn one and sets the planner to
+// "none", so the plan can be edited key by key. Unchanged when `keys` is not a
+// non-empty array or the scene has no source.
+nlohmann::json liquid_adopt_trajectory(const nlohmann::json& scene, const nlohmann::json& keys);
+
 // Moves a container by (dx, dy) metres; the source's key poses move with it.
 nlohmann::json liquid_move_container(const nlohmann::json& scene, ContainerRole role, double dx, double dy);
 // Sets the cavity radius and height of an inline container (no-op when the
@@ -40,6 +48,13 @@ bool liquid_container_is_inline(const nlohmann::json& scene, ContainerRole role)
 // against scene_dir. false + *err when the file cannot be read.
 bool liquid_inline_container(nlohmann::json* scene, ContainerRole role, const std::filesystem::path& scene_dir,
                              std::string* err);
+
+// Makes a closed triangle mesh file (.obj/.stl/.ply, engine: {"shape": "mesh",
+// "file": ...}) the container of `role` (created at the origin when missing);
+// `file` is stored as given (the caller makes it relative to the scene).
+nlohmann::json liquid_set_mesh_container(const nlohmann::json& scene, ContainerRole role, const std::string& file);
+// True for the mesh file extensions the engine's container loader takes.
+bool liquid_is_mesh_file(const std::filesystem::path& path);
 
 // Container files (*.json) in a folder, sorted by name.
 std::vector<std::filesystem::path> liquid_container_library(const std::filesystem::path& dir);

@@ -102,6 +102,11 @@ void container_section(App& app, ContainerRole role) {
       else app.set_status(err, true);
     }
     ui_mark(base + "/inline");
+  } else if (c.is_object() && c.value("shape", std::string()) == "mesh") {
+    // A closed triangle mesh, sized by its file (and scale).
+    const std::string p = base + "/container";
+    ImGui::TextDisabled("mesh %s", fs::path(c.value("file", std::string())).filename().string().c_str());
+    json_double(doc, "scale", p + "/scale", 1.0, 0.005f, 1e-3, 1e3, "%.3f");
   } else if (c.is_object()) {
     const std::string p = base + "/container";
     json_choice(doc, "shape", p + "/shape", "cylinder", {"cylinder", "oval", "box", "cup", "bottle"});
@@ -228,29 +233,30 @@ void draw_jobs(App& app) {
   ImGui::Separator();
 }
 
-// Viewport toolbar: where a dropped container file goes.
-void draw_toolbar(App& app) {
-  LiquidUiState& ui = liquid_ui(app);
-  ImGui::TextDisabled("drop container on:");
-  ImGui::SameLine();
-  if (ImGui::RadioButton("source", !ui.drop_to_target)) ui.drop_to_target = false;
-  ui_mark("liquid_drop_source");
-  ImGui::SameLine();
-  if (ImGui::RadioButton("target", ui.drop_to_target)) ui.drop_to_target = true;
-  ui_mark("liquid_drop_target");
-}
-
 // A dropped container file (a JSON object with "shape", not a scene) becomes
-// the chosen container, inlined (one undo step). Scenes and takes are left to
-// the generic handling.
+// the chosen container, inlined; a mesh file (.obj/.stl/.ply) a mesh container
+// (one undo step each). Scenes and takes are left to the generic handling.
 bool on_drop(App& app, const std::string& path) {
   const fs::path p(path);
+  ContainerRole role = liquid_ui(app).drop_to_target ? "target" : "source";
+  // A closed triangle mesh (engine: {"shape": "mesh", "file": ...}, relative
+  // to the scene's folder when it has one).
+  if (liquid_is_mesh_file(p)) {
+    std::string file = fs::absolute(p).lexically_normal().string();
+    if (app.doc.has_path()) {
+      const fs::path rel = fs::absolute(p).lexically_normal().lexically_relative(
+          fs::absolute(app.doc.path()).parent_path().lexically_normal());
+      if (!rel.empty()) file = rel.generic_string();
+    }
+    app.doc.edit(std::string("Drop ") + role + " mesh container", liquid_set_mesh_container(app.doc.scene(), role, file));
+    app.set_status(std::string("Mesh container ") + p.filename().string() + " -> " + role);
+    return true;
+  }
   if (p.extension() != ".json") return false;
   std::ifstream in(p);
   if (!in) return false;
   const json j = json::parse(in, nullptr, /*allow_exceptions=*/false, /*ignore_comments=*/true);
   if (j.is_discarded() || !j.is_object() || j.contains("pliant") || !j.contains("shape")) return false;
-  ContainerRole role = liquid_ui(app).drop_to_target ? "target" : "source";
   json next = app.doc.scene();
   if (!next.contains(role) || !next[role].is_object()) {
     json zero = json::array();
@@ -270,6 +276,39 @@ bool on_drop(App& app, const std::string& path) {
 
 }  // namespace
 
+// Viewport toolbar: where a dropped container file goes; "Place" shows the
+// placement view over a result; "Use plan" makes the shown take's planned
+// key poses the scene's hand-drawn ones (planner none), to edit them.
+void liquid_viewport_toolbar(App& app) {
+  LiquidUiState& ui = liquid_ui(app);
+  ImGui::TextDisabled("drop container on:");
+  ImGui::SameLine();
+  if (ImGui::RadioButton("source", !ui.drop_to_target)) ui.drop_to_target = false;
+  ui_mark("liquid_drop_source");
+  ImGui::SameLine();
+  if (ImGui::RadioButton("target", ui.drop_to_target)) ui.drop_to_target = true;
+  ui_mark("liquid_drop_target");
+  if (app.take.frame_count() > 0) {
+    ImGui::SameLine();
+    if (ImGui::Checkbox("Place", &ui.place_mode)) app.viewport.drawn_state.clear();
+    ui_mark("liquid_place");
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("show the scene's start (containers, liquid, key poses) instead of the take");
+  }
+  if (liquid_planned_path(app)) {
+    ImGui::SameLine();
+    if (ImGui::SmallButton("Use plan")) {
+      const json next = liquid_adopt_trajectory(app.doc.scene(), ui.plan_keys);
+      if (next != app.doc.scene()) {
+        app.doc.edit("Use planned trajectory", next);
+        app.set_status("The planned key poses are the scene's now (planner: none)");
+      }
+    }
+    ui_mark("liquid_use_plan");
+    if (ImGui::IsItemHovered())
+      ImGui::SetTooltip("make the planned key poses (magenta) the scene's trajectory, planner none, to edit them");
+  }
+}
+
 const KindPanels& liquid_panels() {
   static const KindPanels p = [] {
     KindPanels k;
@@ -277,7 +316,8 @@ const KindPanels& liquid_panels() {
     k.inspector = &draw_inspector;
     k.typed_keys = {"dim", "domain", "time", "liquid", "source", "target", "planner", "pressure"};
     k.jobs = &draw_jobs;
-    k.viewport_toolbar = &draw_toolbar;
+    k.viewport_toolbar = &liquid_viewport_toolbar;
+    k.viewport_editor = &liquid_placement_view;
     k.viewport_overlay = &liquid_viewport_overlay;
     k.on_drop = &on_drop;
     k.timeline = &liquid_timeline;

@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "pliant/core/take.h"
 #include "render/liquid_drawer.h"
 
 namespace pliant::editor {
@@ -19,5 +20,11 @@ void liquid_set_scene_dirs(std::vector<std::filesystem::path> dirs);
 // Compiles `scene` (a liquid scene document) and fills *out; false + *err when
 // it does not compile or the liquid module is not built.
 bool liquid_scene_geometry(const nlohmann::json& scene, LiquidSceneGeometry* out, std::string* err);
+
+// The scene's state before the first step as a take frame record (particles of
+// the initial liquid region, speed, source_pose / target_pose at t = 0,
+// fractions): what the placement view draws before any run. false + *err when
+// the scene does not compile.
+bool liquid_initial_frame(const nlohmann::json& scene, Record* out, std::string* err);
 
 }  // namespace pliant::editor

@@ -1,7 +1,8 @@
 // Shared state and entry points of the liquid scene UI (issue 7, "pouring
 // scenes"): ui/liquid_panels.cpp (inspector, jobs), ui/liquid_gizmos.cpp
 // (placing and sizing containers in the viewport), ui/liquid_timeline.cpp
-// (key poses of the hand-drawn source trajectory).
+// (key poses of the hand-drawn source trajectory), ui/liquid_placement_view.cpp
+// (the document's initial state before a run).
 #pragma once
 #include <cstdint>
 #include <filesystem>
@@ -12,6 +13,7 @@
 
 #include "render/liquid_drawer.h"
 #include "render/orbit_camera.h"
+#include "render/renderer.h"
 #include "ui/kind_panels.h"
 
 namespace pliant::editor {
@@ -25,7 +27,10 @@ struct LiquidUiState : KindUiState {
   size_t series_frames = 0;
   std::vector<float> in_target, spilled, in_source;
   // Viewport gizmo drag: which handle, the scene and mouse point at its start.
-  enum class Handle { None, MoveSource, MoveTarget, SizeSource, SizeTarget } drag = Handle::None;
+  // KeyPose: the hand-drawn key `drag_key_index` (/source/trajectory).
+  enum class Handle { None, MoveSource, MoveTarget, SizeSource, SizeTarget, KeyPose } drag = Handle::None;
+  int drag_key_index = -1;
+  double drag_z = 0;  // the drag plane (3D): z of the dragged handle
   nlohmann::json drag_scene;
   double drag_start[2] = {0, 0};
   uint64_t drag_key = 0;
@@ -37,6 +42,23 @@ struct LiquidUiState : KindUiState {
   std::vector<LineSegment2> source_section, target_section;
   // Where a dropped container file goes ("source" or "target").
   bool drop_to_target = false;
+  // Placement view: the document's initial state (liquid_initial_frame) drawn
+  // by a private Renderer into the viewport's target, before the first run or
+  // with "Place" ticked. The record is rebuilt per document revision.
+  bool place_mode = false;
+  Renderer place_renderer;
+  bool place_ready = false, place_ok = false, place_dirty = false, place_reframe = true;
+  uint64_t place_doc = ~uint64_t(0), place_revision = ~uint64_t(0), place_uploads = 0;
+  std::string place_error;
+  Record place_record;
+  std::vector<float> place_drawn;  // what the viewport's target holds (redraw on change)
+  LiquidViewTransform place_view;  // world -> clip of the placement view's last draw
+  int place_redraws = 0;
+  // The shown take's planned trajectory (metrics "trajectory") as the engine's
+  // curve through those keys, per take.
+  std::filesystem::path plan_dir;
+  nlohmann::json plan_keys;
+  std::vector<Pose7> plan_path;
   // Timeline key poses.
   int selected_key = -1;
   int dragging_key = -1;
@@ -53,6 +75,15 @@ bool liquid_doc_geometry(App& app);
 uint64_t liquid_next_merge_key();
 
 void liquid_viewport_overlay(App& app, float x, float y, int w, int h);
+// Gizmos (container move/size, key pose handles, planned path) over an image
+// at (x, y, w, h) drawn with the world -> clip transform `view`.
+void liquid_gizmos(App& app, const LiquidViewTransform& view, float x, float y, int w, int h);
+// The shown take's planned keys and path (cached per take); false if none.
+bool liquid_planned_path(App& app);
+// Placement view (KindPanels::viewport_editor): true when it drew the viewport.
+bool liquid_placement_view(App& app);
+// The viewport toolbar's liquid part (drop target, Place, Use plan).
+void liquid_viewport_toolbar(App& app);
 void liquid_timeline(App& app);
 
 }  // namespace pliant::editor

@@ -7,6 +7,10 @@
 // dropped container file replaces the target; the
 // "particles" exporter plugin writes one PLY per frame that reads back equal
 // to the take. A 3D frame draws the containers' marching-tetrahedra meshes.
+// Before any run the placement view draws the scene's start (containers, the
+// initial liquid, the key-pose path) and its gizmos move containers and key
+// poses by the dragged distance; a planned take's key poses become the
+// scene's with "Use plan" and are then dragged in the viewport.
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -50,7 +54,99 @@ bool read_ply(const fs::path& file, size_t* n, std::vector<float>* rows) {
   return bool(in) && *n > 0;
 }
 
+// A closed box-shaped cup (OBJ, metres, outward normals): outer half width
+// `inner_half` + `wall`, cavity half width `inner_half`, cavity floor at y = 0, rim at y = height, a floor
+// `wall` thick under the cavity; the cavity is open at the top.
+void write_box_cup_obj(const fs::path& file, double inner_half, double height, double wall) {
+  const double a = inner_half + wall, c = inner_half, h = height, b = -wall;
+  std::ofstream out(file);
+  // 1-4 outer bottom, 5-8 outer top (rim outer), 9-12 inner top (rim inner), 13-16 cavity floor.
+  const double ring[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
+  for (int i = 0; i < 4; ++i) out << "v " << a * ring[i][0] << " " << b << " " << a * ring[i][1] << "\n";
+  for (int i = 0; i < 4; ++i) out << "v " << a * ring[i][0] << " " << h << " " << a * ring[i][1] << "\n";
+  for (int i = 0; i < 4; ++i) out << "v " << c * ring[i][0] << " " << h << " " << c * ring[i][1] << "\n";
+  for (int i = 0; i < 4; ++i) out << "v " << c * ring[i][0] << " " << 0.0 << " " << c * ring[i][1] << "\n";
+  auto quad = [&](int p, int q, int r, int s) { out << "f " << p << " " << q << " " << r << "\nf " << p << " " << r << " " << s << "\n"; };
+  quad(1, 2, 3, 4);  // outer bottom, facing -y
+  for (int i = 0; i < 4; ++i) {
+    const int j = (i + 1) % 4;
+    quad(1 + i, 5 + i, 5 + j, 1 + j);    // outer side, facing out
+    quad(5 + i, 9 + i, 9 + j, 5 + j);    // rim, facing +y
+    quad(9 + i, 13 + i, 13 + j, 9 + j);  // inner side, facing the cavity
+  }
+  quad(13, 16, 15, 14);  // cavity floor, facing +y
+}
+
+// Screen pixels per metre along x at world point (x, y, z) of a view (2D: uniform).
+double pixels_per_metre_x(const LiquidViewTransform& v, double x, double y, double z) {
+  auto sx = [&](double wx) {
+    const auto c = mat4_apply(v.world_to_clip, {float(wx), float(y), float(z), 1.0f});
+    return 0.5 * c[0] / c[3] * v.width;
+  };
+  return (sx(x + 0.1) - sx(x)) / 0.1;
+}
+
 }  // namespace
+
+TEST(EditorLiquid, PlacementViewBeforeTheFirstRunMovesTargetAndKeyPoses) {
+  EditorHarness h("liquid_place");
+  fs::path scene = h.copy_scene("liquid_place_keys.json");
+  h.start(scene, /*gl=*/true, 1280, 720);
+  ASSERT_EQ(h.run("wait 3\nmove 2 2\nwait 2\nscreenshot $TMP/place.png viewport\n"), "");
+  LiquidUiState& ui = liquid_ui(*h.app);
+  EXPECT_EQ(h.app->take.frame_count(), 0);
+  ASSERT_TRUE(ui.place_ok) << ui.place_error;
+  ASSERT_TRUE(ui.place_view.valid);
+  EXPECT_EQ(ui.place_view.dim, 2);
+  // The initial liquid region: particles inside the source (x within its cavity).
+  const Field* p = ui.place_record.find("particles");
+  ASSERT_TRUE(p && p->shape.size() == 2 && p->shape[0] > 20);
+  for (size_t i = 0; i < p->shape[0]; ++i) EXPECT_LT(std::abs(p->data[2 * i]), 0.036f);
+  std::string err;
+  Image shot = read_png((h.dir / "place.png").string(), &err);
+  ASSERT_FALSE(shot.empty()) << err;
+  EXPECT_GT(lit_pixels(shot), 300);
+  match_golden(h.dir / "place.png", "liquid_place_frame0.png");
+
+  // The target's move handle: the document moves by the dragged distance.
+  const json before = h.app->doc.scene();
+  const size_t undo0 = h.app->doc.history().cursor();
+  ASSERT_NE(h.app->marks.find("liquid_target_move"), nullptr);
+  const double ppm = pixels_per_metre_x(ui.place_view, 0.17, 0.0, 0.0);
+  ASSERT_GT(ppm, 100.0);
+  ASSERT_EQ(h.run("drag_item liquid_target_move 40 0 8\nwait 2\n"), "");
+  const json& moved = h.app->doc.scene();
+  EXPECT_NEAR(moved["target"]["position_m"][0].get<double>(), 0.17 + 40.0 / ppm, 1.5 / ppm);
+  EXPECT_NEAR(moved["target"]["position_m"][1].get<double>(), 0.0, 1.5 / ppm);
+  EXPECT_EQ(h.app->doc.history().cursor(), undo0 + 1);
+  EXPECT_EQ(moved["source"], before["source"]);
+  EXPECT_EQ(h.app->take.frame_count(), 0);  // nothing ran
+
+  // Key pose 1's diamond: that key moves (up by 30 px), the others stay.
+  ASSERT_NE(h.app->marks.find("liquid_key_pose_1"), nullptr);
+  ASSERT_EQ(h.run("drag_item liquid_key_pose_1 0 -30 6\nwait 2\n"), "");
+  const json& keys = h.app->doc.scene()["source"]["trajectory"];
+  EXPECT_NEAR(keys[1]["position_m"][0].get<double>(), 0.05, 1.5 / ppm);
+  EXPECT_NEAR(keys[1]["position_m"][1].get<double>(), 0.16 + 30.0 / ppm, 1.5 / ppm);
+  EXPECT_EQ(keys[1]["tilt_deg"], 60);
+  EXPECT_EQ(keys[0], before["source"]["trajectory"][0]);
+  EXPECT_EQ(keys[2], before["source"]["trajectory"][2]);
+  EXPECT_EQ(h.app->doc.history().cursor(), undo0 + 2);
+  // The view follows the document: the record was rebuilt and redrawn.
+  ASSERT_EQ(h.run("key CTRL+Z\nwait 2\nkey CTRL+Z\nwait 2\n"), "");
+  EXPECT_EQ(h.app->doc.scene(), before);
+
+  // A dropped closed mesh becomes the target container (one undo step), path
+  // relative to the scene; the engine compiles it and the view draws it.
+  write_box_cup_obj(h.dir / "cup.obj", 0.05, 0.04, 0.012);
+  const size_t undo1 = h.app->doc.history().cursor();
+  ASSERT_EQ(h.run("click_item liquid_drop_target\nwait 1\ndrop $TMP/cup.obj\nwait 3\n"), "");
+  EXPECT_EQ(h.app->doc.scene()["target"]["container"], json({{"shape", "mesh"}, {"file", "cup.obj"}}));
+  EXPECT_EQ(h.app->doc.history().cursor(), undo1 + 1);
+  EXPECT_TRUE(ui.place_ok) << "the engine did not compile the mesh container: " << ui.place_error;
+  EXPECT_NE(h.app->marks.find("liquid_target_move"), nullptr);
+  EXPECT_EQ(h.app->marks.find("liquid_target_size"), nullptr);  // a mesh is sized by its file
+}
 
 TEST(EditorLiquid, EditPlanGoldenGizmosKeysAndExport) {
   EditorHarness h("liquid_pour");
@@ -116,6 +212,24 @@ TEST(EditorLiquid, EditPlanGoldenGizmosKeysAndExport) {
   EXPECT_EQ(h.app->doc.scene()["target"]["container"]["shape"], "box");
   EXPECT_FALSE(h.app->doc.scene()["target"]["container"].contains("comment"));
   EXPECT_EQ(h.app->doc.history().cursor(), undo_before + 3);
+
+  // The plan's key poses (metrics "trajectory") are drawn as markers on the
+  // engine's curve through them; "Use plan" makes them the scene's keys
+  // (planner none, one undo step), and a key's diamond then drags that key.
+  const json& planned = metrics["trajectory"];
+  ASSERT_TRUE(planned.is_array() && planned.size() >= 2);
+  EXPECT_EQ(ui.plan_keys, planned);
+  EXPECT_EQ(ui.plan_path.size(), take.frame_count());
+  EXPECT_NE(h.app->marks.find("liquid_plan_key_1"), nullptr);
+  ASSERT_EQ(h.run("click_item liquid_use_plan\nwait 2\n"), "");
+  EXPECT_EQ(h.app->doc.scene()["planner"]["mode"], "none");
+  ASSERT_EQ(h.app->doc.scene()["source"]["trajectory"].size(), planned.size());
+  EXPECT_EQ(h.app->doc.history().cursor(), undo_before + 4);
+  const double key_x = h.app->doc.scene()["source"]["trajectory"][1]["position_m"][0].get<double>();
+  ASSERT_NE(h.app->marks.find("liquid_key_pose_1"), nullptr);
+  ASSERT_EQ(h.run("drag_item liquid_key_pose_1 30 0 6\nwait 2\n"), "");
+  EXPECT_GT(h.app->doc.scene()["source"]["trajectory"][1]["position_m"][0].get<double>(), key_x + 0.005);
+  EXPECT_EQ(h.app->doc.history().cursor(), undo_before + 5);
 
   // The particles exporter: one PLY per frame, equal to the take's particles.
   const fs::path plugin = fs::path(PLIANT_BIN).parent_path() / "plugins" / "libparticles_export.so";

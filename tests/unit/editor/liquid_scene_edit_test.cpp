@@ -90,6 +90,54 @@ TEST(LiquidSceneEdit, MovingTheSourceMovesItsKeys) {
   EXPECT_EQ(t["source"], pour_scene()["source"]);
 }
 
+TEST(LiquidSceneEdit, MovingAKeyPositionMovesOnlyThatKey) {
+  const json s0 = pour_scene();
+  const json s = liquid_move_key_position(s0, 1, 0.01, -0.02);
+  const json& k = s["source"]["trajectory"][1];
+  EXPECT_NEAR(k["position_m"][0].get<double>(), 0.09, 1e-12);
+  EXPECT_NEAR(k["position_m"][1].get<double>(), 0.22, 1e-12);
+  EXPECT_EQ(k["tilt_deg"], 120);
+  EXPECT_EQ(k["time_s"], 0.8);
+  EXPECT_EQ(s["source"]["trajectory"][0], s0["source"]["trajectory"][0]);
+  EXPECT_EQ(s["source"]["position_m"], s0["source"]["position_m"]);
+  EXPECT_EQ(liquid_move_key_position(s0, 2, 1, 1), s0);
+  EXPECT_EQ(liquid_move_key_position(s0, -1, 1, 1), s0);
+}
+
+TEST(LiquidSceneEdit, AdoptingAPlannedTrajectorySetsKeysAndPlannerNone) {
+  json s0 = pour_scene();
+  s0["planner"] = {{"mode", "correction"}, {"iterations", 2}};
+  // As the job reports it: 3 coordinates in 2D.
+  const json planned = {{{"time_s", 0.0}, {"position_m", {0.0, 0.2, 0.0}}, {"tilt_deg", 0.0}},
+                        {{"time_s", 0.5}, {"position_m", {0.05, 0.21, 0.0}}, {"tilt_deg", 90.0}}};
+  const json s = liquid_adopt_trajectory(s0, planned);
+  EXPECT_EQ(s["planner"]["mode"], "none");
+  EXPECT_EQ(s["planner"]["iterations"], 2);
+  ASSERT_EQ(s["source"]["trajectory"].size(), 2u);
+  EXPECT_EQ(s["source"]["trajectory"][1]["position_m"], json({0.05, 0.21}));
+  EXPECT_EQ(s["source"]["trajectory"][1]["tilt_deg"], 90.0);
+  EXPECT_EQ(s["source"]["trajectory"][1]["time_s"], 0.5);
+  EXPECT_EQ(liquid_adopt_trajectory(s0, json::array()), s0);
+  EXPECT_EQ(liquid_adopt_trajectory(s0, json()), s0);
+}
+
+TEST(LiquidSceneEdit, MeshFileBecomesAMeshContainer) {
+  const json s = liquid_set_mesh_container(pour_scene(), "target", "meshes/mug.obj");
+  EXPECT_EQ(s["target"]["container"], json({{"shape", "mesh"}, {"file", "meshes/mug.obj"}}));
+  EXPECT_EQ(s["target"]["position_m"], pour_scene()["target"]["position_m"]);
+  EXPECT_EQ(s["source"], pour_scene()["source"]);
+  json no_source = pour_scene();
+  no_source.erase("source");
+  const json t = liquid_set_mesh_container(no_source, "source", "/abs/cup.stl");
+  EXPECT_EQ(t["source"]["position_m"], json({0.0, 0.0}));
+  EXPECT_EQ(t["source"]["container"]["file"], "/abs/cup.stl");
+  EXPECT_TRUE(liquid_is_mesh_file("a/b/Mug.OBJ"));
+  EXPECT_TRUE(liquid_is_mesh_file("x.stl"));
+  EXPECT_TRUE(liquid_is_mesh_file("x.ply"));
+  EXPECT_FALSE(liquid_is_mesh_file("x.json"));
+  EXPECT_FALSE(liquid_is_mesh_file("obj"));
+}
+
 TEST(LiquidSceneEdit, ResizeNeedsInlineAndInliningReadsTheFile) {
   const json s = pour_scene();
   EXPECT_FALSE(liquid_container_is_inline(s, "source"));
