@@ -60,7 +60,7 @@ struct FlipWorkspace {
   std::vector<double> off, cdiag, cp, cr, cz, cs, cq, cAs, precon;
   std::vector<double> vx, vb, vr, vz, vs, vq, vdiag;  // viscosity solve
   std::array<std::vector<double>, 3> vplus;
-  std::vector<int> vindex;
+  std::vector<int> vindex, vrows, vrow_of, vnbr;  // viscosity: face kinds, compacted rows
   std::array<std::vector<int>, 3> front, front_next;  // extrapolation band per component
   std::array<std::vector<float>, 3> front_value;
   bool static_ready = false;

@@ -48,6 +48,18 @@ Vec3 source_point_velocity(const LiquidModel& m, double t, const Pose& pose, con
   return {lin[0] - wz * (x[1] - pose.position_m[1]), lin[1] + wz * (x[0] - pose.position_m[0]), lin[2]};
 }
 
+// A pose with its rotation precomputed: build_solids maps every face near a
+// container into its frame each substep (same formula as Pose::to_local).
+struct FramePose {
+  double c, s;
+  Vec3 p;
+  explicit FramePose(const Pose& q) : c(std::cos(q.tilt_rad)), s(std::sin(q.tilt_rad)), p(q.position_m) {}
+  Vec3 to_local(const Vec3& w) const {
+    const double x = w[0] - p[0], y = w[1] - p[1];
+    return {c * x - s * y, s * x + c * y, w[2] - p[2]};
+  }
+};
+
 // Reach of a container from its origin (bounding sphere radius).
 double container_reach(const ContainerShape& c) {
   if (c.type == ContainerShape::Mesh) return c.mesh->reach_m;
@@ -76,8 +88,14 @@ void build_solids(const FlipGrid& g, const LiquidModel& m, FlipWorkspace& w, dou
     w.static_ready = true;
   }
   const Pose pose = source_pose_at(m, t);
+  const FramePose sframe(pose);
+  Vec3 slin;  // source rigid motion at t: linear velocity and angular rate about z
+  double tilt_rate;
+  m.source_path.velocity(t, &slin, &tilt_rate);
+  const double wz = -tilt_rate;  // world rotation is by -tilt about z
   const double reach = container_reach(m.source.shape) + 2 * g.h;
   const Pose tpose = target_pose_at(m, t);
+  const FramePose tframe(tpose);
   const double treach = container_reach(m.target.shape) + 2 * g.h;
   auto near_target = [&](const Vec3& x) {
     const double dx = x[0] - tpose.position_m[0], dy = x[1] - tpose.position_m[1], dz = x[2] - tpose.position_m[2];
@@ -102,17 +120,19 @@ void build_solids(const FlipGrid& g, const LiquidModel& m, FlipWorkspace& w, dou
           float sv = 0;
           const Vec3 x = g.face_pos(c, i, j, k);
           if (near_target(x)) {
-            const double pt = m.target.shape.wall_sdf(tpose.to_local(x), g.dim);
+            const double pt = m.target.shape.wall_sdf(tframe.to_local(x), g.dim);
             if (pt < phi) phi = pt, sv = float(m.target_velocity_mps[c]);
           }
           if (m.has_source) {
             const double dx = x[0] - pose.position_m[0], dy = x[1] - pose.position_m[1],
                          dz = x[2] - pose.position_m[2];
             if (dx * dx + dy * dy + dz * dz < reach * reach) {
-              const double ps = m.source.shape.wall_sdf(pose.to_local(x), g.dim);
+              const double ps = m.source.shape.wall_sdf(sframe.to_local(x), g.dim);
               if (ps < phi) {
                 phi = ps;
-                sv = float(source_point_velocity(m, t, pose, x)[c]);
+                sv = float(c == 0 ? slin[0] - wz * (x[1] - pose.position_m[1])
+                           : c == 1 ? slin[1] + wz * (x[0] - pose.position_m[0])
+                                    : slin[2]);
               }
             }
           }
@@ -140,11 +160,11 @@ void build_solids(const FlipGrid& g, const LiquidModel& m, FlipWorkspace& w, dou
         const int ci = g.cell(i, j, k);
         double phi = w.static_phi_cell[ci];
         const Vec3 x = g.cell_pos(i, j, k);
-        if (near_target(x)) phi = std::min(phi, m.target.shape.wall_sdf(tpose.to_local(x), g.dim));
+        if (near_target(x)) phi = std::min(phi, m.target.shape.wall_sdf(tframe.to_local(x), g.dim));
         if (m.has_source) {
           const double dx = x[0] - pose.position_m[0], dy = x[1] - pose.position_m[1], dz = x[2] - pose.position_m[2];
           if (dx * dx + dy * dy + dz * dz < reach * reach)
-            phi = std::min(phi, m.source.shape.wall_sdf(pose.to_local(x), g.dim));
+            phi = std::min(phi, m.source.shape.wall_sdf(sframe.to_local(x), g.dim));
         }
         w.solid_cell[ci] = phi < 0;
       }

@@ -36,73 +36,74 @@ int apply_viscosity(const FlipGrid& g, const LiquidModel& m, FlipWorkspace& w, d
           }
           in[f] = fl ? 1 : 0;
         }
+    // Compact system: one row per unknown face, 2 dim neighbour slots (unknown
+    // neighbours only; Dirichlet ones are folded into the right-hand side).
+    auto& rows = w.vrows;
+    auto& row_of = w.vrow_of;
+    rows.clear();
+    row_of.assign(n, -1);
+    for (int f = 0; f < n; ++f)
+      if (in[f] == 1) row_of[f] = int(rows.size()), rows.push_back(f);
+    const int nr = int(rows.size());
     auto &x = w.vx, &b = w.vb, &r = w.vr, &z = w.vz, &s = w.vs, &q = w.vq, &dg = w.vdiag;
-    x.assign(n, 0.0), b.assign(n, 0.0), dg.assign(n, 1.0);
-#pragma omp parallel for collapse(2) schedule(static) if (worth_threads(g.cells()))
-    for (int k = 0; k < d[2]; ++k)
-      for (int j = 0; j < d[1]; ++j)
-        for (int i = 0; i < d[0]; ++i) {
-          const int f = i + d[0] * (j + d[1] * k);
-          if (in[f] != 1) continue;
-          const int idx[3] = {i, j, k};
-          double diag = 1, rhs = w.vel[c][f];
-          for (int a = 0; a < g.dim; ++a)
-            for (int sgn = -1; sgn <= 1; sgn += 2) {
-              const int ni = idx[a] + sgn;
-              if (ni < 0 || ni >= d[a]) { diag += alpha; continue; }  // domain wall: no slip
-              const int nb = f + sgn * st[a];
-              if (in[nb] == 1) diag += alpha;
-              else if (in[nb] == 2) diag += alpha, rhs += alpha * w.solid_vel[c][nb];
-            }
-          dg[f] = diag, b[f] = rhs, x[f] = w.vel[c][f];
+    auto& nbr = w.vnbr;
+    for (auto* v : {&x, &b, &r, &z, &s, &q, &dg}) v->assign(nr, 0.0);
+    nbr.assign(6 * size_t(nr), -1);
+#pragma omp parallel for schedule(static) if (worth_threads(nr))
+    for (int row = 0; row < nr; ++row) {
+      const int f = rows[row];
+      const int idx[3] = {f % d[0], (f / d[0]) % d[1], f / (d[0] * d[1])};
+      double diag = 1, rhs = w.vel[c][f];
+      for (int a = 0; a < g.dim; ++a)
+        for (int side = 0; side < 2; ++side) {
+          const int ni = idx[a] + (side ? 1 : -1);
+          if (ni < 0 || ni >= d[a]) { diag += alpha; continue; }  // domain wall: no slip
+          const int nb = f + (side ? st[a] : -st[a]);
+          if (in[nb] == 1) diag += alpha, nbr[6 * row + 2 * a + side] = row_of[nb];
+          else if (in[nb] == 2) diag += alpha, rhs += alpha * w.solid_vel[c][nb];
         }
+      dg[row] = diag, b[row] = rhs, x[row] = w.vel[c][f];
+    }
     auto matvec = [&](const std::vector<double>& v, std::vector<double>& out) {
-#pragma omp parallel for schedule(static) if (worth_threads(g.cells()))
-      for (int f = 0; f < n; ++f) {
-        if (in[f] != 1) { out[f] = 0; continue; }
-        int rem = f;
-        const int i = rem % d[0]; rem /= d[0];
-        const int j = rem % d[1]; const int k = rem / d[1];
-        const int idx[3] = {i, j, k};
-        double t = dg[f] * v[f];
-        for (int a = 0; a < g.dim; ++a) {
-          if (idx[a] > 0 && in[f - st[a]] == 1) t -= alpha * v[f - st[a]];
-          if (idx[a] + 1 < d[a] && in[f + st[a]] == 1) t -= alpha * v[f + st[a]];
+#pragma omp parallel for schedule(static) if (worth_threads_light(nr))
+      for (int row = 0; row < nr; ++row) {
+        double t = dg[row] * v[row];
+        for (int e = 0; e < 6; ++e) {
+          const int nb = nbr[6 * row + e];
+          if (nb >= 0) t -= alpha * v[nb];
         }
-        out[f] = t;
+        out[row] = t;
       }
     };
-    r.assign(n, 0.0), z.assign(n, 0.0), s.assign(n, 0.0), q.assign(n, 0.0);
     matvec(x, q);
     double rz = 0, r0 = 0;
-    for (int f = 0; f < n; ++f) {
-      r[f] = in[f] == 1 ? b[f] - q[f] : 0.0;
-      z[f] = r[f] / dg[f];
-      s[f] = z[f];
-      rz += r[f] * z[f];
-      r0 = std::max(r0, std::abs(r[f]));
+    for (int i = 0; i < nr; ++i) {
+      r[i] = b[i] - q[i];
+      z[i] = r[i] / dg[i];
+      s[i] = z[i];
+      rz += r[i] * z[i];
+      r0 = std::max(r0, std::abs(r[i]));
     }
     const double scale = std::max(1e-6, r0);
     for (int it = 0; it < 500 && r0 > 1e-7 * scale; ++it, ++total) {
       matvec(s, q);
       double sq = 0;
-      for (int f = 0; f < n; ++f) sq += s[f] * q[f];
+      for (int i = 0; i < nr; ++i) sq += s[i] * q[i];
       const double al = rz / std::max(1e-300, sq);
       double rz_new = 0;
       r0 = 0;
-      for (int f = 0; f < n; ++f) {
-        x[f] += al * s[f];
-        r[f] -= al * q[f];
-        z[f] = r[f] / dg[f];
-        rz_new += r[f] * z[f];
-        r0 = std::max(r0, std::abs(r[f]));
+      for (int i = 0; i < nr; ++i) {
+        x[i] += al * s[i];
+        r[i] -= al * q[i];
+        z[i] = r[i] / dg[i];
+        rz_new += r[i] * z[i];
+        r0 = std::max(r0, std::abs(r[i]));
       }
       const double beta = rz_new / rz;
       rz = rz_new;
-      for (int f = 0; f < n; ++f) s[f] = z[f] + beta * s[f];
+      for (int i = 0; i < nr; ++i) s[i] = z[i] + beta * s[i];
     }
-    for (int f = 0; f < n; ++f)
-      if (in[f] == 1) w.vel[c][f] = float(x[f]);
+    for (int row = 0; row < nr; ++row) w.vel[c][rows[row]] = float(x[row]);
   }
   return total;
 }
