@@ -23,6 +23,7 @@ struct Renderer::Impl {
   std::vector<std::unique_ptr<FrameDrawer>> kinds;  // liquid, soft, articulated
   FrameDrawer* active = nullptr;                    // kind drawer of the shown frame
   bool framed = false;
+  bool frame0_seen = false;  // set_take_frame looked at frame 0 since reset_framing()
   Vec3 centre{0, 0, 0};
   float scale = 1;  // world units -> unit box
 };
@@ -126,6 +127,13 @@ void Renderer::set_frame(const Record& frame, const nlohmann::json* take_scene) 
   }
 }
 
+void Renderer::set_take_frame(TakeReader& take, size_t i) {
+  const nlohmann::json* scene = &take.manifest().scene;
+  if (!impl_->framed && !impl_->frame0_seen && i != 0) set_frame(take.read_frame_at(0), scene);
+  impl_->frame0_seen = true;
+  set_frame(take.read_frame_at(i), scene);
+}
+
 void Renderer::clear_frame() {
   impl_->active = nullptr;
   impl_->dim = 0;
@@ -135,7 +143,10 @@ void Renderer::clear_frame() {
 bool Renderer::has_frame() const { return impl_->dim != 0; }
 std::array<float, 3> Renderer::domain_extent() const { return impl_->extent; }
 int Renderer::frame_dim() const { return impl_->dim; }
-void Renderer::reset_framing() { impl_->framed = false; }
+void Renderer::reset_framing() {
+  impl_->framed = false;
+  impl_->frame0_seen = false;
+}
 std::string Renderer::drawer_name() const { return impl_->active ? impl_->active->name() : ""; }
 
 void Renderer::render(const OrbitCamera& cam, const ViewSettings& view, int w, int h) {

@@ -36,9 +36,13 @@ class Renderer {
   // record to the first kind drawer that takes it. `take_scene`: the take
   // manifest's scene copy (kind drawers read geometry from it); may be null.
   void set_frame(const Record& frame, const nlohmann::json* take_scene = nullptr);
+  // Shows frame `i` of a take. Kind drawers are framed from the take's frame 0
+  // whichever frame comes first after reset_framing(): a running job shows its
+  // newest frame, which must not decide the camera box.
+  void set_take_frame(TakeReader& take, size_t i);
   void clear_frame();
-  // Kind drawers: the next upload fixes the world -> unit-box framing again
-  // (call when a different take is shown).
+  // Kind drawers: the next upload (frame 0 of the take, with set_take_frame)
+  // fixes the world -> unit-box framing again (call when a different take is shown).
   void reset_framing();
   // Name of the kind drawer showing the frame ("" for smoke or none).
   std::string drawer_name() const;

@@ -113,10 +113,7 @@ void App::shutdown(bool clean) {
     }
   }
   if (gl_) {
-    if (viewport.fbo) glDeleteFramebuffers(1, &viewport.fbo);
-    if (viewport.color_tex) glDeleteTextures(1, &viewport.color_tex);
-    if (viewport.depth_rb) glDeleteRenderbuffers(1, &viewport.depth_rb);
-    viewport.fbo = viewport.color_tex = viewport.depth_rb = 0;
+    viewport.target.release();
     release_canvas_gl(canvas);
     compare.release_gl();
     if (renderer_ok_) renderer.shutdown();
@@ -246,8 +243,8 @@ Image App::capture_window() const {
 }
 
 Image App::capture_viewport() const {
-  if (!gl_ || !viewport.fbo) return {};
-  return read_framebuffer(viewport.fbo, 0, 0, viewport.fbo_w, viewport.fbo_h);
+  if (!gl_ || !viewport.target.fbo) return {};
+  return read_framebuffer(viewport.target.fbo, 0, 0, viewport.target.w, viewport.target.h);
 }
 
 }  // namespace pliant::editor

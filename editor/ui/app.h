@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "render/offscreen_target.h"
 #include "doc/autosave.h"
 #include "doc/document.h"
 #include "doc/export_run.h"
@@ -48,8 +49,7 @@ struct AppOptions {
 struct ViewportState {
   OrbitCamera camera;
   ViewSettings settings;
-  unsigned fbo = 0, color_tex = 0, depth_rb = 0;
-  int fbo_w = 0, fbo_h = 0;
+  OffscreenTarget target;
   std::string shown_dir;  // what the renderer holds now
   int shown_frame = -1, shown_count = -1;
   size_t shown_records = 0;   // record count when a preview was uploaded

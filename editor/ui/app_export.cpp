@@ -30,42 +30,30 @@ bool App::export_rendered_frames(const fs::path& dir, std::string* err) {
     *err = "cannot create " + dir.string() + ": " + ec.message();
     return false;
   }
-  const int w = viewport.fbo_w > 15 ? viewport.fbo_w : 960, h = viewport.fbo_h > 15 ? viewport.fbo_h : 540;
-  GLuint fbo = 0, tex = 0, rb = 0;
-  glGenFramebuffers(1, &fbo);
-  glGenTextures(1, &tex);
-  glGenRenderbuffers(1, &rb);
-  glBindTexture(GL_TEXTURE_2D, tex);
-  glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, w, h, 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
-  glBindTexture(GL_TEXTURE_2D, 0);
-  glBindRenderbuffer(GL_RENDERBUFFER, rb);
-  glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH24_STENCIL8, w, h);
-  glBindRenderbuffer(GL_RENDERBUFFER, 0);
+  const int w = viewport.target.w > 15 ? viewport.target.w : 960;
+  const int h = viewport.target.h > 15 ? viewport.target.h : 540;
+  OffscreenTarget target;
+  target.ensure(w, h);
   GLint prev = 0;
   glGetIntegerv(GL_FRAMEBUFFER_BINDING, &prev);
-  glBindFramebuffer(GL_FRAMEBUFFER, fbo);
-  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, tex, 0);
-  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, rb);
   bool ok = true;
   const size_t n = rd->frame_count();
   for (size_t i = 0; i < n && ok; ++i) {
     try {
-      renderer.set_frame(rd->read_frame_at(i), &rd->manifest().scene);
+      renderer.set_take_frame(*rd, i);
     } catch (const std::exception& e) {
       *err = "frame " + std::to_string(i) + ": " + e.what();
       ok = false;
       break;
     }
-    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+    target.bind();
     renderer.render(viewport.camera, viewport.settings, w, h);
     char name[32];
     std::snprintf(name, sizeof name, "frame_%05zu.png", i);
-    ok = write_png((dir / name).string(), read_framebuffer(fbo, 0, 0, w, h), err);
+    ok = write_png((dir / name).string(), read_framebuffer(target.fbo, 0, 0, w, h), err);
   }
   glBindFramebuffer(GL_FRAMEBUFFER, GLuint(prev));
-  glDeleteFramebuffers(1, &fbo);
-  glDeleteTextures(1, &tex);
-  glDeleteRenderbuffers(1, &rb);
+  target.release();
   viewport.shown_frame = -1;  // the viewport re-uploads its own frame
   ++viewport.uploads;
   return ok;

@@ -43,7 +43,6 @@ fs::path take_base(const App& app) {
 // Writes `scene` to TAKE.scene.json and starts `pliant run` on it; the job joins
 // app.jobs (the jobs panel shows its progress and Cancel).
 JobProcess* start_job(App& app, const json& scene, const fs::path& take, std::string* err) {
-  ArticulatedUiState& st = app.kind_ui.get<ArticulatedUiState>("articulated");
   JobSpec spec;
   spec.pliant = app.options().pliant.empty() ? default_pliant_binary() : app.options().pliant;
   spec.take = take;

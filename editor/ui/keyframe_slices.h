@@ -4,6 +4,7 @@
 #pragma once
 #include <cstdint>
 
+#include "render/offscreen_target.h"
 #include "pliant/geom/painted_grid.h"
 #include "render/orbit_camera.h"
 #include "render/renderer.h"
@@ -16,8 +17,7 @@ struct KeyframeVolumeView {
   Renderer renderer;
   bool ready = false;
   std::string error;
-  unsigned fbo = 0, color_tex = 0, depth_rb = 0;
-  int fbo_w = 0, fbo_h = 0;
+  OffscreenTarget target;
   OrbitCamera camera;
   uint64_t uploaded_version = ~uint64_t(0);
   bool dirty = true;  // re-render into the FBO (volume, size or camera changed)

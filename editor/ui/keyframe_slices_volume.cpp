@@ -15,11 +15,7 @@
 namespace pliant::editor {
 
 void release_volume_view(KeyframeVolumeView& v) {
-  if (v.fbo) glDeleteFramebuffers(1, &v.fbo);
-  if (v.color_tex) glDeleteTextures(1, &v.color_tex);
-  if (v.depth_rb) glDeleteRenderbuffers(1, &v.depth_rb);
-  v.fbo = v.color_tex = v.depth_rb = 0;
-  v.fbo_w = v.fbo_h = 0;
+  v.target.release();
   if (v.ready) v.renderer.shutdown();
   v.ready = false;
   v.uploaded_version = ~uint64_t(0);
@@ -27,32 +23,6 @@ void release_volume_view(KeyframeVolumeView& v) {
 }
 
 namespace {
-
-void ensure_fbo(KeyframeVolumeView& v, int w, int h) {
-  if (!v.fbo) {
-    glGenFramebuffers(1, &v.fbo);
-    glGenTextures(1, &v.color_tex);
-    glGenRenderbuffers(1, &v.depth_rb);
-  }
-  if (v.fbo_w == w && v.fbo_h == h) return;
-  glBindTexture(GL_TEXTURE_2D, v.color_tex);
-  glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, w, h, 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-  glBindTexture(GL_TEXTURE_2D, 0);
-  GLint prev = 0;
-  glGetIntegerv(GL_FRAMEBUFFER_BINDING, &prev);
-  glBindFramebuffer(GL_FRAMEBUFFER, v.fbo);
-  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, v.color_tex, 0);
-  glBindRenderbuffer(GL_RENDERBUFFER, v.depth_rb);
-  glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH24_STENCIL8, w, h);
-  glBindRenderbuffer(GL_RENDERBUFFER, 0);
-  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, v.depth_rb);
-  glBindFramebuffer(GL_FRAMEBUFFER, GLuint(prev));
-  v.fbo_w = w;
-  v.fbo_h = h;
-  v.dirty = true;
-}
 
 }  // namespace
 
@@ -89,19 +59,18 @@ void draw_keyframe_volume(KeyframeVolumeView& v, App& app, const geom::PaintedGr
     v.uploaded_version = version;
     v.dirty = true;
   }
-  ensure_fbo(v, w, h);
+  if (v.target.ensure(w, h)) v.dirty = true;
   if (v.dirty) {
     GLint prev = 0;
     glGetIntegerv(GL_FRAMEBUFFER_BINDING, &prev);
-    glBindFramebuffer(GL_FRAMEBUFFER, v.fbo);
-    glViewport(0, 0, w, h);
+    v.target.bind();
     ViewSettings view;
     view.density_scale = 1.5f;  // keyframes are mostly 0/1: a little denser reads better
     v.renderer.render(v.camera, view, w, h);
     glBindFramebuffer(GL_FRAMEBUFFER, GLuint(prev));
     v.dirty = false;
   }
-  dl->AddImage(reinterpret_cast<ImTextureID>(static_cast<intptr_t>(v.color_tex)), ImVec2(x, y),
+  dl->AddImage(reinterpret_cast<ImTextureID>(static_cast<intptr_t>(v.target.color_tex)), ImVec2(x, y),
                ImVec2(x + w, y + h), ImVec2(0, 1), ImVec2(1, 0));
   // The painted slice: its outline in the volume (the renderer frames the domain
   // centred at the origin with the longest side 1).

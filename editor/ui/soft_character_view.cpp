@@ -42,28 +42,6 @@ constexpr LineDrawer::Color kPinned{1.0f, 0.3f, 0.3f, 1.0f};
 constexpr LineDrawer::Color kHover{1.0f, 0.95f, 0.3f, 1.0f};
 constexpr MeshDrawer::Color kBody{0.93f, 0.62f, 0.38f, 1.0f};
 
-void ensure_fbo(SoftUi& ui, int w, int h) {
-  if (ui.fbo && ui.fbo_w == w && ui.fbo_h == h) return;
-  if (!ui.fbo) {
-    glGenFramebuffers(1, &ui.fbo);
-    glGenTextures(1, &ui.color_tex);
-    glGenRenderbuffers(1, &ui.depth_rb);
-  }
-  glBindTexture(GL_TEXTURE_2D, ui.color_tex);
-  glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, w, h, 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-  glBindTexture(GL_TEXTURE_2D, 0);
-  glBindRenderbuffer(GL_RENDERBUFFER, ui.depth_rb);
-  glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH24_STENCIL8, w, h);
-  glBindRenderbuffer(GL_RENDERBUFFER, 0);
-  glBindFramebuffer(GL_FRAMEBUFFER, ui.fbo);
-  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, ui.color_tex, 0);
-  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, ui.depth_rb);
-  ui.fbo_w = w;
-  ui.fbo_h = h;
-}
-
 void add_cross(LineDrawer& l, const Vec3& p, float r, const LineDrawer::Color& c) {
   for (int a = 0; a < 3; ++a) {
     Vec3 lo = p, hi = p;
@@ -242,13 +220,11 @@ bool soft_character_view(App& app) {
                                 float(pins.size()), float(app.doc.revision()), float(pm.key & 0xffffff)};
     state.insert(state.end(), ui.world_to_clip.begin(), ui.world_to_clip.end());
     state.insert(state.end(), ui.amplitude_m.begin(), ui.amplitude_m.end());
-    if (state != ui.drawn_state || !ui.fbo) {
+    if (ui.target.ensure(w, h) || state != ui.drawn_state) {
       ++ui.redraws;
       GLint prev_fb = 0;
       glGetIntegerv(GL_FRAMEBUFFER_BINDING, &prev_fb);
-      ensure_fbo(ui, w, h);
-      glBindFramebuffer(GL_FRAMEBUFFER, ui.fbo);
-      glViewport(0, 0, w, h);
+      ui.target.bind();
       const auto& bg = app.viewport.settings.background;
       glClearColor(bg[0], bg[1], bg[2], 1.0f);
       glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
@@ -293,7 +269,7 @@ bool soft_character_view(App& app) {
       glBindFramebuffer(GL_FRAMEBUFFER, GLuint(prev_fb));
       ui.drawn_state = std::move(state);
     }
-    ImGui::GetWindowDrawList()->AddImage(reinterpret_cast<ImTextureID>(static_cast<intptr_t>(ui.color_tex)), pos,
+    ImGui::GetWindowDrawList()->AddImage(reinterpret_cast<ImTextureID>(static_cast<intptr_t>(ui.target.color_tex)), pos,
                                          ImVec2(pos.x + w, pos.y + h), ImVec2(0, 1), ImVec2(1, 0));
   }
   soft_gizmos(app, ui.world_to_clip, base, size, pos.x, pos.y, w, h);

@@ -204,7 +204,7 @@ void sync_takes(App& app) {
   const bool first = ui.shown.frames == 0 || ui.shown.dir != app.take.dir().string();
   if (sync_take_data(app, app.take.reader(), app.take.dir().string(), size_t(app.take.frame_count()), ui.shown)) {
     app.viewport.shown_frame = -1;  // upload again with the triangles and trail
-    if (first) app.renderer.reset_framing();  // frame 0's extent and the goal, whichever frame came first
+    if (first) app.renderer.reset_framing();  // frame again now that the start and the goal are known
   }
   if (app.compare.enabled && app.compare.reader &&
       sync_take_data(app, app.compare.reader.get(), app.compare.dir.string(), app.compare.reader->frame_count(),

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "render/offscreen_target.h"
 #include "render/line_drawer.h"
 #include "render/mat4.h"
 #include "render/mesh_drawer.h"
@@ -42,8 +43,7 @@ struct SoftUi : KindUiState {
   std::string last_pick;  // "vertex 12 pinned at frame 5" (shown in the mode's toolbar)
   // Character-mode drawing (own framebuffer; the Renderer shows takes).
   bool gl_ready = false;
-  unsigned fbo = 0, color_tex = 0, depth_rb = 0;
-  int fbo_w = 0, fbo_h = 0;
+  OffscreenTarget target;
   MeshDrawer mesh;
   LineDrawer lines;
   std::vector<float> drawn_state;

@@ -6,6 +6,7 @@
 #include <memory>
 #include <string>
 
+#include "render/offscreen_target.h"
 #include "pliant/core/take.h"
 #include "render/renderer.h"
 
@@ -19,8 +20,7 @@ struct TakeCompare {
   std::unique_ptr<TakeReader> reader;
   Renderer renderer;
   bool renderer_ready = false;
-  unsigned fbo = 0, color_tex = 0, depth_rb = 0;
-  int fbo_w = 0, fbo_h = 0;
+  OffscreenTarget target;
   int shown_frame = -1;
   size_t shown_count = 0;
   std::string error;

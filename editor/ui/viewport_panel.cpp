@@ -21,30 +21,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-void ensure_fbo(ViewportState& v, int w, int h) {
-  if (v.fbo && v.fbo_w == w && v.fbo_h == h) return;
-  if (!v.fbo) {
-    glGenFramebuffers(1, &v.fbo);
-    glGenTextures(1, &v.color_tex);
-    glGenRenderbuffers(1, &v.depth_rb);
-  }
-  glBindTexture(GL_TEXTURE_2D, v.color_tex);
-  glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, w, h, 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-  glBindTexture(GL_TEXTURE_2D, 0);
-  glBindRenderbuffer(GL_RENDERBUFFER, v.depth_rb);
-  glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH24_STENCIL8, w, h);
-  glBindRenderbuffer(GL_RENDERBUFFER, 0);
-  glBindFramebuffer(GL_FRAMEBUFFER, v.fbo);
-  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, v.color_tex, 0);
-  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, v.depth_rb);
-  v.fbo_w = w;
-  v.fbo_h = h;
-}
-
 // Progressive preview: before the take has frames, the newest Preview record
 // (a coarse level of the solve, [T+1, ny, nx]) at the current frame (the last
 // frame when none is chosen). Returns false when the take has no preview.
@@ -146,7 +122,7 @@ void sync_frame(App& app) {
   bool new_take = dir != shown_dir;
   try {
     if (new_take) app.renderer.reset_framing();
-    app.renderer.set_frame(rd->read_frame_at(static_cast<size_t>(app.take.frame)), &rd->manifest().scene);
+    app.renderer.set_take_frame(*rd, static_cast<size_t>(app.take.frame));
     ++app.viewport.uploads;
     if (new_take) app.viewport.camera.reset();
   } catch (const std::exception& e) {
@@ -257,10 +233,8 @@ void draw_viewport_panel(App& app, const PanelRect& r) {
                                 float(vs.show_force), vs.background[0], vs.background[1], vs.background[2],
                                 vs.smoke_color[0], vs.smoke_color[1], vs.smoke_color[2], float(w), float(h),
                                 float(app.renderer.has_frame())};
-    if (state != v.drawn_state || !v.fbo || v.fbo_w != w || v.fbo_h != h) {
-      ensure_fbo(v, w, h);
-      glBindFramebuffer(GL_FRAMEBUFFER, v.fbo);
-      glViewport(0, 0, w, h);
+    if (v.target.ensure(w, h) || state != v.drawn_state) {
+      v.target.bind();
       const auto& bg = v.settings.background;
       glClearColor(bg[0], bg[1], bg[2], 1.0f);
       glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
@@ -270,7 +244,7 @@ void draw_viewport_panel(App& app, const PanelRect& r) {
     }
     // GL's origin is bottom-left: flip v so the image is upright.
     ImGui::GetWindowDrawList()->AddImage(
-        reinterpret_cast<ImTextureID>(static_cast<intptr_t>(v.color_tex)), pos,
+        reinterpret_cast<ImTextureID>(static_cast<intptr_t>(v.target.color_tex)), pos,
         ImVec2(pos.x + w, pos.y + h), ImVec2(0, 1), ImVec2(1, 0));
     if (app.renderer.has_frame()) draw_keyframe_outline(app, pos, w, h);
     if (kp && kp->viewport_overlay) kp->viewport_overlay(app, pos.x, pos.y, w, h);

@@ -26,7 +26,9 @@ inline fs::path test_data(const std::string& rel) { return fs::path(PLIANT_EDITO
 inline void match_golden_image(const Image& shot, const std::string& golden_name) {
   std::string err;
   fs::path golden = test_data("golden/" + golden_name);
-  if (std::getenv("PLIANT_UPDATE_GOLDEN")) ASSERT_TRUE(write_png(golden.string(), shot, &err)) << err;
+  if (std::getenv("PLIANT_UPDATE_GOLDEN")) {
+    ASSERT_TRUE(write_png(golden.string(), shot, &err)) << err;
+  }
   Image want = read_png(golden.string(), &err);
   ASSERT_FALSE(want.empty()) << err << " (generate with PLIANT_UPDATE_GOLDEN=1)";
   CompareResult c = compare(shot, want, /*max_tol=*/48, /*mean_tol=*/1.0);
