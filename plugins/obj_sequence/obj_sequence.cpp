@@ -29,6 +29,7 @@ namespace {
 
 using pliant_plugin::fail;
 using pliant_plugin::find_field;
+using pliant_plugin::write_file_atomically;
 
 struct ObjExport {
   std::filesystem::path out_dir;
@@ -86,29 +87,19 @@ int obj_frame(void*, const PliantFrame* frame, char* err, size_t err_size) {
   char name[32];
   std::snprintf(name, sizeof name, "frame_%05d.obj", index);
   const std::filesystem::path path = g_export.out_dir / name;
-  std::filesystem::path tmp = path;
-  tmp += ".tmp";
-  std::FILE* f = std::fopen(tmp.c_str(), "wb");
-  if (!f) return fail(err, err_size, "cannot write %s: %s", tmp.c_str(), std::strerror(errno));
-  bool ok = std::fprintf(f, "# Pliant take frame %d, t = %.6f s, units: metres\n", index, frame->time_s) > 0;
-  for (size_t i = 0; i < nverts && ok; ++i)
-    ok = std::fprintf(f, "v %.7g %.7g %.7g\n", double(v->data[3 * i]), double(v->data[3 * i + 1]),
-                      double(v->data[3 * i + 2])) > 0;
-  const auto& t = g_export.triangles;
-  for (size_t i = 0; i + 2 < t.size() && ok; i += 3)  // OBJ indices are 1-based
-    ok = std::fprintf(f, "f %u %u %u\n", t[i] + 1, t[i + 1] + 1, t[i + 2] + 1) > 0;
-  if (std::fflush(f) != 0) ok = false;
-  const int saved_errno = errno;
-  if (std::fclose(f) != 0) ok = false;
-  if (!ok) {
-    std::remove(tmp.c_str());
-    return fail(err, err_size, "cannot write %s: %s", path.c_str(), std::strerror(saved_errno));
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    std::remove(tmp.c_str());
-    return fail(err, err_size, "cannot rename %s: %s", tmp.c_str(), std::strerror(errno));
-  }
-  return 0;
+  return write_file_atomically(
+      path,
+      [&](std::FILE* f) {
+        bool ok = std::fprintf(f, "# Pliant take frame %d, t = %.6f s, units: metres\n", index, frame->time_s) > 0;
+        for (size_t i = 0; i < nverts && ok; ++i)
+          ok = std::fprintf(f, "v %.7g %.7g %.7g\n", double(v->data[3 * i]), double(v->data[3 * i + 1]),
+                            double(v->data[3 * i + 2])) > 0;
+        const auto& t = g_export.triangles;
+        for (size_t i = 0; i + 2 < t.size() && ok; i += 3)  // OBJ indices are 1-based
+          ok = std::fprintf(f, "f %u %u %u\n", t[i] + 1, t[i + 1] + 1, t[i + 2] + 1) > 0;
+        return ok;
+      },
+      err, err_size);
 }
 
 int obj_end(void*, char*, size_t) {

@@ -26,6 +26,7 @@ namespace {
 
 using pliant_plugin::fail;
 using pliant_plugin::find_field;
+using pliant_plugin::write_file_atomically;
 
 struct ParticlesExport {
   std::filesystem::path out_dir;
@@ -70,28 +71,18 @@ int particles_frame(void*, const PliantFrame* frame, char* err, size_t err_size)
   char name[40];
   std::snprintf(name, sizeof name, "particles_%05d.ply", int(frame->index));
   const std::filesystem::path path = g_export.out_dir / name;
-  std::filesystem::path tmp = path;
-  tmp += ".tmp";
-  std::FILE* f = std::fopen(tmp.c_str(), "wb");
-  if (!f) return fail(err, err_size, "cannot write %s: %s", tmp.c_str(), std::strerror(errno));
-  bool ok = std::fprintf(f,
-                         "ply\nformat binary_little_endian 1.0\ncomment pliant liquid frame %d time %.9g s\n"
-                         "element vertex %zu\nproperty float x\nproperty float y\nproperty float z\n"
-                         "property float speed\nend_header\n",
-                         int(frame->index), frame->time_s, n) > 0;
-  ok = ok && std::fwrite(g_export.rows.data(), sizeof(float), g_export.rows.size(), f) == g_export.rows.size();
-  ok = std::fflush(f) == 0 && ok;
-  const int saved_errno = errno;
-  ok = std::fclose(f) == 0 && ok;
-  if (!ok) {
-    std::remove(tmp.c_str());
-    return fail(err, err_size, "cannot write %s: %s", path.c_str(), std::strerror(saved_errno));
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    std::remove(tmp.c_str());
-    return fail(err, err_size, "cannot rename %s: %s", tmp.c_str(), std::strerror(errno));
-  }
-  return 0;
+  return write_file_atomically(
+      path,
+      [&](std::FILE* f) {
+        const bool ok = std::fprintf(f,
+                                     "ply\nformat binary_little_endian 1.0\ncomment pliant liquid frame %d time %.9g s\n"
+                                     "element vertex %zu\nproperty float x\nproperty float y\nproperty float z\n"
+                                     "property float speed\nend_header\n",
+                                     int(frame->index), frame->time_s, n) > 0;
+        return ok && std::fwrite(g_export.rows.data(), sizeof(float), g_export.rows.size(), f) ==
+                         g_export.rows.size();
+      },
+      err, err_size);
 }
 
 int particles_end(void*, char*, size_t) {

@@ -35,6 +35,7 @@ namespace {
 
 using pliant_plugin::fail;
 using pliant_plugin::find_field;
+using pliant_plugin::write_file_atomically;
 
 struct PngExport {
   std::filesystem::path out_dir;
@@ -64,27 +65,15 @@ void write_chunk(void* context, void* data, int size) {
   if (sink->ok && std::fwrite(data, 1, size_t(size), sink->f) != size_t(size)) sink->ok = false;
 }
 
-// Writes via a temporary name and renames, so a reader never sees half a PNG.
 int write_png(const std::filesystem::path& path, int w, int h, const unsigned char* pixels,
               char* err, size_t err_size) {
-  std::filesystem::path tmp = path;
-  tmp += ".tmp";
-  FileSink sink{std::fopen(tmp.c_str(), "wb"), true};
-  if (!sink.f) return fail(err, err_size, "cannot write %s: %s", tmp.c_str(), std::strerror(errno));
-  int encoded = stbi_write_png_to_func(&write_chunk, &sink, w, h, 1, pixels, w);
-  if (std::fflush(sink.f) != 0) sink.ok = false;
-  const int saved_errno = errno;
-  if (std::fclose(sink.f) != 0) sink.ok = false;
-  if (!encoded || !sink.ok) {
-    std::remove(tmp.c_str());
-    return fail(err, err_size, "cannot write %s: %s", path.c_str(),
-                encoded ? std::strerror(saved_errno) : "PNG encoding failed");
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    std::remove(tmp.c_str());
-    return fail(err, err_size, "cannot rename %s: %s", tmp.c_str(), std::strerror(errno));
-  }
-  return 0;
+  return write_file_atomically(
+      path,
+      [&](std::FILE* f) {
+        FileSink sink{f, true};
+        return stbi_write_png_to_func(&write_chunk, &sink, w, h, 1, pixels, w) != 0 && sink.ok;
+      },
+      err, err_size);
 }
 
 int png_frame(void*, const PliantFrame* frame, char* err, size_t err_size) {

@@ -5,7 +5,9 @@
 #include <cstdarg>
 #include <cstddef>
 #include <cstdio>
+#include <cerrno>
 #include <cstring>
+#include <filesystem>
 
 #include "pliant/plugin.h"
 
@@ -28,6 +30,32 @@ inline const PliantField* find_field(const PliantFrame* frame, const char* name)
   for (uint32_t i = 0; i < frame->field_count; ++i)
     if (std::strcmp(frame->fields[i].name, name) == 0) return &frame->fields[i];
   return nullptr;
+}
+
+/* Writes `path` through `path`.tmp and a rename, so a reader (or a crash)
+ * never leaves half a file under the real name. write(FILE*) returns false
+ * when a write failed; the temporary file is removed on any failure. */
+template <class Write>
+int write_file_atomically(const std::filesystem::path& path, Write&& write, char* err, size_t err_size) {
+  std::filesystem::path tmp = path;
+  tmp += ".tmp";
+  std::FILE* f = std::fopen(tmp.c_str(), "wb");
+  if (!f) return fail(err, err_size, "cannot write %s: %s", tmp.c_str(), std::strerror(errno));
+  errno = 0;
+  bool ok = write(f);
+  ok = std::fflush(f) == 0 && ok;
+  const int saved_errno = errno;
+  ok = std::fclose(f) == 0 && ok;
+  if (!ok) {
+    std::remove(tmp.c_str());
+    return fail(err, err_size, "cannot write %s: %s", path.c_str(),
+                saved_errno ? std::strerror(saved_errno) : "encoding or write failed");
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+    std::remove(tmp.c_str());
+    return fail(err, err_size, "cannot rename %s: %s", tmp.c_str(), std::strerror(errno));
+  }
+  return 0;
 }
 
 }  // namespace pliant_plugin
