@@ -104,11 +104,15 @@ MpcAction mpc_decide(const FeedbackContext& c, const FeedbackPredictor& net, con
       p.tilt_rad = r.tilt;
       cost[i] += 1e3 * pose_violation(m, p, t_end);
       // Approach: before the flow has started, bring the lip over the near part
-      // of the opening. The first trickle falls almost straight down from the
-      // lip, later than and short of where the networks' mean stream lands, so
-      // a source still far from the target at the onset spilled it (the main
-      // failure of the first MPC on validation problems).
-      const double pre = std::clamp((r.fraction - 0.9) / 0.07, 0.0, 1.0);
+      // of the opening (approach_goal inner radii short of the centre). The
+      // first trickle falls almost straight down from the lip, earlier and
+      // shorter than the networks' mean stream, so a source still far from the
+      // target at the onset spilled it (the main failure of the first MPC on
+      // validation problems). The term fades out by 60% of the pour time: where
+      // the networks predict the stream would miss from the approach position,
+      // it otherwise held the tilt below the onset for the whole pour.
+      const double pre = std::clamp((r.fraction - 0.9) / 0.07, 0.0, 1.0) *
+                         std::clamp(1 - t_end / (0.6 * m.planner.pour_time_s), 0.0, 1.0);
       if (ms.approach_weight > 0 && pre > 0) {
         const double goal = target_pose_at(m, t_end + 0.2).position_m[0] - ms.approach_goal * inner;
         const double e = (c.lip(p)[0] - goal) / inner;

@@ -127,10 +127,10 @@ struct MpcSettings {
   int horizon = 4;  // intervals rolled through the networks
   std::vector<double> tilt_rates{0.0, 0.2, 0.45, 0.8, 1.3};
   std::vector<double> speeds{-0.2, -0.12, -0.06, -0.02, 0.0, 0.02, 0.06, 0.12, 0.2};
-  // Before the flow starts (> 90% left), pull the lip toward approach_goal x the
-  // opening's inner radius short of the target's centre (cost weight per interval,
-  // squared offset in inner radii). Tuned on validation problems of the training
-  // split (liquid_train --evaluate), never on the held-out split.
+  // Before the flow starts (> 90% left; fading out by 60% of the pour time),
+  // pull the lip toward approach_goal x the opening's inner radius short of the
+  // target's centre (cost weight per interval, squared offset in inner radii). Tuned on validation problems of the training split
+  // (liquid_train --evaluate), never on the held-out split.
   double approach_weight = 4, approach_goal = 0.3;
 };
 
