@@ -2,7 +2,7 @@
 
 #include <algorithm>
 #include <array>
-#include <cassert>
+#include <stdexcept>
 
 #include "control_sampling.h"
 
@@ -86,7 +86,8 @@ void build_sl_stencil(const SpacetimeGrid& sg, const double* zbar, double dt, Sl
   const double dt_h = dt / g.h;
   for (int a = 0; a < g.dim; ++a) {
     const FieldLayout l = g.face_layout(a);
-    assert(l.size[0] < 65536 && l.size[1] < 65536 && l.size[2] < 65536);
+    if (l.size[0] >= 65536 || l.size[1] >= 65536 || l.size[2] >= 65536)  // SlRow's 16-bit indices
+      throw std::length_error("NSO stencil: a grid axis has 65536 or more samples");
 #pragma omp parallel for collapse(2) schedule(static) if (l.count() > kSpacetimeOmpMinWork)
     for (int k = 0; k < l.size[2]; ++k)
       for (int j = 0; j < l.size[1]; ++j)
