@@ -92,10 +92,16 @@ bool soft_character_view(App& app) {
                       ui.last_pick.c_str());
 
   const SoftPreviewModel& pm = soft_preview_model(app);
+  if (pm.building()) {
+    ImGui::TextColored(ImVec4(1.0f, 0.85f, 0.45f, 1.0f), "building lattice...");
+    ui_mark("soft_building");
+  }
   if (!pm.model) {
-    ImGui::PushTextWrapPos(0);
-    ImGui::TextColored(kErrorColor, "%s", pm.error.c_str());
-    ImGui::PopTextWrapPos();
+    if (!pm.building()) {
+      ImGui::PushTextWrapPos(0);
+      ImGui::TextColored(kErrorColor, "%s", pm.error.c_str());
+      ImGui::PopTextWrapPos();
+    }
     return true;
   }
   const soft::SoftModel& m = *pm.model;

@@ -340,41 +340,7 @@ int soft_pin_frame(App& app) {
   return std::clamp(app.take.frame, 1, std::max(1, info.horizon));
 }
 
-const SoftPreviewModel& soft_preview_model(App& app) {
-  SoftUi& ui = soft_ui(app);
-  const json& s = app.doc.scene();
-  json part = {{"character", s.contains("character") ? s["character"] : json()},
-               {"material", s.contains("material") ? s["material"] : json()},
-               {"dir", app.doc.has_path() ? app.doc.path().parent_path().string() : std::string()}};
-  const uint64_t key = std::hash<std::string>{}(part.dump()) | 1;
-  if (ui.preview.key == key) return ui.preview;
-  ui.preview = SoftPreviewModel{};
-  ui.preview.key = key;
-#ifdef PLIANT_HAVE_SOFT
-  json doc = {{"pliant", 1}, {"kind", "soft"}, {"name", "preview"}};
-  if (part["character"].is_object()) {
-    doc["character"] = part["character"];
-    doc["character"]["cubature"] = false;  // the preview needs modes only
-  }
-  if (part["material"].is_object()) doc["material"] = part["material"];
-  doc["optimizer"] = {{"method", "none"}};
-  const std::string label = app.doc.has_path() ? app.doc.path().string() : std::string("untitled.json");
-  try {
-    const auto t0 = std::chrono::steady_clock::now();
-    Scene scene = parse_scene(doc.dump(), label, app.doc.has_path() ? app.doc.path().parent_path() : fs::path("."));
-    auto m = std::make_shared<soft::SoftModel>(soft::soft_compile(scene));
-    soft::soft_bind(*m);
-    ui.preview.model = std::move(m);
-    ui.preview.compile_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    ui.amplitude_m.assign(size_t(ui.preview.model->character.basis.r()), 0.0f);
-  } catch (const std::exception& e) {
-    ui.preview.error = e.what();
-  }
-#else
-  ui.preview.error = "this editor was built without the soft module";
-#endif
-  return ui.preview;
-}
+// soft_preview_model: ui/soft_preview_build.cpp (compiled off the UI thread).
 
 bool soft_on_drop(App& app, const fs::path& path) {
   if (!is_soft_scene(app.doc.scene())) return false;

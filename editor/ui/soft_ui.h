@@ -5,10 +5,12 @@
 #pragma once
 #include <cstdint>
 #include <filesystem>
+#include <future>
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "doc/soft_scene.h"
 #include "render/offscreen_target.h"
 #include "render/line_drawer.h"
 #include "render/mat4.h"
@@ -25,13 +27,28 @@ namespace pliant::editor {
 
 class App;
 
-// The body compiled from the document (character + material only: no
-// cubature, no objectives), recompiled when those sections change.
-struct SoftPreviewModel {
-  uint64_t key = 0;  // hash of the sections it was compiled from ("" = none)
+// One finished body compile (worker thread -> UI thread).
+struct SoftPreviewBuild {
+  uint64_t key = 0;
   std::shared_ptr<soft::SoftModel> model;  // null when the compile failed
   std::string error;
   double compile_s = 0;
+};
+
+// The body compiled from the document (character + material only: no
+// cubature, no objectives), recompiled off the UI thread when those sections
+// change (ui/soft_preview_build.cpp): the previous body stays shown until the
+// new one is done; a result the document no longer wants is dropped.
+struct SoftPreviewModel {
+  uint64_t key = 0;  // hash of the sections the shown model was compiled from (0 = none)
+  std::shared_ptr<soft::SoftModel> model;  // null when the compile failed
+  std::string error;
+  double compile_s = 0;
+  uint64_t wanted = 0;                     // hash of the document's sections now
+  std::future<SoftPreviewBuild> pending;   // the worker's compile, when one runs
+  int builds = 0;                          // finished compiles (tests)
+  uint64_t frames_while_building = 0;      // UI frames drawn while a compile ran (tests)
+  bool building() const { return pending.valid(); }
 };
 
 struct SoftUi : KindUiState {
@@ -66,9 +83,17 @@ struct SoftUi : KindUiState {
   double drag_start_value = 0;
   // Screen positions of the handles drawn last frame (scripts and tests drag them).
   struct Handle {
-    int id = 0;  // 1 target, 2 heading tip, 3 jump
+    int id = 0;  // 1 target, 2 heading tip, 3 jump, 4 pin target
     float x = 0, y = 0;
+    int vertex = -1;  // pin targets: the pinned vertex
   };
+  // Pin target drag (handle 4): the pin and its target at the start, where
+  // the mouse ray met the target's horizontal plane then, the scene then
+  // (each drag frame re-pins from it: one undo step per drag).
+  SoftPin drag_pin;
+  Vec3 drag_pin_target{0, 0, 0};
+  Vec3 drag_start_hit{0, 0, 0};
+  nlohmann::json drag_scene;
   std::vector<Handle> handles;
   ~SoftUi() override;
 };

@@ -3,7 +3,9 @@
 // frames 0..15, --threads 1), Optimize, scrub to the end and match a golden
 // screenshot; export the take as OBJ files through the "obj" plugin; in the
 // Character mode a mode slider deforms the preview (pixels change) without
-// editing the document; a vertex pin and a gizmo drag are one undo step each.
+// editing the document; a vertex pin and a gizmo drag are one undo step each;
+// a pin's target is dragged afterwards (one undo step); the body compiles off
+// the UI thread (frames keep coming, a newer edit supersedes an older one).
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -16,6 +18,9 @@
 #include "render/image_compare.h"
 #include "render/screenshot.h"
 #include "ui/soft_ui.h"
+#ifdef PLIANT_HAVE_SOFT
+#include "pliant/soft/soft.h"
+#endif
 
 namespace pliant::editor::test {
 
@@ -55,6 +60,14 @@ Image shot(EditorHarness& h, const std::string& name) {
 }
 
 std::string num(float v) { return std::to_string(int(std::lround(v))); }
+
+// Runs frames until the Character mode's body build has finished (at most ~30 s).
+bool wait_body(EditorHarness& h) {
+  SoftUi& ui = soft_ui(*h.app);
+  for (int i = 0; i < 300 && (ui.preview.building() || !(ui.preview.model || !ui.preview.error.empty())); ++i)
+    if (!h.run("wait 0.1\n").empty()) return false;
+  return !ui.preview.building();
+}
 
 }  // namespace
 
@@ -142,9 +155,11 @@ TEST(EditorSoft, OptimizeWalkMatchesGoldenAndExportsObj) {
 TEST(EditorSoft, ModeSliderDeformsPreviewAndPinsAndGizmosAreOneUndoStep) {
   EditorHarness h("soft_character");
   h.start(spider_scene(h), /*gl=*/true, 1280, 720);
-  ASSERT_EQ(h.run("wait 2\nclick_item soft_character\nwait 3\n"), "");
+  ASSERT_EQ(h.run("wait 2\nclick_item soft_character\nwait 1\n"), "");
   SoftUi& ui = soft_ui(*h.app);
   ASSERT_TRUE(ui.character_mode);
+  ASSERT_TRUE(wait_body(h));
+  ASSERT_EQ(h.run("wait 2\n"), "");
   ASSERT_TRUE(ui.preview.model) << ui.preview.error;
   ASSERT_GE(ui.amplitude_m.size(), 1u);
   const UiRect* canvas = h.app->marks.find("soft_character_canvas");
@@ -191,6 +206,30 @@ TEST(EditorSoft, ModeSliderDeformsPreviewAndPinsAndGizmosAreOneUndoStep) {
   h.app->cmd_redo();
   EXPECT_EQ(soft_pins(h.app->doc.scene()).size(), 1u);
 
+  // The pin's target (red square) drags in its horizontal plane: offset x/z
+  // change, y stays; one undo step; undo restores the pin.
+  ASSERT_EQ(h.run("wait 2\n"), "");
+  const SoftPin pin0 = soft_pins(h.app->doc.scene())[0];
+  const SoftUi::Handle* pin_handle = nullptr;
+  for (const auto& hd : ui.handles)
+    if (hd.id == 4 && hd.vertex == pin0.vertex) pin_handle = &hd;
+  ASSERT_NE(pin_handle, nullptr);
+  EXPECT_NE(h.app->marks.find("soft_pin_" + std::to_string(pin0.vertex)), nullptr);
+  const float px = pin_handle->x, py = pin_handle->y;
+  const size_t steps_pin = h.app->doc.history().size();
+  const json pinned_scene = h.app->doc.scene();
+  ASSERT_EQ(h.run("drag " + num(px) + " " + num(py) + " " + num(px + 40) + " " + num(py + 10) + " 8\nwait 3\n"), "");
+  const auto moved_pins = soft_pins(h.app->doc.scene());
+  ASSERT_EQ(moved_pins.size(), 1u);
+  EXPECT_EQ(moved_pins[0].vertex, pin0.vertex);
+  EXPECT_EQ(moved_pins[0].frame, pin0.frame);
+  EXPECT_GT(std::hypot(moved_pins[0].offset[0] - pin0.offset[0], moved_pins[0].offset[2] - pin0.offset[2]), 1e-3);
+  EXPECT_NEAR(moved_pins[0].offset[1], pin0.offset[1], 1e-9);
+  EXPECT_EQ(h.app->doc.history().size(), steps_pin + 1);
+  h.app->cmd_undo();
+  EXPECT_EQ(h.app->doc.scene(), pinned_scene);
+  h.app->cmd_redo();
+
   // Dragging the heading arrow's tip turns the heading: one undo step.
   ASSERT_EQ(h.run("wait 2\n"), "");
   const SoftUi::Handle* heading = nullptr;
@@ -212,6 +251,42 @@ TEST(EditorSoft, ModeSliderDeformsPreviewAndPinsAndGizmosAreOneUndoStep) {
 }  // namespace pliant::editor::test
 
 namespace pliant::editor::test {
+
+#ifdef PLIANT_HAVE_SOFT
+// The Character mode's body is compiled by a worker: the UI keeps drawing
+// frames meanwhile, the body shows when it is done, and of two quick edits
+// only the newest is shown.
+TEST(EditorSoft, CharacterBodyCompilesOffTheUiThread) {
+  EditorHarness h("soft_async");
+  h.start(spider_scene(h), /*gl=*/true, 960, 540);
+  SoftUi& ui = soft_ui(*h.app);
+  ASSERT_EQ(h.run("wait 1\nclick_item soft_character\n"), "");
+  ASSERT_TRUE(ui.character_mode);
+  ASSERT_TRUE(wait_body(h));
+  ASSERT_TRUE(ui.preview.model) << ui.preview.error;
+  // Frames were drawn while the worker compiled (the compile takes 0.2 s or
+  // more; a frame of this small window a few ms).
+  EXPECT_GE(ui.preview.frames_while_building, 2u);
+  EXPECT_EQ(ui.preview.builds, 1);
+  ASSERT_EQ(h.run("wait 1\n"), "");
+  EXPECT_GT(ui.redraws, 0u);
+  EXPECT_FALSE(ui.surface.empty());
+  const size_t cells4 = ui.preview.model->character.lattice.cells.size();
+
+  // Two edits in quick succession: resolution 3, then 5 the next frame.
+  h.app->doc.set("/character/resolution", 3);
+  ASSERT_EQ(h.run("wait 0.02\n"), "");
+  EXPECT_TRUE(ui.preview.building());
+  h.app->doc.set("/character/resolution", 5);
+  ASSERT_TRUE(wait_body(h));
+  ASSERT_EQ(h.run("wait 0.1\n"), "");
+  ASSERT_TRUE(wait_body(h));
+  ASSERT_TRUE(ui.preview.model) << ui.preview.error;
+  EXPECT_EQ(ui.preview.key, ui.preview.wanted);
+  EXPECT_GT(ui.preview.model->character.lattice.cells.size(), cells4);
+  EXPECT_LE(ui.preview.builds, 3);
+}
+#endif  // PLIANT_HAVE_SOFT
 
 TEST(EditorSoft, DroppedMeshBecomesTheCharacter) {
   EditorHarness h("soft_drop");
