@@ -5,8 +5,10 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <memory>
 #include <stdexcept>
 #include <tuple>
+#include <vector>
 
 #include "pliant/soft/dmp.h"
 
@@ -26,13 +28,6 @@ namespace {
 
 double wrap(double a) { return std::remainder(a, 2 * M_PI); }
 
-// Pose after a body-frame motion (forward, side, yaw) from pose (x, z, yaw).
-Eigen::Vector3d compose(const Eigen::Vector3d& pose, const Gait& g) {
-  const double c = std::cos(pose[2]), s = std::sin(pose[2]);
-  return {pose[0] + c * g.forward_m - s * g.side_m, pose[1] + s * g.forward_m + c * g.side_m,
-          wrap(pose[2] + g.yaw_rad)};
-}
-
 double clearance(const NavSettings& nav, const Eigen::Vector2d& p) {
   double best = std::numeric_limits<double>::infinity();
   for (const auto& o : nav.obstacles) best = std::min(best, (p - o.center_m).norm() - o.radius_m);
@@ -40,6 +35,109 @@ double clearance(const NavSettings& nav, const Eigen::Vector2d& p) {
 }
 
 int period_frames(const Problem& p) { return std::max(1, int(std::lround(p.dmp.period_s / p.sim.dt_s))); }
+
+// Cost to go of the gait primitives: periods needed to reach the goal disc from a
+// planar pose (x, z, yaw), on a lattice of cells (about a third of a step in x and
+// z, 48 yaw bins). Each cell has one edge per gait, to the cell of the primitive
+// applied at its centre, unless that lands in an inflated obstacle or off the
+// lattice; a breadth-first search backwards from the goal cells gives the number
+// of periods (edges all cost one period). This is the primitives' optimal policy
+// from every pose at once, so the executor can replan from wherever the
+// re-simulated body actually is without running a planner again.
+class PrimitiveCostToGo {
+ public:
+  PrimitiveCostToGo(const std::vector<Gait>& gaits, const NavSettings& nav, const Eigen::Vector2d& start,
+                    double inflate, double step) {
+    Eigen::Vector2d lo = start.cwiseMin(nav.goal_m), hi = start.cwiseMax(nav.goal_m);
+    for (const auto& o : nav.obstacles) {
+      lo = lo.cwiseMin(o.center_m - Eigen::Vector2d::Constant(o.radius_m));
+      hi = hi.cwiseMax(o.center_m + Eigen::Vector2d::Constant(o.radius_m));
+    }
+    const double margin = 2 * inflate + nav.goal_tolerance_m + 8 * step;  // room to loop around
+    lo_ = lo - Eigen::Vector2d::Constant(margin);
+    const Eigen::Vector2d ext = hi - lo + Eigen::Vector2d::Constant(2 * margin);
+    h_ = std::max(0.35 * step, std::sqrt(ext[0] * ext[1] / 40000.0));  // at most ~40k cells per yaw bin
+    nx_ = int(std::ceil(ext[0] / h_)) + 1;
+    nz_ = int(std::ceil(ext[1] / h_)) + 1;
+    const int n = nx_ * nz_ * kYaw;
+    const int G = int(gaits.size());
+    // Reverse edges in CSR form: who reaches cell j with one primitive.
+    std::vector<int> succ(size_t(n) * G, -1), count(size_t(n) + 1, 0);
+    for (int c = 0; c < n; ++c) {
+      const Eigen::Vector3d pose = centre(c);
+      for (int g = 0; g < G; ++g) {
+        const double cs = std::cos(pose[2]), sn = std::sin(pose[2]);
+        const Eigen::Vector3d q(pose[0] + cs * gaits[g].forward_m - sn * gaits[g].side_m,
+                                pose[1] + sn * gaits[g].forward_m + cs * gaits[g].side_m, pose[2] + gaits[g].yaw_rad);
+        const Eigen::Vector2d mid = 0.5 * (pose.head<2>() + q.head<2>());
+        if (clearance(nav, q.head<2>()) <= inflate || clearance(nav, mid) <= inflate) continue;
+        const int j = cell(q);
+        if (j < 0) continue;
+        succ[size_t(c) * G + g] = j;
+        ++count[size_t(j) + 1];
+      }
+    }
+    for (int j = 0; j < n; ++j) count[size_t(j) + 1] += count[size_t(j)];
+    std::vector<int> pred(size_t(count[size_t(n)])), fill(count.begin(), count.end() - 1);
+    for (int c = 0; c < n; ++c)
+      for (int g = 0; g < G; ++g)
+        if (succ[size_t(c) * G + g] >= 0) pred[size_t(fill[size_t(succ[size_t(c) * G + g])]++)] = c;
+    cost_.assign(size_t(n), kUnreached);
+    std::vector<int> queue;
+    queue.reserve(size_t(n));
+    // Goal cells: centre well inside the disc (the re-simulated motion differs from
+    // the primitives by a few centimetres per period).
+    for (int c = 0; c < n; ++c)
+      if ((centre(c).head<2>() - nav.goal_m).norm() <= 0.7 * nav.goal_tolerance_m) cost_[size_t(c)] = 0, queue.push_back(c);
+    for (size_t k = 0; k < queue.size(); ++k) {
+      const int j = queue[k];
+      for (int e = count[size_t(j)]; e < count[size_t(j) + 1]; ++e) {
+        const int c = pred[size_t(e)];
+        if (cost_[size_t(c)] == kUnreached) cost_[size_t(c)] = cost_[size_t(j)] + 1, queue.push_back(c);
+      }
+    }
+  }
+  // Periods to the goal from pose (x, z, yaw). The lattice's cell, or where that
+  // is unreached (the primitives are steady-state averages and the body is often
+  // between them), the cheapest cell with another yaw (one period per yaw bin of
+  // difference, about the turning gaits' rate) or a neighbouring position (half a
+  // period); infinity when none is reached or the pose is off the lattice.
+  double operator()(const Eigen::Vector3d& pose) const {
+    const int c = cell(pose);
+    if (c < 0) return std::numeric_limits<double>::infinity();
+    if (cost_[size_t(c)] != kUnreached) return cost_[size_t(c)];
+    const int i = c % nx_, k = (c / nx_) % nz_, a = c / (nx_ * nz_);
+    double best = std::numeric_limits<double>::infinity();
+    for (int da = -kYaw / 2; da <= kYaw / 2; ++da)
+      for (int dk = -1; dk <= 1; ++dk)
+        for (int di = -1; di <= 1; ++di) {
+          const int ii = i + di, kk = k + dk, aa = ((a + da) % kYaw + kYaw) % kYaw;
+          if (ii < 0 || kk < 0 || ii >= nx_ || kk >= nz_) continue;
+          const int v = cost_[size_t((aa * nz_ + kk) * nx_ + ii)];
+          if (v != kUnreached) best = std::min(best, v + std::abs(da) + ((di || dk) ? 0.5 : 0.0));
+        }
+    return best;
+  }
+
+ private:
+  static constexpr int kYaw = 48;
+  static constexpr int kUnreached = std::numeric_limits<int>::max();
+  int cell(const Eigen::Vector3d& pose) const {
+    const int i = int(std::lround((pose[0] - lo_[0]) / h_)), k = int(std::lround((pose[1] - lo_[1]) / h_));
+    if (i < 0 || k < 0 || i >= nx_ || k >= nz_) return -1;
+    int a = int(std::lround(pose[2] / (2 * M_PI / kYaw))) % kYaw;
+    if (a < 0) a += kYaw;
+    return (a * nz_ + k) * nx_ + i;
+  }
+  Eigen::Vector3d centre(int c) const {
+    const int i = c % nx_, k = (c / nx_) % nz_, a = c / (nx_ * nz_);
+    return {lo_[0] + i * h_, lo_[1] + k * h_, a * 2 * M_PI / kYaw};
+  }
+  Eigen::Vector2d lo_;
+  double h_ = 0;
+  int nx_ = 0, nz_ = 0;
+  std::vector<int> cost_;
+};
 
 #ifdef PLIANT_SOFT_HAVE_OMPL
 namespace ob = ompl::base;
@@ -227,7 +325,7 @@ NavResult navigate(const Problem& p, const std::vector<Gait>& gaits, const NavSe
                    const std::function<void(const SoftState&, int)>& on_frame) {
   const Character& ch = *p.character;
   NavResult res;
-  // Dubins radius from the turning gaits: speed over yaw rate, per period.
+  // Turning radius from the turning gaits: speed over yaw rate, per period.
   double rho = 0;
   int turns = 0;
   for (size_t k = 1; k < gaits.size(); ++k)
@@ -242,59 +340,124 @@ NavResult navigate(const Problem& p, const std::vector<Gait>& gaits, const NavSe
 
   const int P = period_frames(p);
   SoftState s = initial_state(ch, p.start_offset_m, Eigen::Vector3d::Zero(), p.sim.dt_s);
-  res.planned = plan_dubins_path(planar_pose(s, nav.body_axis), nav, rho, inflate);
-  std::vector<double> arclen(res.planned.size(), 0.0);
-  for (size_t i = 1; i < res.planned.size(); ++i)
-    arclen[i] = arclen[i - 1] + (res.planned[i].head<2>() - res.planned[i - 1].head<2>()).norm();
+  const Eigen::Vector3d pose_start = planar_pose(s, nav.body_axis);
+  const std::vector<Eigen::Vector3d> path = plan_dubins_path(pose_start, nav, rho, inflate);
+  res.planned = path;
   double step = 0;
-  for (const auto& g : gaits) step = std::max(step, std::abs(g.forward_m));
-  const double lookahead = std::max(3 * step, radius);
+  for (const auto& g : gaits) step = std::max(step, std::hypot(g.forward_m, g.side_m));
+  if (step <= 1e-6) throw std::runtime_error("navigation: no gait moves the body (primitives of zero length)");
+  // The RRT* path is the route's plan; execution replans every period from the
+  // re-simulated pose through the primitives' cost to go (also heading-aware: a
+  // body facing away must turn first).
+  // The COM keeps half the body radius (plus the clearance) from an obstacle's
+  // footprint: legs may brush the rock (it is simulated too, and a quarter radius
+  // let the spider walk into it and stick); with the whole radius a wide body
+  // such as the spider (radius 0.52 m, turning radius 0.6 m) has no primitive
+  // sequence around the rock from its start pose.
+  const double keep_out = 0.5 * radius + nav.clearance_m;
+  // The primitives are measured from rest over a few periods; held longer, a gait
+  // can move differently (the spider's left turn doubles its yaw rate). The gait
+  // being held updates its primitive from what the re-simulation shows, and the
+  // cost to go is rebuilt when a primitive has moved by more than a tolerance.
+  std::vector<Gait> model = gaits, built = gaits;
+  auto cost_table = std::make_unique<PrimitiveCostToGo>(model, nav, pose_start.head<2>(), keep_out, step);
+  auto cost_to_go = [&](const Eigen::Vector3d& q) { return (*cost_table)(q); };
 
   DmpState d = dmp_init(p.dmp);
   const double a_max = max_activation_m(ch, p.dmp);
+  const Eigen::Vector2d goal = nav.goal_m;
+  auto planar = [](const SoftState& x) { return Eigen::Vector2d(x.c[0], x.c[2]); };
   res.com.push_back(s.c);
-  res.min_clearance_m = clearance(nav, Eigen::Vector2d(s.c[0], s.c[2]));
-  size_t idx = 0;
+  res.min_clearance_m = clearance(nav, planar(s));
   int frame = 0;
-  auto at_goal = [&] { return std::hypot(s.c[0] - nav.goal_m[0], s.c[2] - nav.goal_m[1]) <= nav.goal_tolerance_m; };
-  while (frame < nav.max_frames && !at_goal()) {
-    // Closest path point ahead of the last one, then the look-ahead target.
-    const Eigen::Vector3d pose = planar_pose(s, nav.body_axis);
-    size_t best = idx;
-    for (size_t i = idx; i < res.planned.size() && arclen[i] <= arclen[idx] + 4 * lookahead; ++i)
-      if ((res.planned[i].head<2>() - pose.head<2>()).norm() < (res.planned[best].head<2>() - pose.head<2>()).norm())
-        best = i;
-    idx = best;
-    size_t t = idx;
-    while (t + 1 < res.planned.size() && arclen[t] < arclen[idx] + lookahead) ++t;
-    const Eigen::Vector3d target = res.planned[t];
-    // Pure pursuit: the heading change that points at the target, and the gait whose
-    // yaw per period is closest to it (gaits that would end inside an inflated
-    // obstacle are avoided).
-    int choice = 0;
-    double best_score = std::numeric_limits<double>::infinity();
-    for (size_t g = 0; g < gaits.size(); ++g) {
-      const Eigen::Vector3d q = compose(pose, gaits[g]);
-      // Heading error at the predicted pose towards the target (the forward gait then
-      // carries the body along its heading), plus the distance left.
-      double score = std::abs(wrap(std::atan2(target[1] - q[1], target[0] - q[0]) - q[2])) +
-                     (q.head<2>() - target.head<2>()).norm() / std::max(lookahead, 1e-9);
-      if (clearance(nav, q.head<2>()) < radius) score += 10;
-      if (score < best_score) best_score = score, choice = int(g);
+  // One controller period of gait g from (s, d), re-simulated: the states per frame,
+  // the closest clearance and whether (and at which frame) the goal disc was reached.
+  struct Period {
+    std::vector<SoftState> states;
+    DmpState dmp;
+    double min_clearance = std::numeric_limits<double>::infinity();
+    int goal_frame = -1;
+    double score = std::numeric_limits<double>::infinity();
+  };
+  std::vector<Period> cand(gaits.size());
+  while (frame < nav.max_frames && (planar(s) - goal).norm() > nav.goal_tolerance_m) {
+    // Every gait is re-simulated for two periods from the current state (the DMP
+    // keeps its phase and activations across switches; one period is mostly the
+    // switch's transient, and choosing per period let the body dither between
+    // gaits in place); the one whose simulated
+    // pose has the smallest cost to go (periods, plus the distance to the goal in
+    // steps / 10 to break ties) is played. Periods that bring the COM closer than
+    // keep_out to an obstacle's footprint are penalized; a period that reaches the
+    // goal disc wins.
+    const int frames_left = nav.max_frames - frame;
+#pragma omp parallel for schedule(dynamic, 1) if (gaits.size() > 1)
+    for (int g = 0; g < int(gaits.size()); ++g) {
+      Period& c = cand[size_t(g)];
+      SoftState x = s;
+      c.dmp = d;
+      c.states.clear();
+      c.min_clearance = std::numeric_limits<double>::infinity();
+      c.goal_frame = -1;
+      for (int f = 0; f < std::min(2 * P, frames_left); ++f) {
+        const Eigen::VectorXd& y = dmp_step(p.dmp, gaits[size_t(g)].theta, p.sim.dt_s, c.dmp);
+        reduced_step(ch, p.env, p.sim, control_force(ch, y, a_max), x);
+        c.states.push_back(x);
+        c.min_clearance = std::min(c.min_clearance, clearance(nav, planar(x)));
+        if ((planar(x) - goal).norm() <= nav.goal_tolerance_m) {
+          c.goal_frame = f;
+          break;
+        }
+      }
+      const Eigen::Vector3d q = planar_pose(x, nav.body_axis);
+      const double dist = (q.head<2>() - goal).norm() / step;
+      const double ctg = cost_to_go(q);
+      c.score = (std::isfinite(ctg) ? ctg : 1000 + dist) + 0.1 * dist;
+      if (c.min_clearance < keep_out) c.score += 1e4 * (1 + (keep_out - c.min_clearance) / keep_out);
+      if (!std::isfinite(q.sum())) c.score = std::numeric_limits<double>::infinity();
+      // Switching gaits costs a transient (a turning gait barely turns in its first
+      // period after the other turn): without this the body alternated left and
+      // right pairs in place next to the goal.
+      if (!res.gait_sequence.empty() && g != res.gait_sequence.back()) c.score += 1.5;
+      if (c.goal_frame >= 0) c.score = -1e6 + c.goal_frame;
     }
+    int choice = 0;
+    for (size_t g = 1; g < gaits.size(); ++g)
+      if (cand[g].score < cand[size_t(choice)].score) choice = int(g);
+    const Period& c = cand[size_t(choice)];
+    if (c.states.empty() || !std::isfinite(c.states.back().c.sum()))
+      throw std::runtime_error("navigation: the reduced simulation diverged at frame " + std::to_string(frame));
     res.gait_sequence.push_back(choice);
-    for (int f = 0; f < P && frame < nav.max_frames; ++f) {
-      const Eigen::VectorXd& y = dmp_step(p.dmp, gaits[choice].theta, p.sim.dt_s, d);
-      reduced_step(ch, p.env, p.sim, control_force(ch, y, a_max), s);
+    if (int(c.states.size()) > P) res.gait_sequence.push_back(choice);
+    for (const SoftState& x : c.states) {
       ++frame;
-      res.com.push_back(s.c);
-      res.min_clearance_m = std::min(res.min_clearance_m, clearance(nav, Eigen::Vector2d(s.c[0], s.c[2])));
-      if (on_frame) on_frame(s, choice);
-      if (at_goal()) break;
+      res.com.push_back(x.c);
+      res.min_clearance_m = std::min(res.min_clearance_m, clearance(nav, planar(x)));
+      if (on_frame) on_frame(x, choice);
+    }
+    const Eigen::Vector3d before = planar_pose(s, nav.body_axis);
+    const bool held = res.gait_sequence.size() > 2 && res.gait_sequence[res.gait_sequence.size() - 3] == choice;
+    s = c.states.back();
+    d = c.dmp;
+    if (held && int(c.states.size()) == 2 * P) {
+      const Eigen::Vector3d after = planar_pose(s, nav.body_axis);
+      const double cs = std::cos(before[2]), sn = std::sin(before[2]);
+      const double dx = after[0] - before[0], dz = after[1] - before[1];
+      Gait& mg = model[size_t(choice)];
+      // Per period over the two, as the mean of a constant turn would give.
+      mg.forward_m = 0.5 * mg.forward_m + 0.25 * (cs * dx + sn * dz);
+      mg.side_m = 0.5 * mg.side_m + 0.25 * (-sn * dx + cs * dz);
+      mg.yaw_rad = 0.5 * mg.yaw_rad + 0.25 * wrap(after[2] - before[2]);
+      const Gait& bg = built[size_t(choice)];
+      if (std::abs(mg.yaw_rad - bg.yaw_rad) > 0.03 ||
+          std::hypot(mg.forward_m - bg.forward_m, mg.side_m - bg.side_m) > 0.2 * step) {
+        cost_table = std::make_unique<PrimitiveCostToGo>(model, nav, pose_start.head<2>(), keep_out, step);
+        built = model;
+        ++res.primitive_updates;
+      }
     }
   }
-  res.final_distance_m = std::hypot(s.c[0] - nav.goal_m[0], s.c[2] - nav.goal_m[1]);
-  res.reached = at_goal();
+  res.final_distance_m = (planar(s) - goal).norm();
+  res.reached = res.final_distance_m <= nav.goal_tolerance_m;
   return res;
 }
 

@@ -4,12 +4,16 @@
 // planar rigid motion (forward, sideways, yaw) of one controller period in the body
 // frame. RRT* (OMPL, ompl::geometric::RRTstar, then shortcutting) plans a short path
 // for the centre of mass to the goal disc around the obstacles' footprints, inflated
-// by the body's radius + clearance. The path is executed in the reduced simulation
-// one controller period at a time (closed loop on the simulated pose): the gait
-// whose predicted pose faces a look-ahead point on the path best (heading error
-// plus remaining distance) is played. Planar coordinates are (x, z) of the world
-// (y up); yaw = atan2(h_z, h_x) of the body axis h. A Dubins-space RRT* was tried
-// first (see navigation.cpp).
+// by the body's radius + clearance (reported as the route). Execution is closed
+// loop on the re-simulated body: every two controller periods each gait is
+// re-simulated from the current state (DMP phase kept) and the one whose end pose
+// has the smallest cost to go is played. The cost to go (periods to the goal disc)
+// comes from a breadth-first search over a lattice of planar poses (x, z, yaw)
+// whose edges are the gait primitives, so it replans from wherever the body is;
+// a held gait's primitive is updated from the re-simulation and the lattice
+// rebuilt when it moved. Planar coordinates are (x, z) of the world (y up);
+// yaw = atan2(h_z, h_x) of the body axis h. A Dubins-space RRT* was tried first
+// (see navigation.cpp).
 // Without OMPL (libompl-dev) navigation is unavailable: soft_compile rejects a
 // "navigation" section with an InputError.
 #pragma once
@@ -62,7 +66,7 @@ bool mirror_gait(const Problem& p, const Eigen::VectorXd& theta, Eigen::VectorXd
 // Measures a gait's primitive: simulates `warmup + periods` controller periods from
 // rest and averages the per-period planar motion over the last `periods`.
 Gait measure_gait(const Problem& p, const std::string& name, const Eigen::VectorXd& theta,
-                  const Eigen::Vector3d& body_axis, int warmup = 1, int periods = 3);
+                  const Eigen::Vector3d& body_axis, int warmup = 2, int periods = 6);
 
 // Planar pose (x, z, yaw) of a state.
 Eigen::Vector3d planar_pose(const SoftState& s, const Eigen::Vector3d& body_axis);
@@ -85,6 +89,7 @@ struct NavResult {
   double final_distance_m = 0;           // COM to goal, horizontal
   double min_clearance_m = 0;            // COM to the nearest obstacle footprint (not inflated)
   bool reached = false;
+  int primitive_updates = 0;             // cost-to-go rebuilds after a held gait moved differently
 };
 
 // Plans and executes: on_frame(state, gait) after every simulated frame.
