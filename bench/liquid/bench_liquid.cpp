@@ -4,7 +4,8 @@
 // other cases are kept).
 //   sim_<dim>d_<n>k_t<threads>: dam-break-style collapse, particle_steps_per_s
 //   dam_break_3d: 0.5 m cube in a 1 m box (~60k particles), wall_per_sim_s
-//   planner cases: see planner_cases() (success_at_5, mean_transfer, plan_s).
+//   planner cases: see bench_planners.h (success_at_5, mean_transfer, plan_s), static
+//   target ("planner_<mode>_2d") and TRANSFER+FOLLOW ("planner_<mode>_follow_2d").
 #include <omp.h>
 
 #include <cmath>
@@ -149,7 +150,12 @@ int main(int argc, char** argv) {
   }
   if (planners)
     for (auto& j : bench_planners(quick, problems)) emit(j);
+  // TRANSFER+FOLLOW (moving target) held-out problems: *_follow_2d cases.
+  if (planners)
+    for (auto& j : bench_planners(quick, problems, pliant::liquid::Family::Follow)) emit(j);
   if (feedback) emit(bench_feedback(feedback_problems > 0 ? feedback_problems : quick ? 5 : 100));
+  if (feedback)
+    emit(bench_feedback(feedback_problems > 0 ? feedback_problems : quick ? 5 : 100, pliant::liquid::Family::Follow));
   // Merge into the results file: rows of the cases run now replace theirs, the
   // other rows (e.g. planner cases run separately) are kept, in their order.
   nlohmann::json merged = nlohmann::json::array();
