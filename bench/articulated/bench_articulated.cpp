@@ -65,6 +65,12 @@ State chain_initial(const Model& m, bool tilt) {
   return s;
 }
 
+double thread_cpu_s() {
+  timespec t;
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return t.tv_sec + 1e-9 * t.tv_nsec;
+}
+
 Outcome run_ours(const Model& m, Integrator integ, double dt, double duration, const State& init,
                  double range) {
   SimOptions o;
@@ -77,10 +83,10 @@ Outcome run_ours(const Model& m, Integrator integ, double dt, double duration, c
   const double e0 = state_energy(m, o, s, ws).total;
   const int n = static_cast<int>(std::llround(duration / dt));
   for (int i = 0; i < n; ++i) {
-    const auto t0 = Clock::now();
+    const double t0 = thread_cpu_s();
     StepInfo info;
     const bool ok = sim_step(m, o, s, ws, &info);
-    out.wall += std::chrono::duration<double>(Clock::now() - t0).count();
+    out.wall += thread_cpu_s() - t0;
     out.iterations += info.iterations;
     ++out.steps;
     const double e = ok ? state_energy(m, o, s, ws).total : NAN;
@@ -95,12 +101,6 @@ Outcome run_ours(const Model& m, Integrator integ, double dt, double duration, c
   out.sim_time = out.steps * dt;
   out.iterations /= std::max(1, out.steps);
   return out;
-}
-
-double thread_cpu_s() {
-  timespec t;
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-  return t.tv_sec + 1e-9 * t.tv_nsec;
 }
 
 double load_average() {
@@ -168,9 +168,9 @@ Outcome run_mujoco(mjModel* mm, const Model& m, int integrator, double dt, doubl
   const double e0 = state_energy(m, o, s, ws).total;
   const int n = static_cast<int>(std::llround(duration / dt));
   for (int i = 0; i < n; ++i) {
-    const auto t0 = Clock::now();
+    const double t0 = thread_cpu_s();
     mj_step(mm, d);
-    out.wall += std::chrono::duration<double>(Clock::now() - t0).count();
+    out.wall += thread_cpu_s() - t0;
     ++out.steps;
     for (int k = 0; k < m.nq; ++k) s.qpos[k] = d->qpos[k];
     for (int k = 0; k < m.nv; ++k) s.qvel[k] = d->qvel[k];
@@ -196,7 +196,7 @@ nlohmann::json row(const std::string& c, const std::string& method, int links, d
                       {"dt", dt},
                       {"energy_drift", std::isfinite(o.drift) ? nlohmann::json(o.drift) : nlohmann::json("inf")},
                       {"stable", o.stable},
-                      {"wall_per_sim_s", o.sim_time > 0 ? o.wall / o.sim_time : 0.0},
+                      {"wall_per_sim_s", o.sim_time > 0 ? o.wall / o.sim_time : 0.0},  // thread CPU time
                       {"wall_per_step_us", o.steps > 0 ? 1e6 * o.wall / o.steps : 0.0},
                       {"simulated_s", o.sim_time}};
   if (method.rfind("pbad", 0) == 0) j["lm_iterations_per_step"] = o.iterations;
@@ -332,6 +332,29 @@ void batched_case(bool quick) {
           {"trajectories", trajectories}, {"steps", steps}, {"threads", threads}, {"wall_s", best},
           {"passes", passes}, {"trajectory_steps_per_s", trajectories * steps / best},
           {"speedup_vs_1_thread", walls.front() / best}});
+  }
+}
+
+// Cost per step from 10 to 100 links at dt 0.05 (issue 6: within 1.5x of linear):
+// thread CPU time of 10 s of stepping, fastest of 3 repeats.
+void cost_per_step_case() {
+  for (const char* chain_case : {"chain_tilt", "chain_swing"}) {
+    const bool tilt = std::string(chain_case) == "chain_tilt";
+    double per_step[2] = {0, 0}, iterations[2] = {0, 0};
+    const int links[2] = {10, 100};
+    for (int k = 0; k < 2; ++k) {
+      const Model m = model_from_mjcf(chain_mjcf(links[k]), "chain.xml");
+      const State init = chain_initial(m, tilt);
+      double best = 1e300;
+      for (int rep = 0; rep < 3; ++rep) best = std::min(best, time_ours(m, Integrator::Pbad3, 0.05, 10.0, init).cpu);
+      per_step[k] = best / 200;
+      iterations[k] = run_ours(m, Integrator::Pbad3, 0.05, 10.0, init, chain_range(m, links[k], 0.1)).iterations;
+    }
+    emit({{"case", "cost_per_step"}, {"chain", chain_case}, {"method", "pbad3"}, {"dt", 0.05},
+          {"us_per_step_10", 1e6 * per_step[0]}, {"us_per_step_100", 1e6 * per_step[1]},
+          {"lm_iterations_10", iterations[0]}, {"lm_iterations_100", iterations[1]},
+          {"ratio_vs_linear", per_step[1] / per_step[0] / 10}, {"load_average", load_average()},
+          {"timing", "thread CPU time, fastest of 3 runs of 200 steps"}});
   }
 }
 
@@ -512,6 +535,7 @@ int main(int argc, char** argv) {
     }
   }
   if (!chains_only) {
+    cost_per_step_case();
     contact_cases(quick);
     batched_case(quick);
   }
