@@ -216,6 +216,21 @@ void liquid_gizmos(App& app, const LiquidViewTransform& view, float x, float y, 
     }
   }
 
+  // A moving target (target.velocity_mps): its origin's path over the run.
+  if (scene.contains("target") && scene["target"].is_object() && scene["target"].contains("velocity_mps")) {
+    const Placement t = placement(scene, "target", nullptr);
+    const json v = scene["target"]["velocity_mps"];
+    double vel[3] = {0, 0, 0};
+    for (size_t a = 0; a < 3 && v.is_array() && a < v.size(); ++a) vel[a] = v[a].is_number() ? v[a].get<double>() : 0.0;
+    const double T = liquid_duration_s(scene);
+    ImVec2 a, b;
+    if ((vel[0] != 0 || vel[1] != 0 || vel[2] != 0) && m.to_screen(t.pos[0], t.pos[1], t.pos[2], &a) &&
+        m.to_screen(t.pos[0] + vel[0] * T, t.pos[1] + vel[1] * T, t.pos[2] + vel[2] * T, &b)) {
+      dl->AddLine(a, b, IM_COL32(120, 230, 120, 160), 1.5f);
+      dl->AddCircleFilled(b, 3.5f, IM_COL32(120, 230, 120, 200));
+    }
+  }
+
   for (ContainerRole role : {"source", "target"}) {
     const bool is_source = std::string(role) == "source";
     const LiquidContainerGeometry* g = have_geo ? (is_source ? &ui.geo.source : &ui.geo.target) : nullptr;

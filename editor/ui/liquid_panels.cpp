@@ -122,6 +122,7 @@ void container_section(App& app, ContainerRole role) {
   }
   json_vec(doc, "position (m)", base + "/position_m", liquid_dim(scene), 0.002f);
   if (std::string(role) == "source") json_double(doc, "tilt (deg)", base + "/tilt_deg", 0, 0.5f, -180, 180, "%.1f");
+  else json_vec(doc, "velocity (m/s)", base + "/velocity_mps", liquid_dim(scene), 0.002f);
   ImGui::PopID();
 }
 

@@ -126,8 +126,9 @@ bool liquid_placement_view(App& app) {
     if (ui.place_ok) liquid_gizmos(app, ui.place_view, pos.x, pos.y, w, h);
   }
   if (!ui.place_ok) {
-    dl->AddText(ImVec2(pos.x + 12, pos.y + 12), IM_COL32(255, 120, 110, 255),
-                ("Cannot place: " + ui.place_error).c_str());
+    const std::string msg = "Cannot place: " + ui.place_error;
+    dl->AddText(nullptr, 0.0f, ImVec2(pos.x + 12, pos.y + 12), IM_COL32(255, 120, 110, 255), msg.c_str(), nullptr,
+                float(w) - 24.0f);
   } else {
     const char* msg = has_result            ? "Placement: the scene's start (not the shown take)"
                       : app.take.is_open()  ? "Placement (waiting for the first frame)"

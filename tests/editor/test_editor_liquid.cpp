@@ -121,6 +121,7 @@ TEST(EditorLiquid, PlacementViewBeforeTheFirstRunMovesTargetAndKeyPoses) {
   EXPECT_EQ(h.app->doc.history().cursor(), undo0 + 1);
   EXPECT_EQ(moved["source"], before["source"]);
   EXPECT_EQ(h.app->take.frame_count(), 0);  // nothing ran
+  EXPECT_NE(h.app->marks.find("/target/velocity_mps"), nullptr);  // a moving target's field
 
   // Key pose 1's diamond: that key moves (up by 30 px), the others stay.
   ASSERT_NE(h.app->marks.find("liquid_key_pose_1"), nullptr);
