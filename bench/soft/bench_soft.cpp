@@ -15,6 +15,7 @@
 // Prints one JSON object per case; writes the array to bench/results/soft.json.
 #include <Eigen/Dense>
 #include <chrono>
+#include <ctime>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
@@ -35,6 +36,22 @@ using Clock = std::chrono::steady_clock;
 namespace {
 
 double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+// CPU seconds of this process (all threads): on a shared, loaded machine the wall
+// clock counts other people's work too; with OMP_NUM_THREADS=1 frames per CPU second
+// is the rate an idle core would give.
+double cpu_s() {
+  timespec ts{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
+}
+double load_average() {
+  double l = -1;
+  if (FILE* f = std::fopen("/proc/loadavg", "r")) {
+    if (std::fscanf(f, "%lf", &l) != 1) l = -1;
+    std::fclose(f);
+  }
+  return l;
+}
 
 
 std::vector<nlohmann::json> results;
@@ -246,8 +263,9 @@ void playback(const std::string& scene, int frames) {
   const Problem& p = m.problem;
   const Eigen::VectorXd th = initial_theta(p) * 20;  // a visible open-loop gait
   const auto t = Clock::now();
+  const double c0 = cpu_s();
   simulate(p, th, frames);
-  const double s = since(t);
+  const double s = since(t), cs = cpu_s() - c0;
   // The same gait with the tracking feedback on (PD toward the open-loop trajectory),
   // frame by frame through the editor's playback API.
   SoftModel& mm = m;
@@ -257,11 +275,15 @@ void playback(const std::string& scene, int frames) {
   pb.track_kp = 3;
   pb.track_kd = 0.3;
   const auto t2 = Clock::now();
+  const double c2 = cpu_s();
   for (int f = 0; f < frames; ++f) soft_playback_step(mm, pb);
-  const double s2 = since(t2);
+  const double s2 = since(t2), cs2 = cpu_s() - c2;
   emit({{"case", "playback_" + scene.substr(0, scene.find('.'))},
         {"frames", frames},
         {"playback_fps_tracking", frames / s2},
+        {"playback_fps_cpu", frames / cs},
+        {"playback_fps_tracking_cpu", frames / cs2},
+        {"load_average", load_average()},
         {"lattice_cells", m.character.lattice.cells.size()},
         {"cubature_cells", m.cubature.cells},
         {"modes", m.character.basis.r()},
