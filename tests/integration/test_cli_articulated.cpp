@@ -105,5 +105,34 @@ TEST_F(ArticulatedCli, MalformedSceneFieldExitsTwo) {
   EXPECT_TRUE(contains(r2.err, "/model/bodies/0/geoms/0/size")) << r2.err;
 }
 
+TEST_F(ArticulatedCli, JsonMeshGeomsAndBallRanges) {
+  // A cube mesh next to the scene (relative to the scene's folder), ball joint cone.
+  write_text("cube.obj",
+             "v -0.1 -0.1 -0.1\nv 0.1 -0.1 -0.1\nv -0.1 0.1 -0.1\nv 0.1 0.1 -0.1\n"
+             "v -0.1 -0.1 0.1\nv 0.1 -0.1 0.1\nv -0.1 0.1 0.1\nv 0.1 0.1 0.1\n"
+             "f 1 3 4\nf 1 4 2\nf 5 6 8\nf 5 8 7\nf 1 2 6\nf 1 6 5\n"
+             "f 3 7 8\nf 3 8 4\nf 1 5 7\nf 1 7 3\nf 2 4 8\nf 2 8 6\n");
+  auto scene_with = [](const nlohmann::json& joint, const nlohmann::json& geom) {
+    return nlohmann::json{{"pliant", 1},
+                          {"kind", "articulated"},
+                          {"duration_s", 0.05},
+                          {"model", {{"bodies", {{{"name", "a"}, {"pos", {0, 0, 1}}, {"joints", {joint}}, {"geoms", {geom}}}}}}}};
+  };
+  const nlohmann::json ball = {{"type", "ball"}, {"range", {0, 0.5}}};
+  const nlohmann::json mesh = {{"type", "mesh"}, {"file", "cube.obj"}, {"scale", {1, 1, 2}}};
+  const ProcessResult ok =
+      pliant({"run", write_scene("ok.json", scene_with(ball, mesh)).string(), "--take", (dir_ / "t").string()});
+  EXPECT_EQ(ok.exit_code, 0) << ok.err;
+  const std::vector<std::pair<nlohmann::json, std::string>> cases = {
+      {scene_with(ball, {{"type", "mesh"}, {"file", "missing.obj"}}), "/model/bodies/0/geoms/0/file"},
+      {scene_with(ball, {{"type", "mesh"}, {"file", "cube.obj"}, {"scale", {0, 1, 1}}}), "/model/bodies/0/geoms/0/scale"},
+      {scene_with({{"type", "ball"}, {"range", {-0.5, 0.5}}}, mesh), "/model/bodies/0/joints/0/range"}};
+  for (const auto& [scene, where] : cases) {
+    const ProcessResult r = pliant({"validate", write_scene("s.json", scene).string()});
+    EXPECT_EQ(r.exit_code, 2) << scene.dump();
+    EXPECT_TRUE(contains(r.err, where)) << r.err;
+  }
+}
+
 }  // namespace
 }  // namespace pliant::test
