@@ -107,6 +107,14 @@ json liquid_move_key_position(const json& scene, int index, double dx, double dy
   return out;
 }
 
+json liquid_set_key_tilt(const json& scene, int index, double tilt_deg) {
+  const std::vector<double> times = liquid_key_times(scene);
+  if (index < 0 || index >= int(times.size())) return scene;
+  json out = scene;
+  out["source"]["trajectory"][index]["tilt_deg"] = tilt_deg;
+  return out;
+}
+
 json liquid_adopt_trajectory(const json& scene, const json& keys) {
   if (!keys.is_array() || keys.empty() || !scene.contains("source") || !scene["source"].is_object()) return scene;
   const int dim = liquid_dim(scene);

@@ -30,6 +30,8 @@ nlohmann::json liquid_move_key(const nlohmann::json& scene, int index, double ti
 
 // Moves key `index`'s position by (dx, dy) metres (x-y plane; z and tilt kept).
 nlohmann::json liquid_move_key_position(const nlohmann::json& scene, int index, double dx, double dy);
+// Sets key `index`'s tilt (degrees, positive pours toward +x).
+nlohmann::json liquid_set_key_tilt(const nlohmann::json& scene, int index, double tilt_deg);
 // Makes a planned trajectory (a take's metrics "trajectory": [{time_s,
 // position_m, tilt_deg}]) the scene's hand-drawn one and sets the planner to
 // "none", so the plan can be edited key by key. Unchanged when `keys` is not a

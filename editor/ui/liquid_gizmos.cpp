@@ -2,7 +2,8 @@
 // moves it in the x-y plane (the source's key poses move with it), a square
 // handle at its upper outer corner sets the cavity radius and height (a file
 // container is inlined first), a diamond at each hand-drawn key pose
-// (/source/trajectory) moves that key. The shown take's planned trajectory
+// (/source/trajectory) moves that key, and the selected key's lever (along the
+// container's axis) sets its tilt. The shown take's planned trajectory
 // (metrics "trajectory") is drawn as the engine's curve through its keys
 // (magenta). One undo step per drag (a fresh merge key).
 // The document's container outlines are drawn over the result, so an edit
@@ -213,6 +214,17 @@ void liquid_gizmos(App& app, const LiquidViewTransform& view, float x, float y, 
       ui_mark_rect("liquid_key_pose_" + std::to_string(i), c.x - kHandlePx, c.y - kHandlePx, c.x + kHandlePx,
                    c.y + kHandlePx);
       spots.push_back({LiquidUiState::Handle::KeyPose, "source", false, c, i});
+      // The selected key's tilt: a lever along the container's axis (local +y
+      // turned by the tilt), dragged around the key.
+      if (i != ui.selected_key) continue;
+      const double tilt = scene["source"]["trajectory"][size_t(i)].value("tilt_deg", 0.0) * 3.14159265358979 / 180.0;
+      const double len = 1.2 * placement(scene, "source", have_geo ? &ui.geo.source : nullptr).height;
+      ImVec2 tip;
+      if (!m.to_screen(p[0] + len * std::sin(tilt), p[1] + len * std::cos(tilt), p[2], &tip)) continue;
+      dl->AddLine(c, tip, IM_COL32(255, 215, 100, 200), 1.5f);
+      dl->AddCircleFilled(tip, kHandlePx - 2, IM_COL32(255, 215, 100, 255));
+      ui_mark_rect("liquid_key_tilt", tip.x - kHandlePx, tip.y - kHandlePx, tip.x + kHandlePx, tip.y + kHandlePx);
+      spots.insert(spots.begin(), HandleSpot{LiquidUiState::Handle::KeyTilt, "source", false, tip, i});
     }
   }
 
@@ -288,7 +300,7 @@ void liquid_gizmos(App& app, const LiquidViewTransform& view, float x, float y, 
   }
   if (ui.drag == LiquidUiState::Handle::None) return;
   app.viewport.camera = ui.camera_at_drag;
-  const bool key = ui.drag == LiquidUiState::Handle::KeyPose;
+  const bool key = ui.drag == LiquidUiState::Handle::KeyPose || ui.drag == LiquidUiState::Handle::KeyTilt;
   const bool source = key || ui.drag == LiquidUiState::Handle::MoveSource || ui.drag == LiquidUiState::Handle::SizeSource;
   const bool size = ui.drag == LiquidUiState::Handle::SizeSource || ui.drag == LiquidUiState::Handle::SizeTarget;
   ContainerRole role = source ? "source" : "target";
@@ -298,7 +310,17 @@ void liquid_gizmos(App& app, const LiquidViewTransform& view, float x, float y, 
     const double dx = wx - ui.drag_start[0], dy = wy - ui.drag_start[1];
     json next;
     std::string what;
-    if (key) {
+    if (ui.drag == LiquidUiState::Handle::KeyTilt) {
+      // The angle of (mouse - key) from +y, positive toward +x.
+      double kp[3];
+      if (key_position(ui.drag_scene, ui.drag_key_index, kp)) {
+        const double deg = std::atan2(wx - kp[0], wy - kp[1]) * 180.0 / 3.14159265358979;
+        next = liquid_set_key_tilt(ui.drag_scene, ui.drag_key_index, std::round(10.0 * deg) / 10.0);
+      } else {
+        next = ui.drag_scene;
+      }
+      what = "Tilt key pose " + std::to_string(ui.drag_key_index);
+    } else if (key) {
       next = liquid_move_key_position(ui.drag_scene, ui.drag_key_index, dx, dy);
       what = "Move key pose " + std::to_string(ui.drag_key_index);
     } else if (size) {

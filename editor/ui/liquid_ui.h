@@ -27,8 +27,9 @@ struct LiquidUiState : KindUiState {
   size_t series_frames = 0;
   std::vector<float> in_target, spilled, in_source;
   // Viewport gizmo drag: which handle, the scene and mouse point at its start.
-  // KeyPose: the hand-drawn key `drag_key_index` (/source/trajectory).
-  enum class Handle { None, MoveSource, MoveTarget, SizeSource, SizeTarget, KeyPose } drag = Handle::None;
+  // KeyPose / KeyTilt: the hand-drawn key `drag_key_index` (/source/trajectory):
+  // its position, or its tilt (the selected key's lever handle).
+  enum class Handle { None, MoveSource, MoveTarget, SizeSource, SizeTarget, KeyPose, KeyTilt } drag = Handle::None;
   int drag_key_index = -1;
   double drag_z = 0;  // the drag plane (3D): z of the dragged handle
   nlohmann::json drag_scene;

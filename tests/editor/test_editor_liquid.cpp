@@ -133,8 +133,21 @@ TEST(EditorLiquid, PlacementViewBeforeTheFirstRunMovesTargetAndKeyPoses) {
   EXPECT_EQ(keys[0], before["source"]["trajectory"][0]);
   EXPECT_EQ(keys[2], before["source"]["trajectory"][2]);
   EXPECT_EQ(h.app->doc.history().cursor(), undo0 + 2);
+  // The dragged key is selected: its tilt lever (up the container's axis, 60
+  // deg toward +x) dragged to straight above the key sets the tilt to ~0.
+  EXPECT_EQ(ui.selected_key, 1);
+  const UiRect* lever = h.app->marks.find("liquid_key_tilt");
+  const UiRect* key1 = h.app->marks.find("liquid_key_pose_1");
+  ASSERT_TRUE(lever && key1);
+  EXPECT_GT(lever->cx(), key1->cx() + 5);  // leaning toward +x
+  const float lever_len = std::hypot(lever->cx() - key1->cx(), lever->cy() - key1->cy());
+  ASSERT_EQ(h.run("drag_item liquid_key_tilt " + std::to_string(int(std::lround(key1->cx() - lever->cx()))) + " " +
+                  std::to_string(int(std::lround(key1->cy() - lever_len - lever->cy()))) + " 6\nwait 2\n"),
+            "");
+  EXPECT_NEAR(h.app->doc.scene()["source"]["trajectory"][1]["tilt_deg"].get<double>(), 0.0, 3.0);
+  EXPECT_EQ(h.app->doc.history().cursor(), undo0 + 3);
   // The view follows the document: the record was rebuilt and redrawn.
-  ASSERT_EQ(h.run("key CTRL+Z\nwait 2\nkey CTRL+Z\nwait 2\n"), "");
+  ASSERT_EQ(h.run("key CTRL+Z\nwait 2\nkey CTRL+Z\nwait 2\nkey CTRL+Z\nwait 2\n"), "");
   EXPECT_EQ(h.app->doc.scene(), before);
 
   // A dropped closed mesh becomes the target container (one undo step), path

@@ -102,6 +102,11 @@ TEST(LiquidSceneEdit, MovingAKeyPositionMovesOnlyThatKey) {
   EXPECT_EQ(s["source"]["position_m"], s0["source"]["position_m"]);
   EXPECT_EQ(liquid_move_key_position(s0, 2, 1, 1), s0);
   EXPECT_EQ(liquid_move_key_position(s0, -1, 1, 1), s0);
+  const json t = liquid_set_key_tilt(s0, 0, 45.5);
+  EXPECT_EQ(t["source"]["trajectory"][0]["tilt_deg"], 45.5);
+  EXPECT_EQ(t["source"]["trajectory"][0]["position_m"], s0["source"]["trajectory"][0]["position_m"]);
+  EXPECT_EQ(t["source"]["trajectory"][1], s0["source"]["trajectory"][1]);
+  EXPECT_EQ(liquid_set_key_tilt(s0, 5, 10), s0);
 }
 
 TEST(LiquidSceneEdit, AdoptingAPlannedTrajectorySetsKeysAndPlannerNone) {
