@@ -34,7 +34,9 @@ const nlohmann::json* find_done(const std::vector<nlohmann::json>& events) {
 
 class Control : public CliTest {
  protected:
-  void expect_killed_run_resumes_to_same_objective(const nlohmann::json& doc, const std::string& stage, int kill_at);
+  // expect_level >= 0: the resumed run reports that coarse-to-fine level (resumed_from_level).
+  void expect_killed_run_resumes_to_same_objective(const nlohmann::json& doc, const std::string& stage, int kill_at,
+                                                   int expect_level = -1);
 };
 
 TEST_F(Control, RunWritesFramesAndMetrics) {
@@ -65,7 +67,7 @@ TEST_F(Control, RunWritesFramesAndMetrics) {
 // `stage` reports iteration `kill_at` (its checkpoint precedes the report), resumes
 // it with --resume and expects the uninterrupted run's objective.
 void Control::expect_killed_run_resumes_to_same_objective(const nlohmann::json& doc, const std::string& stage,
-                                                          int kill_at) {
+                                                          int kill_at, int expect_level) {
   const fs::path scene = write_scene(stage + ".json", doc);
   const ProcessResult full =
       pliant({"run", scene.string(), "--take", (dir_ / "full").string(), "--threads", "1"});
@@ -97,6 +99,7 @@ void Control::expect_killed_run_resumes_to_same_objective(const nlohmann::json& 
   ASSERT_TRUE(done);
   const auto& m = (*done)["metrics"];
   EXPECT_GE(int(m["resumed_from_iteration"]), kill_at);
+  if (expect_level >= 0) EXPECT_EQ(int(m["resumed_from_level"]), expect_level);
   EXPECT_NEAR(double(m["objective"]), objective, 1e-9 * objective);
 }
 
@@ -113,6 +116,16 @@ TEST_F(Control, KilledAdmmRunResumesToTheSameObjective) {
   doc["control"]["method"] = "admm";
   doc["control"]["admm"] = {{"nso_vcycles", 2}, {"polish_iterations", 20}};
   expect_killed_run_resumes_to_same_objective(doc, "admm", 2);
+}
+
+// Killed during the 32^2 level of a 64^2 problem's progressive preview: the coarse
+// level's checkpoint resumes there, then the 64^2 level runs as uninterrupted.
+TEST_F(Control, KilledDuringACoarseLevelResumesThere) {
+  nlohmann::json doc = control_scene(64, 8, 2, 1e-4);
+  doc["control"]["method"] = "admm";
+  doc["control"]["coarse_iterations"] = 4;
+  doc["control"]["admm"] = {{"nso_vcycles", 2}, {"polish_iterations", 5}};
+  expect_killed_run_resumes_to_same_objective(doc, "admm 32x32", 2, 1);
 }
 
 TEST_F(Control, InvalidKeyframesExitTwo) {
