@@ -355,6 +355,7 @@ NavResult navigate(const Problem& p, const std::vector<Gait>& gaits, const NavSe
   // such as the spider (radius 0.52 m, turning radius 0.6 m) has no primitive
   // sequence around the rock from its start pose.
   const double keep_out = 0.5 * radius + nav.clearance_m;
+  const int H = 1;  // periods per decision (2 and 3 ended further away: 0.49, 0.47 m)
   // The primitives are measured from rest over a few periods; held longer, a gait
   // can move differently (the spider's left turn doubles its yaw rate). The gait
   // being held updates its primitive from what the re-simulation shows, and the
@@ -381,10 +382,8 @@ NavResult navigate(const Problem& p, const std::vector<Gait>& gaits, const NavSe
   };
   std::vector<Period> cand(gaits.size());
   while (frame < nav.max_frames && (planar(s) - goal).norm() > nav.goal_tolerance_m) {
-    // Every gait is re-simulated for two periods from the current state (the DMP
-    // keeps its phase and activations across switches; one period is mostly the
-    // switch's transient, and choosing per period let the body dither between
-    // gaits in place); the one whose simulated
+    // Every gait is re-simulated for H periods from the current state (the DMP
+    // keeps its phase and activations across switches); the one whose simulated
     // pose has the smallest cost to go (periods, plus the distance to the goal in
     // steps / 10 to break ties) is played. Periods that bring the COM closer than
     // keep_out to an obstacle's footprint are penalized; a period that reaches the
@@ -398,7 +397,7 @@ NavResult navigate(const Problem& p, const std::vector<Gait>& gaits, const NavSe
       c.states.clear();
       c.min_clearance = std::numeric_limits<double>::infinity();
       c.goal_frame = -1;
-      for (int f = 0; f < std::min(2 * P, frames_left); ++f) {
+      for (int f = 0; f < std::min(H * P, frames_left); ++f) {
         const Eigen::VectorXd& y = dmp_step(p.dmp, gaits[size_t(g)].theta, p.sim.dt_s, c.dmp);
         reduced_step(ch, p.env, p.sim, control_force(ch, y, a_max), x);
         c.states.push_back(x);
@@ -414,10 +413,6 @@ NavResult navigate(const Problem& p, const std::vector<Gait>& gaits, const NavSe
       c.score = (std::isfinite(ctg) ? ctg : 1000 + dist) + 0.1 * dist;
       if (c.min_clearance < keep_out) c.score += 1e4 * (1 + (keep_out - c.min_clearance) / keep_out);
       if (!std::isfinite(q.sum())) c.score = std::numeric_limits<double>::infinity();
-      // Switching gaits costs a transient (a turning gait barely turns in its first
-      // period after the other turn): without this the body alternated left and
-      // right pairs in place next to the goal.
-      if (!res.gait_sequence.empty() && g != res.gait_sequence.back()) c.score += 1.5;
       if (c.goal_frame >= 0) c.score = -1e6 + c.goal_frame;
     }
     int choice = 0;
@@ -427,7 +422,7 @@ NavResult navigate(const Problem& p, const std::vector<Gait>& gaits, const NavSe
     if (c.states.empty() || !std::isfinite(c.states.back().c.sum()))
       throw std::runtime_error("navigation: the reduced simulation diverged at frame " + std::to_string(frame));
     res.gait_sequence.push_back(choice);
-    if (int(c.states.size()) > P) res.gait_sequence.push_back(choice);
+    for (int k = 1; k < H && int(c.states.size()) > k * P; ++k) res.gait_sequence.push_back(choice);
     for (const SoftState& x : c.states) {
       ++frame;
       res.com.push_back(x.c);
@@ -435,18 +430,18 @@ NavResult navigate(const Problem& p, const std::vector<Gait>& gaits, const NavSe
       if (on_frame) on_frame(x, choice);
     }
     const Eigen::Vector3d before = planar_pose(s, nav.body_axis);
-    const bool held = res.gait_sequence.size() > 2 && res.gait_sequence[res.gait_sequence.size() - 3] == choice;
+    const bool held = int(res.gait_sequence.size()) > H && res.gait_sequence[res.gait_sequence.size() - H - 1] == choice;
     s = c.states.back();
     d = c.dmp;
-    if (held && int(c.states.size()) == 2 * P) {
+    if (held && int(c.states.size()) == H * P) {
       const Eigen::Vector3d after = planar_pose(s, nav.body_axis);
       const double cs = std::cos(before[2]), sn = std::sin(before[2]);
       const double dx = after[0] - before[0], dz = after[1] - before[1];
       Gait& mg = model[size_t(choice)];
       // Per period over the two, as the mean of a constant turn would give.
-      mg.forward_m = 0.5 * mg.forward_m + 0.25 * (cs * dx + sn * dz);
-      mg.side_m = 0.5 * mg.side_m + 0.25 * (-sn * dx + cs * dz);
-      mg.yaw_rad = 0.5 * mg.yaw_rad + 0.25 * wrap(after[2] - before[2]);
+      mg.forward_m = 0.5 * mg.forward_m + 0.5 / H * (cs * dx + sn * dz);
+      mg.side_m = 0.5 * mg.side_m + 0.5 / H * (-sn * dx + cs * dz);
+      mg.yaw_rad = 0.5 * mg.yaw_rad + 0.5 / H * wrap(after[2] - before[2]);
       const Gait& bg = built[size_t(choice)];
       if (std::abs(mg.yaw_rad - bg.yaw_rad) > 0.03 ||
           std::hypot(mg.forward_m - bg.forward_m, mg.side_m - bg.side_m) > 0.2 * step) {

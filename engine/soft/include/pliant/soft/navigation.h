@@ -5,7 +5,7 @@
 // frame. RRT* (OMPL, ompl::geometric::RRTstar, then shortcutting) plans a short path
 // for the centre of mass to the goal disc around the obstacles' footprints, inflated
 // by the body's radius + clearance (reported as the route). Execution is closed
-// loop on the re-simulated body: every two controller periods each gait is
+// loop on the re-simulated body: every controller period each gait is
 // re-simulated from the current state (DMP phase kept) and the one whose end pose
 // has the smallest cost to go is played. The cost to go (periods to the goal disc)
 // comes from a breadth-first search over a lattice of planar poses (x, z, yaw)
