@@ -22,6 +22,8 @@ namespace pliant::test {
 namespace fs = std::filesystem;
 
 inline const std::string kPliant = PLIANT_EXE;  // $<TARGET_FILE:pliant>
+// The source tree (assets/, tests/meshes/), absolute.
+inline const fs::path kRepo = PLIANT_SOURCE_DIR;
 
 // A 2D plume: a source near the bottom, buoyancy, a vortex; deterministic.
 inline nlohmann::json smoke_scene(int nx, int ny, int frames) {

@@ -7,7 +7,7 @@
 namespace pliant::test {
 namespace {
 
-const std::string kAssets = (fs::path(__FILE__).parent_path().parent_path().parent_path() / "assets").string();
+const std::string kAssets = (kRepo / "assets").string();
 
 using ArticulatedCli = CliTest;
 

@@ -7,7 +7,6 @@
 namespace pliant::test {
 namespace {
 
-const fs::path kRepo = fs::path(__FILE__).parent_path().parent_path().parent_path();
 
 class LiquidCli : public CliTest {};
 

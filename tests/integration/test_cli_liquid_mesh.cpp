@@ -6,19 +6,6 @@
 namespace pliant::test {
 namespace {
 
-// The source tree, absolute (the scenes below live in a temp folder). Ninja
-// makes __FILE__ relative to the build folder: then look from the folders
-// above the pliant binary.
-fs::path repo_root() {
-  const fs::path rel = fs::path(__FILE__).parent_path().parent_path().parent_path();
-  if (fs::exists(fs::absolute(rel) / "assets/containers/mug.json")) return fs::absolute(rel);
-  for (fs::path d = fs::absolute(fs::path(kPliant)).parent_path(); d.has_relative_path(); d = d.parent_path())
-    if (fs::exists(d / rel / "assets/containers/mug.json")) return fs::weakly_canonical(d / rel);
-  return fs::absolute(rel);
-}
-
-const fs::path kRepo = repo_root();
-
 class LiquidMeshCli : public CliTest {};
 
 nlohmann::json mesh_scene(const nlohmann::json& container) {

@@ -60,7 +60,7 @@ std::array<double, kFeedbackFeatures> FeedbackContext::features(double tilt, dou
   f[9] = c.height_m / 0.12;
   f[10] = c.opening_radius() / 0.05;
   f[11] = std::log10(std::max(m.viscosity_pa_s, 1e-4));
-  f[12 + int(c.type)] = 1;
+  if (c.type < ContainerShape::Mesh) f[12 + int(c.type)] = 1;  // compile rejects mesh sources here
   return f;
 }
 

@@ -155,6 +155,11 @@ void read_planner(JsonReader& root, LiquidModel& m, const Scene& scene) {
     p->finish();
     if ((m.planner.planner != Planner::None || m.planner.record_samples) && (!m.has_source || !m.has_target))
       p->fail("mode", "a planner needs both /source and /target");
+    // The network's features one-hot the five analytic shapes it was trained on.
+    if ((m.planner.planner == Planner::Feedback || m.planner.record_samples) && m.has_source &&
+        m.source.shape.type == ContainerShape::Mesh)
+      p->fail("mode", "the feedback network knows the analytic source shapes only (cylinder, oval, box, cup, "
+                      "bottle); plan a mesh source with \"correction\" or \"simplified\"");
   }
 }
 

@@ -144,5 +144,24 @@ TEST(ContainerMesh, SceneContainerFileAndErrorsNameTheFile) {
   EXPECT_NE(extra.find("/source/container/radius_m"), std::string::npos) << extra;
 }
 
+TEST(ContainerMesh, FeedbackPlannerRefusesAMeshSource) {
+  // The network one-hots the five analytic shapes; a mesh source would index past them.
+  nlohmann::json d = {{"pliant", 1}, {"kind", "liquid"}, {"dim", 2},
+                      {"domain", {{"min_m", {-0.1, 0}}, {"max_m", {0.3, 0.3}}, {"cell_size_m", 0.008}}},
+                      {"source", {{"container", kAssets + "/containers/mug.json"}, {"position_m", {0, 0.05}}}},
+                      {"target", {{"container", {{"shape", "box"}, {"radius_m", 0.05}, {"height_m", 0.06},
+                                                 {"wall_m", 0.01}}},
+                                  {"position_m", {0.2, 0.0}}}},
+                      {"planner", {{"mode", "feedback"}}}};
+  std::string msg;
+  try {
+    liquid_compile(parse_scene(d.dump(), "scene.json"));
+  } catch (const InputError& err) {
+    msg = err.what();
+  }
+  EXPECT_NE(msg.find("/planner/mode"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("analytic source shapes"), std::string::npos) << msg;
+}
+
 }  // namespace
 }  // namespace pliant::liquid
