@@ -8,8 +8,6 @@
 namespace pliant::test {
 namespace {
 
-const fs::path kRepo = fs::path(__FILE__).parent_path().parent_path().parent_path();
-
 nlohmann::json worm_scene(int iterations, int frames) {
   std::ifstream in(kRepo / "assets/scenes/soft_worm_crawl.json");
   nlohmann::json s = nlohmann::json::parse(in);
