@@ -43,6 +43,7 @@ void optimize(const ResidualFn& rf, const OptimizerSettings& s, OptimizerState& 
   std::deque<Eigen::VectorXd> S, Y;
   Eigen::VectorXd g_prev, theta_prev;
   bool lbfgs = s.kind == OptimizerKind::LBFGS || (s.kind == OptimizerKind::Hybrid && st.in_lbfgs);
+  int lm_stalls = 0;
   while (st.iteration < s.max_iterations) {
     if (st.objective <= s.tolerance * f_initial || (s.target >= 0 && st.objective <= s.target)) break;
     const Eigen::MatrixXd J = fd_jacobian(rf, st.theta, r, s.fd_step);
@@ -70,8 +71,12 @@ void optimize(const ResidualFn& rf, const OptimizerSettings& s, OptimizerState& 
           st.lambda *= 4;
         }
       }
-      const bool stalled = !accepted || (f0 - st.objective) < s.stall * f0;
-      if (s.kind == OptimizerKind::Hybrid && stalled) {
+      // Leave LM after a rejected step or two stalled steps in a row: a single
+      // small decrease is often LM still adapting its damping (on the spider the
+      // hybrid left LM after its first step and L-BFGS then crawled).
+      lm_stalls = !accepted ? 2 : (f0 - st.objective) < s.stall * f0 ? lm_stalls + 1 : 0;
+      if (s.kind == OptimizerKind::Hybrid && lm_stalls >= 2) {
+        lm_stalls = 0;
         lbfgs = true;  // next iteration(s) by L-BFGS
         S.clear(), Y.clear();
       }
