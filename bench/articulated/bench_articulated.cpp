@@ -71,12 +71,17 @@ double thread_cpu_s() {
   return t.tv_sec + 1e-9 * t.tv_nsec;
 }
 
-Outcome run_ours(const Model& m, Integrator integ, double dt, double duration, const State& init,
-                 double range) {
+SimOptions contact_free_options(Integrator integ, double dt) {
   SimOptions o;
   o.integrator = integ;
   o.dt = dt;
   o.contact.enabled = false;
+  return o;
+}
+
+Outcome run_ours(const Model& m, Integrator integ, double dt, double duration, const State& init,
+                 double range) {
+  const SimOptions o = contact_free_options(integ, dt);
   State s = init;
   SimWorkspace ws;
   Outcome out;
@@ -114,10 +119,7 @@ struct Timing {
 
 // Stepping only (the matched re-timing): duration / dt steps from init.
 Timing time_ours(const Model& m, Integrator integ, double dt, double duration, const State& init) {
-  SimOptions o;
-  o.integrator = integ;
-  o.dt = dt;
-  o.contact.enabled = false;
+  const SimOptions o = contact_free_options(integ, dt);
   State s = init;
   SimWorkspace ws;
   const int n = static_cast<int>(std::llround(duration / dt));

@@ -9,6 +9,27 @@
 namespace pliant::liquid {
 namespace {
 
+// One particle in free flight: it leaves the source at t = dt and follows
+// x = x0 + vx t, y = y0 + vy t - g t^2 / 2 (frames every dt).
+constexpr double x0 = 0.0, y0 = 0.2, vx = 1.0, vy = 0.5, g = 9.81, dt = 0.01;
+
+LiquidState flight_start() {
+  LiquidState s;
+  s.x = {0.0f, 0.05f, 0.f};  // inside the source cavity (floor at y = 0.03)
+  s.v = {0, 0, 0};
+  return s;
+}
+
+void record_flight(PourTracks& tracks) {
+  LiquidState s = flight_start();
+  for (int f = 1; f <= 40; ++f) {
+    const double t = f * dt;
+    s.time_s = t;
+    s.x = {float(x0 + vx * t), float(y0 + vy * t - 0.5 * g * t * t), 0.f};
+    tracks.record(s);
+  }
+}
+
 // One particle leaves the source and flies a known parabola: the recorded
 // landing point and C_OBJ (Eq. 2.6) match the analytic crossing of the rim.
 TEST(PourTracks, ParabolaCrossingAndObjective) {
@@ -16,17 +37,8 @@ TEST(PourTracks, ParabolaCrossingAndObjective) {
   m.has_target = true;
   m.target.shape.radius_m = 0.05, m.target.shape.height_m = 0.05;
   m.target.pose.position_m = {0.3, 0, 0};
-  LiquidState s;
-  s.x = {0.0f, 0.05f, 0.f};  // inside the source cavity (floor at y = 0.03)
-  s.v = {0, 0, 0};
-  PourTracks tracks(m, s);
-  const double x0 = 0.0, y0 = 0.2, vx = 1.0, vy = 0.5, g = 9.81, dt = 0.01;
-  for (int f = 1; f <= 40; ++f) {
-    const double t = f * dt;
-    s.time_s = t;
-    s.x = {float(x0 + vx * t), float(y0 + vy * t - 0.5 * g * t * t), 0.f};
-    tracks.record(s);
-  }
+  PourTracks tracks(m, flight_start());
+  record_flight(tracks);
   const auto& tr = tracks.tracks()[0];
   ASSERT_TRUE(tr.landed);
   // Analytic crossing of y = 0.05 (the rim) after leaving at t = dt.
@@ -48,17 +60,8 @@ TEST(PourTracks, MovingTargetOffsetAtLandingTime) {
   m.target.shape.radius_m = 0.05, m.target.shape.height_m = 0.05;
   m.target.pose.position_m = {0.3, 0, 0};
   m.target_velocity_mps = {-0.2, 0, 0};
-  LiquidState s;
-  s.x = {0.0f, 0.05f, 0.f};
-  s.v = {0, 0, 0};
-  PourTracks tracks(m, s);
-  const double x0 = 0.0, y0 = 0.2, vx = 1.0, vy = 0.5, g = 9.81, dt = 0.01;
-  for (int f = 1; f <= 40; ++f) {
-    const double t = f * dt;
-    s.time_s = t;
-    s.x = {float(x0 + vx * t), float(y0 + vy * t - 0.5 * g * t * t), 0.f};
-    tracks.record(s);
-  }
+  PourTracks tracks(m, flight_start());
+  record_flight(tracks);
   const auto& tr = tracks.tracks()[0];
   ASSERT_TRUE(tr.landed);
   const double a = -0.5 * g, b = vy, c = y0 - 0.05;
