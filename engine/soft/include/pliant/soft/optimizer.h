@@ -2,9 +2,10 @@
 //   LM      Levenberg-Marquardt on the Gauss-Newton structure of r, damping
 //           lambda diag(J^T J) + lambda I, lambda / 3 on success, x 4 on failure;
 //   LBFGS   limited-memory BFGS (memory 8) with an Armijo backtracking line search;
-//   Hybrid  LM while it makes progress; when LM stalls (relative decrease below
-//           `stall` twice in a row, or a rejected step at large lambda) it switches to L-BFGS
-//           steps from the same gradient until those stall, then back to LM.
+//   Hybrid  LM while it makes progress; when LM stalls (twice in a row a step that
+//           needed a larger lambda and gained less than `stall`, or a wholly rejected
+//           step) it switches to L-BFGS steps from the same gradient until those
+//           stall, then back to LM.
 // The Jacobian is by forward finite differences of whole rollouts (one column per
 // parameter, columns in parallel with OpenMP): theta has tens of entries and every
 // rollout is cheap in the reduced space. Every accepted step lowers the objective
@@ -24,7 +25,7 @@ struct OptimizerSettings {
   int max_iterations = 30;
   double fd_step = 1e-3;     // relative to max(1, |theta_i|); above the friction smoothing scale
   double tolerance = 1e-6;   // stop when the objective falls below tolerance * initial
-  double stall = 0.05;       // hybrid: LM relative decrease below this twice in a row switches to L-BFGS
+  double stall = 0.05;       // hybrid: see the header comment
   double target = -1;        // stop when the objective <= target (if >= 0)
 };
 
