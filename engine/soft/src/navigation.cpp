@@ -78,7 +78,7 @@ class PrimitiveCostToGo {
       }
     }
     for (int j = 0; j < n; ++j) count[size_t(j) + 1] += count[size_t(j)];
-    std::vector<int> pred(size_t(count[size_t(n)])), fill(count.begin(), count.end() - 1);
+    std::vector<int> pred(static_cast<size_t>(count[size_t(n)])), fill(count.begin(), count.end() - 1);
     for (int c = 0; c < n; ++c)
       for (int g = 0; g < G; ++g)
         if (succ[size_t(c) * G + g] >= 0) pred[size_t(fill[size_t(succ[size_t(c) * G + g])]++)] = c;
