@@ -30,20 +30,30 @@ void record_flight(PourTracks& tracks) {
   }
 }
 
-// One particle leaves the source and flies a known parabola: the recorded
-// landing point and C_OBJ (Eq. 2.6) match the analytic crossing of the rim.
-TEST(PourTracks, ParabolaCrossingAndObjective) {
+// The still source and a target (rim at y = 0.05, opening centred at x = 0.3).
+LiquidModel model_with_target() {
   LiquidModel m = test::still_container_2d();
   m.has_target = true;
   m.target.shape.radius_m = 0.05, m.target.shape.height_m = 0.05;
   m.target.pose.position_m = {0.3, 0, 0};
+  return m;
+}
+
+// Analytic time at which the flight crosses y = 0.05 (the rim) on its way down.
+double rim_crossing_time() {
+  const double a = -0.5 * g, b = vy, c = y0 - 0.05;
+  return (-b - std::sqrt(b * b - 4 * a * c)) / (2 * a);
+}
+
+// One particle leaves the source and flies a known parabola: the recorded
+// landing point and C_OBJ (Eq. 2.6) match the analytic crossing of the rim.
+TEST(PourTracks, ParabolaCrossingAndObjective) {
+  LiquidModel m = model_with_target();
   PourTracks tracks(m, flight_start());
   record_flight(tracks);
   const auto& tr = tracks.tracks()[0];
   ASSERT_TRUE(tr.landed);
-  // Analytic crossing of y = 0.05 (the rim) after leaving at t = dt.
-  const double a = -0.5 * g, b = vy, c = y0 - 0.05;
-  const double tc = (-b - std::sqrt(b * b - 4 * a * c)) / (2 * a);
+  const double tc = rim_crossing_time();
   const double xc = x0 + vx * tc;
   EXPECT_NEAR(tr.landing[0], xc, 0.01);  // linear between frames
   int useful = 0;
@@ -55,17 +65,13 @@ TEST(PourTracks, ParabolaCrossingAndObjective) {
 // A moving (FOLLOW) target: the landing offset and C_OBJ are measured against
 // where the opening is when the particle crosses the rim, not where it started.
 TEST(PourTracks, MovingTargetOffsetAtLandingTime) {
-  LiquidModel m = test::still_container_2d();
-  m.has_target = true;
-  m.target.shape.radius_m = 0.05, m.target.shape.height_m = 0.05;
-  m.target.pose.position_m = {0.3, 0, 0};
+  LiquidModel m = model_with_target();
   m.target_velocity_mps = {-0.2, 0, 0};
   PourTracks tracks(m, flight_start());
   record_flight(tracks);
   const auto& tr = tracks.tracks()[0];
   ASSERT_TRUE(tr.landed);
-  const double a = -0.5 * g, b = vy, c = y0 - 0.05;
-  const double tc = (-b - std::sqrt(b * b - 4 * a * c)) / (2 * a);
+  const double tc = rim_crossing_time();
   const double xc = x0 + vx * tc, centre = 0.3 - 0.2 * tc;
   EXPECT_NEAR(tr.landing_time, tc, 0.005);
   EXPECT_NEAR(tr.landing_offset[0], xc - centre, 0.01);
