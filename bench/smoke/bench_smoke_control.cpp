@@ -37,6 +37,7 @@
 #include <vector>
 
 #include "admm_solver.h"
+#include "converged_comparison.h"
 #include "pliant/core/scene.h"
 #include "pliant/smoke/control.h"
 #include "../bench_machine.h"
@@ -144,7 +145,8 @@ void rescale_scene(Scene& scene, int n, int frames) {
 int main(int argc, char** argv) {
   bool quick = false;
   int iterations = 0, lbfgs_iterations = 0, polish = -1, grid = 0, frames = 0;
-  bool coarse_to_fine = false;
+  bool coarse_to_fine = false, converged = false, merge = false;
+  pliant::smoke::bench::ConvergedOptions conv;
   double r_override = 0;
   std::string out = "bench/results/smoke.json";
   std::vector<std::string> scenes;
@@ -159,6 +161,14 @@ int main(int argc, char** argv) {
     else if (a == "--frames" && i + 1 < argc) frames = std::stoi(argv[++i]);
     else if (a == "--coarse-to-fine") coarse_to_fine = true;
     else if (a == "--r" && i + 1 < argc) r_override = std::stod(argv[++i]);
+    else if (a == "--converged") converged = true;
+    else if (a == "--budget" && i + 1 < argc) conv.budget_factor = std::stod(argv[++i]);
+    else if (a == "--deadline-unix" && i + 1 < argc) conv.deadline_unix = std::stod(argv[++i]);
+    else if (a == "--baseline" && i + 1 < argc) {
+      const std::string b = argv[++i];
+      conv.plain = b != "c2f";
+      conv.c2f = b != "plain";
+    } else if (a == "--merge") merge = true;
     else scenes.push_back(a);
   }
   const std::string dir = std::string(PLIANT_ASSETS_DIR) + "/scenes/";
@@ -169,6 +179,21 @@ int main(int argc, char** argv) {
   }
   if (quick && iterations == 0) iterations = 10;
   nlohmann::json results = nlohmann::json::array();
+  // --merge: keep the file's other rows; a row replaces the file's row of the same case.
+  if (merge) {
+    std::ifstream in(out);
+    if (in) results = nlohmann::json::parse(in, nullptr, false);
+    if (!results.is_array()) results = nlohmann::json::array();
+  }
+  auto emit = [&](const nlohmann::json& j) {
+    std::printf("%s\n", j.dump().c_str());
+    std::fflush(stdout);
+    bool replaced = false;
+    for (auto& r : results)
+      if (r.value("case", "") == j["case"]) r = j, replaced = true;
+    if (!replaced) results.push_back(j);
+    std::ofstream(out) << results.dump(2) << "\n";  // after every case: a long run keeps what it measured
+  };
   for (const auto& path : scenes) {
     Scene scene = load_scene(path);
     rescale_scene(scene, grid, frames);
@@ -177,6 +202,18 @@ int main(int argc, char** argv) {
     if (quick) m.polish_iterations = std::min(m.polish_iterations, 20);
     if (polish >= 0) m.polish_iterations = polish;
     if (r_override > 0) m.r = r_override;
+    if (converged) {  // issue 3's converged comparison (converged_comparison.h)
+      std::string name = path.substr(path.find_last_of('/') + 1);
+      if (grid > 0 || frames > 0)
+        name += " " + std::to_string(m.sim.n[0]) + "^" + std::to_string(m.sim.dim) + "x" + std::to_string(m.sim.frames);
+      pliant::smoke::bench::converged_comparison(name, m, conv, [&](nlohmann::json j) {
+        j["machine"] = pliant::bench::machine_description();
+        j["omp_threads"] = omp_get_max_threads();
+        j["mode"] = "converged";
+        emit(j);
+      });
+      continue;
+    }
     // A scene whose fine level only polishes (max_iterations 0: the shipped FLUID) is
     // solved coarse-to-fine, as `pliant run` does it: both solvers then.
     const bool c2f = coarse_to_fine || m.max_iterations == 0;
@@ -266,10 +303,7 @@ int main(int argc, char** argv) {
                         {"peak_mb", peak_mb()},
                         {"machine", pliant::bench::machine_description()},
                         {"mode", quick ? "quick" : "full"}};
-    std::printf("%s\n", j.dump().c_str());
-    std::fflush(stdout);
-    results.push_back(j);
-    std::ofstream(out) << results.dump(2) << "\n";  // after every case: a long run keeps what it measured
+    emit(j);
   }
   return 0;
 }

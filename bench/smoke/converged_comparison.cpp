@@ -1,0 +1,264 @@
+// Converged comparison (converged_comparison.h). Clock: process CPU seconds (the bench
+// runs with OMP_NUM_THREADS=1, so this is single-thread CPU time, immune to the load of a
+// shared machine); the re-simulations that check an L-BFGS iterate are not charged.
+#include "converged_comparison.h"
+
+#include <LBFGS.h>
+#include <sys/resource.h>
+
+#include <Eigen/Core>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <ctime>
+#include <limits>
+
+#include "control_coarse_to_fine.h"
+#include "control_forward_model.h"
+
+namespace pliant::smoke::bench {
+namespace {
+
+using control_detail::Vec;
+
+double process_cpu_s() {
+  rusage ru{};
+  getrusage(RUSAGE_SELF, &ru);
+  return ru.ru_utime.tv_sec + ru.ru_stime.tv_sec + 1e-6 * (ru.ru_utime.tv_usec + ru.ru_stime.tv_usec);
+}
+double unix_now() {
+  return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+}
+double load_average() {
+  double l[1] = {0};
+  return getloadavg(l, 1) == 1 ? l[0] : -1.0;
+}
+
+// Thrown from the objective to end the L-BFGS run (LBFGS++ has no callback).
+struct StopRun {
+  const char* reason;
+};
+
+// Objective for LBFGS++ with the bench's bookkeeping: the charged CPU clock, the best
+// point, its history, and the stop conditions (target reached, budget, deadline).
+struct BudgetedObjective {
+  const ControlModel& m;
+  control_detail::ForwardOps ops;
+  int T;
+  size_t nf;
+  std::vector<Vec> f, g;
+  double c0 = 0, uncharged = 0, budget = 0, target = 0, deadline = 0;
+  double best = std::numeric_limits<double>::infinity(), reached_s = -1, reached_check = 0;
+  Eigen::VectorXd best_x;
+  long evaluations = 0;
+  nlohmann::json history = nlohmann::json::array();  // [cpu_s, E] at each new best
+  double next_log = 0;
+
+  BudgetedObjective(const ControlModel& m, double c0)
+      : m(m), ops(m, control_detail::kControlPressureTolerance), T(m.sim.frames), nf(ops.faces()),
+        f(T, Vec(nf)), c0(c0) {}
+  double charged() const { return process_cpu_s() - c0 - uncharged; }
+
+  double operator()(const Eigen::VectorXd& x, Eigen::VectorXd& grad) {
+    if (charged() > budget) throw StopRun{"budget"};
+    if (deadline > 0 && unix_now() > deadline) throw StopRun{"deadline"};
+    for (int i = 0; i < T; ++i) std::copy(x.data() + size_t(i) * nf, x.data() + size_t(i + 1) * nf, f[i].begin());
+    const double E = control_detail::objective_d(m, ops, f, &g);
+    grad.resize(x.size());
+    for (int i = 0; i < T; ++i) std::copy(g[i].begin(), g[i].end(), grad.data() + size_t(i) * nf);
+    ++evaluations;
+    const double t = charged();
+    if (E < best) {
+      best = E;
+      best_x = x;
+      history.push_back({t, E});
+      if (t >= next_log) {
+        std::fprintf(stderr, "  lbfgs %.1f s cpu: E %.6g (target %.6g), %ld evaluations, load %.1f\n", t, E, target,
+                     evaluations, load_average());
+        next_log = t + 30;
+      }
+      if (E <= target) {
+        // Re-simulate the forces as the take stores them (float) with the plain forward
+        // model (not charged) before calling the target reached.
+        const double u0 = process_cpu_s();
+        reached_check = control_objective(m, control_detail::to_float(f), nullptr);
+        uncharged += process_cpu_s() - u0;
+        if (reached_check <= target * (1 + 1e-6)) {
+          reached_s = t;
+          throw StopRun{"reached"};
+        }
+      }
+    }
+    return E;
+  }
+};
+
+struct LbfgsResult {
+  bool reached = false;
+  std::string stop_reason;
+  double time_s = 0, best = 0, check = 0;
+  long evaluations = 0;
+  int restarts = 0;
+  FaceSeries force;
+  nlohmann::json history;
+};
+
+// One continuous L-BFGS run from `start` (memory 10, LBFGS++'s Armijo backtracking, as
+// control_lbfgs.cpp) until E <= target, the CPU budget, or its own stop. A failed line
+// search (a kink of the upwind flux) restarts from the best point with a fresh memory, as
+// the production solver does; a restart that gains nothing ends the run.
+LbfgsResult run_lbfgs(const ControlModel& m, const FaceSeries& start, double c0, double budget, double target,
+                      double deadline) {
+  BudgetedObjective obj(m, c0);
+  obj.budget = budget;
+  obj.target = target;
+  obj.deadline = deadline;
+  const size_t nf = obj.nf;
+  Eigen::VectorXd x(Eigen::Index(size_t(obj.T) * nf));
+  for (int i = 0; i < obj.T; ++i)
+    for (size_t e = 0; e < nf; ++e) x[Eigen::Index(size_t(i) * nf + e)] = start[i][e];
+  obj.best_x = x;
+  LbfgsResult r;
+  for (;;) {
+    LBFGSpp::LBFGSParam<double> param;
+    param.m = 10;
+    param.epsilon = 1e-12;
+    param.epsilon_rel = 1e-9;
+    param.past = 1;
+    param.delta = 1e-9;
+    param.max_iterations = 0;  // unlimited: the budget ends the run
+    LBFGSpp::LBFGSSolver<double> solver(param);
+    const double before = obj.best;
+    double fx = 0;
+    try {
+      solver.minimize(obj, x, fx);
+      r.stop_reason = "converged";  // gradient or objective change below LBFGS++'s tolerances
+      break;
+    } catch (const StopRun& s) {
+      r.stop_reason = s.reason;
+      break;
+    } catch (const std::exception&) {
+      x = obj.best_x;
+      if (!(obj.best < before * (1 - 1e-9))) {
+        r.stop_reason = "line_search_failed";
+        break;
+      }
+      ++r.restarts;
+    }
+  }
+  r.reached = obj.reached_s >= 0;
+  r.time_s = r.reached ? obj.reached_s : obj.charged();
+  r.best = obj.best;
+  r.check = obj.reached_check;
+  r.evaluations = obj.evaluations;
+  Eigen::VectorXd& b = obj.best_x;
+  r.force.assign(obj.T, std::vector<float>(nf));
+  for (int i = 0; i < obj.T; ++i)
+    for (size_t e = 0; e < nf; ++e) r.force[i][e] = float(b[Eigen::Index(size_t(i) * nf + e)]);
+  // Thin the history to at most ~60 points (keep the first and last).
+  const auto& h = obj.history;
+  const size_t stride = std::max<size_t>(1, h.size() / 60);
+  r.history = nlohmann::json::array();
+  for (size_t i = 0; i < h.size(); ++i)
+    if (i % stride == 0 || i + 1 == h.size()) r.history.push_back(h[i]);
+  return r;
+}
+
+nlohmann::json keyframes_json(const ControlMetrics& cm) {
+  nlohmann::json k = nlohmann::json::array();
+  for (const auto& x : cm.keyframes) k.push_back({{"frame", x.frame}, {"iou", x.iou}, {"relative_l2", x.relative_l2}});
+  return k;
+}
+
+}  // namespace
+
+void converged_comparison(const std::string& name, const ControlModel& m, const ConvergedOptions& o,
+                          const std::function<void(const nlohmann::json&)>& emit) {
+  // 1. Pliant as users run it: control_solve_admm with the scene's settings (coarse-to-fine
+  //    when the scene asks for it, polish included), to its own end.
+  Progress progress;
+  ControlState s = control_init(m);
+  nlohmann::json admm_history = nlohmann::json::array();
+  const double c0 = process_cpu_s();
+  const auto w0 = std::chrono::steady_clock::now();
+  ControlCallbacks cb;
+  cb.on_iteration = [&](const ControlState& st) {
+    if (st.level == 0 && !st.objective_history.empty())
+      admm_history.push_back({process_cpu_s() - c0, st.objective_history.back()});
+  };
+  std::fprintf(stderr, "%s: Pliant (ADMM, scene settings) ...\n", name.c_str());
+  control_solve_admm(m, s, progress, cb);
+  const double pliant_cpu = process_cpu_s() - c0;
+  const double pliant_wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count();
+  const double e_star = control_objective(m, s.force, nullptr);  // re-simulated
+  const ControlMetrics pm = control_evaluate(m, s.force);
+  std::fprintf(stderr, "%s: Pliant E* %.6g IoU min %.3f in %.1f s cpu (%.1f s wall, load %.1f)\n", name.c_str(),
+               e_star, pm.iou_min, pliant_cpu, pliant_wall, load_average());
+  const double budget = o.budget_factor * pliant_cpu;
+
+  auto row = [&](const char* label, const LbfgsResult& r, double coarse_s) {
+    const ControlMetrics lm = control_evaluate(m, r.force);
+    nlohmann::json j = {{"case", name + " converged " + label},
+                        {"comparison", "converged"},
+                        {"baseline", label},
+                        {"time_basis", "cpu"},
+                        {"grid", m.sim.n},
+                        {"frames", m.sim.frames},
+                        {"r", m.r},
+                        {"pliant_s", pliant_cpu},
+                        {"pliant_wall_s", pliant_wall},
+                        {"pliant_objective", e_star},
+                        {"pliant_keyframe_error", pm.objective - m.r * pm.control_energy},
+                        {"iou_min", pm.iou_min},
+                        {"keyframes", keyframes_json(pm)},
+                        {"pliant_history", admm_history},
+                        {"lbfgs_s", r.time_s},
+                        {"lbfgs_coarse_s", coarse_s},
+                        {"lbfgs_budget_s", budget},
+                        {"budget_factor", o.budget_factor},
+                        {"lbfgs_reached", r.reached},
+                        {"lbfgs_stop_reason", r.stop_reason},
+                        {"lbfgs_best_objective", r.best},
+                        {"lbfgs_resimulated_objective", r.reached ? r.check : lm.objective},
+                        {"lbfgs_iou_min", lm.iou_min},
+                        {"lbfgs_evaluations", r.evaluations},
+                        {"lbfgs_restarts", r.restarts},
+                        {"lbfgs_history", r.history},
+                        {"speedup", pliant_cpu > 0 ? r.time_s / pliant_cpu : 0.0},
+                        {"speedup_is_lower_bound", !r.reached},
+                        {"load_average_1min", load_average()},
+                        {"peak_mb", [] {
+                           rusage ru{};
+                           getrusage(RUSAGE_SELF, &ru);
+                           return ru.ru_maxrss / 1024.0;
+                         }()}};
+    emit(j);
+  };
+
+  // 2. Plain L-BFGS from rest on the fine level.
+  if (o.plain) {
+    std::fprintf(stderr, "%s: plain L-BFGS, budget %.0f s cpu ...\n", name.c_str(), budget);
+    const double l0 = process_cpu_s();
+    const LbfgsResult r = run_lbfgs(m, control_init(m).force, l0, budget, e_star, o.deadline_unix);
+    row("lbfgs", r, 0.0);
+  }
+  // 3. L-BFGS coarse-to-fine: the production L-BFGS on the quarter and half levels (as
+  //    many iterations per level as Pliant's ADMM + polish there), then the budgeted
+  //    continuous L-BFGS on the fine level; the coarse levels' time is charged.
+  if (o.c2f && m.progressive_preview) {
+    std::fprintf(stderr, "%s: L-BFGS coarse-to-fine, budget %.0f s cpu ...\n", name.c_str(), budget);
+    const double l0 = process_cpu_s();
+    ControlModel lm = m;
+    lm.coarse_iterations = (m.coarse_iterations >= 0 ? m.coarse_iterations : m.max_iterations) + m.polish_iterations;
+    ControlState ls = control_init(lm);
+    control_coarse_to_fine(lm, ls, kCoarseToFineLevels, {},
+                           [&](const ControlModel& cm, ControlState& cs, const ControlCallbacks& lcb) {
+                             control_solve_lbfgs(cm, cs, progress, lcb);
+                           });
+    const double coarse_s = process_cpu_s() - l0;
+    const LbfgsResult r = run_lbfgs(m, ls.force, l0, budget, e_star, o.deadline_unix);
+    row("lbfgs coarse-to-fine", r, coarse_s);
+  }
+}
+
+}  // namespace pliant::smoke::bench
