@@ -3,6 +3,9 @@
 
 #include <cmath>
 #include <limits>
+#include <stdexcept>
+#include <string>
+#include <utility>
 
 namespace pliant::soft {
 
@@ -42,98 +45,158 @@ double heading_yaw(const SoftState& s, const Eigen::Vector3d& axis) {
   return std::atan2(h[2], h[0]);
 }
 
-Eigen::VectorXd residuals(const Problem& p, const Eigen::VectorXd& theta) {
-  const Character& ch = *p.character;
-  const Objectives& o = p.obj;
-  const double dt = p.sim.dt_s, T = p.frames * dt;
-  const SoftState s0 = initial_state(ch, p.start_offset_m, Eigen::Vector3d::Zero(), dt);
-  const Eigen::Vector3d com0 = centre_of_mass(ch, s0);
-  Eigen::Vector3d heading_sum = Eigen::Vector3d::Zero();
-  // Smooth max of the height gain: log-sum-exp with a 2 mm temperature.
-  const double kappa = 500;
-  double lse_max = -1e300, lse_sum = 0;
-  std::vector<double> shuffle;
-  std::vector<Eigen::VectorXd> key_res;
-  Eigen::VectorXd x;
-  int frame = 0, unconverged = 0;
-  double yaw_prev = heading_yaw(s0, o.turn_axis), yaw_total = 0;
-  SoftState last = simulate(p, theta, p.frames, [&](const SoftState& s) {
-    ++frame;
-    const Eigen::Vector3d com = centre_of_mass(ch, s);
-    if (o.w_turn > 0) {
-      const double yaw = heading_yaw(s, o.turn_axis);
-      yaw_total += std::remainder(yaw - yaw_prev, 2 * M_PI);  // unwrapped
-      yaw_prev = yaw;
+namespace {
+
+// The objective's per-frame sums over a trajectory (one pass, buffers reused), then
+// the residual vector written in place: residuals() feeds it from the rollout and
+// trajectory_residuals() from given frames, so both give the same numbers.
+class ResidualAccumulator {
+ public:
+  ResidualAccumulator(const Problem& p, Eigen::Index theta_size)
+      : p_(p), ch_(*p.character), o_(p.obj), dt_(p.sim.dt_s),
+        s0_(initial_state(ch_, p.start_offset_m, Eigen::Vector3d::Zero(), dt_)),
+        com0_(centre_of_mass(ch_, s0_)), yaw_prev_(heading_yaw(s0_, o_.turn_axis)) {
+    Eigen::Index n = 0;
+    if (o_.w_velocity > 0) n += 3;
+    if (o_.w_position > 0) n += 3;
+    if (o_.w_heading > 0) n += 3;
+    if (o_.w_jump > 0) n += 1;
+    if (o_.w_distance > 0) n += 1;
+    if (o_.w_turn > 0) n += 2;
+    shuffle_at_ = n;
+    if (o_.w_shuffle > 0) n += p.frames;
+    // Keyframe blocks in the order the rollout meets them (by frame, then listed order).
+    key_at_.assign(o_.keyframes.size(), -1);
+    if (o_.w_keyframes > 0)
+      for (int f = 1; f <= p.frames; ++f)
+        for (size_t k = 0; k < o_.keyframes.size(); ++k)
+          if (o_.keyframes[k].frame == f) {
+            key_at_[k] = n;
+            n += 3 * Eigen::Index(o_.keyframes[k].vertices.size());
+          }
+    effort_at_ = n;
+    res_.resize(n + theta_size);
+  }
+
+  void add(const SoftState& s) {
+    ++frame_;
+    const Eigen::Vector3d com = centre_of_mass(ch_, s);
+    if (o_.w_turn > 0) {
+      const double yaw = heading_yaw(s, o_.turn_axis);
+      yaw_total_ += std::remainder(yaw - yaw_prev_, 2 * M_PI);  // unwrapped
+      yaw_prev_ = yaw;
     }
-    if (o.w_heading > 0) heading_sum += s.R * o.heading_axis - o.heading_direction.normalized();
-    if (o.w_jump > 0) {
-      const double v = kappa * (com[1] - com0[1]);
-      if (v > lse_max) {
-        lse_sum = lse_sum * std::exp(lse_max - v) + 1;
-        lse_max = v;
+    if (o_.w_heading > 0) heading_sum_ += s.R * o_.heading_axis - o_.heading_direction.normalized();
+    if (o_.w_jump > 0) {
+      // Smooth max of the height gain: log-sum-exp with a 2 mm temperature.
+      const double v = kKappa * (com[1] - com0_[1]);
+      if (v > lse_max_) {
+        lse_sum_ = lse_sum_ * std::exp(lse_max_ - v) + 1;
+        lse_max_ = v;
       } else {
-        lse_sum += std::exp(v - lse_max);
+        lse_sum_ += std::exp(v - lse_max_);
       }
     }
-    if (o.w_shuffle > 0) {
-      SoftState prev = s;
-      prev.q = s.q_prev, prev.R = s.R_prev, prev.c = s.c_prev;
-      Eigen::VectorXd xp;
-      node_positions(ch, s, x);
-      node_positions(ch, prev, xp);
+    if (o_.w_shuffle > 0 && frame_ <= p_.frames) {
+      prev_.q = s.q_prev, prev_.R = s.R_prev, prev_.c = s.c_prev;
+      node_positions(ch_, s, x_);
+      node_positions(ch_, prev_, xp_);
       double acc = 0;
-      for (int j = 0; j < ch.lattice.nodes(); ++j) {
+      for (int j = 0; j < ch_.lattice.nodes(); ++j) {
         Eigen::Vector3d nrm;
-        if (contact_normal_force(p.env, 1.0, x.segment<3>(3 * j), &nrm) <= 0) continue;
-        const Eigen::Vector3d v = (x.segment<3>(3 * j) - xp.segment<3>(3 * j)) / dt;
-        acc += ch.lattice.node_mass_kg[j] * (v - v.dot(nrm) * nrm).squaredNorm();
+        if (contact_normal_force(p_.env, 1.0, x_.segment<3>(3 * j), &nrm) <= 0) continue;
+        const Eigen::Vector3d v = (x_.segment<3>(3 * j) - xp_.segment<3>(3 * j)) / dt_;
+        acc += ch_.lattice.node_mass_kg[j] * (v - v.dot(nrm) * nrm).squaredNorm();
       }
       const double e = 1e-3;
-      shuffle.push_back(std::sqrt(acc / ch.mass_kg + e * e) - e);
+      res_[shuffle_at_ + frame_ - 1] = std::sqrt(o_.w_shuffle * dt_) * (std::sqrt(acc / ch_.mass_kg + e * e) - e);
     }
-    if (o.w_keyframes > 0)
-      for (const auto& k : o.keyframes) {
-        if (k.frame != frame) continue;
-        node_positions(ch, s, x);
-        Eigen::VectorXd r(3 * k.vertices.size());
-        for (size_t i = 0; i < k.vertices.size(); ++i) {
-          const int v = k.vertices[i];
+    if (o_.w_keyframes > 0) {
+      bool have_x = false;
+      for (size_t k = 0; k < o_.keyframes.size(); ++k) {
+        const Keyframe& key = o_.keyframes[k];
+        if (key.frame != frame_ || key_at_[k] < 0) continue;
+        if (!have_x) node_positions(ch_, s, x_), have_x = true;
+        for (size_t i = 0; i < key.vertices.size(); ++i) {
+          const int v = key.vertices[i];
           Eigen::Vector3d pos = Eigen::Vector3d::Zero();
-          const auto& cell = ch.lattice.cells[ch.lattice.vertex_cell[v]];
-          for (int a = 0; a < 8; ++a) pos += ch.lattice.vertex_weight[v][a] * x.segment<3>(3 * cell[a]);
-          r.segment<3>(3 * i) = pos - (ch.surface.vertices[v] + p.start_offset_m + k.offset_m);
+          const auto& cell = ch_.lattice.cells[ch_.lattice.vertex_cell[v]];
+          for (int a = 0; a < 8; ++a) pos += ch_.lattice.vertex_weight[v][a] * x_.segment<3>(3 * cell[a]);
+          res_.segment<3>(key_at_[k] + 3 * Eigen::Index(i)) =
+              std::sqrt(o_.w_keyframes) * (pos - (ch_.surface.vertices[v] + p_.start_offset_m + key.offset_m));
         }
-        key_res.push_back(r);
       }
-  }, &unconverged);
-  std::vector<double> out;
-  const Eigen::Vector3d com = centre_of_mass(ch, last);
-  auto push3 = [&](double w, const Eigen::Vector3d& v) {
-    for (int a = 0; a < 3; ++a) out.push_back(std::sqrt(w) * v[a]);
-  };
-  if (o.w_velocity > 0) push3(o.w_velocity, (com - com0) / T - o.velocity_m_per_s);
-  if (o.w_position > 0) push3(o.w_position, com - o.position_m);
-  if (o.w_heading > 0) push3(o.w_heading, heading_sum / std::max(1, p.frames));
-  // log-sum-exp minus log(frames): never above the true maximum, so meeting the
-  // target in the objective means meeting it in the rollout.
-  if (o.w_jump > 0)
-    out.push_back(std::sqrt(o.w_jump) *
-                  ((lse_max + std::log(lse_sum) - std::log(double(std::max(1, frame)))) / kappa - o.jump_height_m));
-  if (o.w_distance > 0)
-    out.push_back(std::sqrt(o.w_distance) * ((com - com0).dot(o.distance_direction.normalized()) - o.distance_m));
-  if (o.w_turn > 0) {
-    out.push_back(std::sqrt(o.w_turn) * (yaw_total / T - o.turn_rate_rad_per_s));
-    // Signed progress along the initial heading (smooth, unlike the horizontal speed).
-    Eigen::Vector3d h0 = s0.R * o.turn_axis;
-    h0[1] = 0;
-    if (h0.norm() > 1e-12) h0.normalize();
-    out.push_back(std::sqrt(o.w_turn) * ((com - com0).dot(h0) / T - o.turn_speed_m_per_s));
+    }
   }
-  for (double v : shuffle) out.push_back(std::sqrt(o.w_shuffle * dt) * v);
-  for (const auto& r : key_res)
-    for (int i = 0; i < r.size(); ++i) out.push_back(std::sqrt(o.w_keyframes) * r[i]);
-  for (int i = 0; i < theta.size(); ++i) out.push_back(std::sqrt(o.w_effort) * theta[i]);
-  Eigen::VectorXd res = Eigen::Map<Eigen::VectorXd>(out.data(), Eigen::Index(out.size()));
+
+  // `last` is the final state (s0 when there are no frames).
+  Eigen::VectorXd finish(const SoftState& last, const Eigen::VectorXd& theta) {
+    const double T = p_.frames * dt_;
+    const Eigen::Vector3d com = centre_of_mass(ch_, last);
+    Eigen::Index at = 0;
+    auto push3 = [&](double w, const Eigen::Vector3d& v) {
+      res_.segment<3>(at) = std::sqrt(w) * v;
+      at += 3;
+    };
+    if (o_.w_velocity > 0) push3(o_.w_velocity, (com - com0_) / T - o_.velocity_m_per_s);
+    if (o_.w_position > 0) push3(o_.w_position, com - o_.position_m);
+    if (o_.w_heading > 0) push3(o_.w_heading, heading_sum_ / std::max(1, p_.frames));
+    // log-sum-exp minus log(frames): never above the true maximum, so meeting the
+    // target in the objective means meeting it in the rollout.
+    if (o_.w_jump > 0)
+      res_[at++] = std::sqrt(o_.w_jump) *
+                   ((lse_max_ + std::log(lse_sum_) - std::log(double(std::max(1, frame_)))) / kKappa - o_.jump_height_m);
+    if (o_.w_distance > 0)
+      res_[at++] = std::sqrt(o_.w_distance) * ((com - com0_).dot(o_.distance_direction.normalized()) - o_.distance_m);
+    if (o_.w_turn > 0) {
+      res_[at++] = std::sqrt(o_.w_turn) * (yaw_total_ / T - o_.turn_rate_rad_per_s);
+      // Signed progress along the initial heading (smooth, unlike the horizontal speed).
+      Eigen::Vector3d h0 = s0_.R * o_.turn_axis;
+      h0[1] = 0;
+      if (h0.norm() > 1e-12) h0.normalize();
+      res_[at++] = std::sqrt(o_.w_turn) * ((com - com0_).dot(h0) / T - o_.turn_speed_m_per_s);
+    }
+    res_.segment(effort_at_, theta.size()) = std::sqrt(o_.w_effort) * theta;
+    return std::move(res_);
+  }
+
+  const SoftState& initial() const { return s0_; }
+
+ private:
+  static constexpr double kKappa = 500;
+  const Problem& p_;
+  const Character& ch_;
+  const Objectives& o_;
+  const double dt_;
+  const SoftState s0_;
+  const Eigen::Vector3d com0_;
+  Eigen::Index shuffle_at_ = 0, effort_at_ = 0;
+  std::vector<Eigen::Index> key_at_;
+  Eigen::VectorXd res_, x_, xp_;
+  SoftState prev_;
+  Eigen::Vector3d heading_sum_ = Eigen::Vector3d::Zero();
+  double lse_max_ = -1e300, lse_sum_ = 0;
+  double yaw_prev_, yaw_total_ = 0;
+  int frame_ = 0;
+};
+
+}  // namespace
+
+Eigen::VectorXd trajectory_residuals(const Problem& p, const std::vector<SoftState>& frames,
+                                     const Eigen::VectorXd& theta) {
+  if (int(frames.size()) != p.frames)
+    throw std::invalid_argument("trajectory_residuals: " + std::to_string(frames.size()) + " frames given, the problem has " +
+                                std::to_string(p.frames));
+  ResidualAccumulator acc(p, theta.size());
+  for (const SoftState& s : frames) acc.add(s);
+  return acc.finish(frames.empty() ? acc.initial() : frames.back(), theta);
+}
+
+Eigen::VectorXd residuals(const Problem& p, const Eigen::VectorXd& theta) {
+  ResidualAccumulator acc(p, theta.size());
+  int unconverged = 0;
+  const SoftState last = simulate(p, theta, p.frames, [&](const SoftState& s) { acc.add(s); }, &unconverged);
+  Eigen::VectorXd res = acc.finish(last, theta);
   // A rollout whose implicit steps did not converge is not physics: reject it.
   if (unconverged > 0) res.setConstant(std::numeric_limits<double>::quiet_NaN());
   return res;

@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <stdexcept>
+#include <vector>
 
 #include "pliant/core/scene.h"
 #include "pliant/soft/soft.h"
@@ -55,4 +57,34 @@ TEST(Objective, ResidualSizeAndKeyframesAtRest) {
   // No control, standing on the ground: vertices stay near the rest pose (they
   // sink by the penalty depth and the elastic sag only).
   EXPECT_LT(r.segment(3, 9).cwiseAbs().maxCoeff(), 0.01);
+}
+
+TEST(Objective, TrajectoryResidualsEqualRolloutResiduals) {
+  // Every term on, keyframes listed out of frame order, a short rollout.
+  SoftModel m = soft_compile(t_scene(
+      R"({"keyframes": {"weight": 2, "frames": [{"frame": 3, "vertices": [1, 2]}, {"frame": 2, "vertices": [0]}]},
+          "velocity": {"target_m_per_s": [0.1, 0, 0], "weight": 1},
+          "position": {"target_m": [0.2, 0, 0], "weight": 1},
+          "heading": {"body_axis": [1, 0, 0], "direction": [1, 0, 0], "weight": 1},
+          "jump": {"height_m": 0.03, "weight": 3},
+          "distance": {"distance_m": 0.5, "direction": [1, 0, 0], "weight": 1},
+          "shuffle": {"weight": 1}, "effort": {"weight": 1e-3}})",
+      R"({"method": "none", "horizon_frames": 4})"));
+  soft_bind(m);
+  m.problem.obj.w_turn = 1;
+  m.problem.obj.turn_rate_rad_per_s = 0.3;
+  const Eigen::VectorXd theta = 20 * initial_theta(m.problem);
+  std::vector<SoftState> frames;
+  simulate(m.problem, theta, m.problem.frames, [&](const SoftState& s) { frames.push_back(s); });
+  ASSERT_EQ(int(frames.size()), 4);
+  const Eigen::VectorXd r = residuals(m.problem, theta);
+  const Eigen::VectorXd rt = trajectory_residuals(m.problem, frames, theta);
+  ASSERT_EQ(r.size(), rt.size());
+  EXPECT_EQ(r.size(), 3 + 3 + 3 + 1 + 1 + 2 + 4 + 9 + theta.size());
+  for (Eigen::Index i = 0; i < r.size(); ++i) EXPECT_DOUBLE_EQ(r[i], rt[i]) << "residual " << i;
+  // A different trajectory gives different residuals (the frames are really read).
+  frames[1].c += Eigen::Vector3d(0, 0.01, 0);
+  EXPECT_GT((trajectory_residuals(m.problem, frames, theta) - r).norm(), 1e-4);
+  frames.pop_back();
+  EXPECT_THROW(trajectory_residuals(m.problem, frames, theta), std::invalid_argument);
 }

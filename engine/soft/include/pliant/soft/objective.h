@@ -80,6 +80,12 @@ double max_activation_m(const Character& ch, const DmpSpec& spec);
 
 // Residual vector (fixed size for a given problem).
 Eigen::VectorXd residuals(const Problem& p, const Eigen::VectorXd& theta);
+// Objective residuals of a given trajectory: frames[f] is the state after step f+1
+// (f = 0..p.frames-1); residuals(p, theta) equals this on the simulated frames
+// (residuals() alone turns an unconverged rollout into NaN). Throws
+// std::invalid_argument when frames.size() != p.frames.
+Eigen::VectorXd trajectory_residuals(const Problem& p, const std::vector<SoftState>& frames,
+                                     const Eigen::VectorXd& theta);
 // Starting point of the optimizers: small deterministic weights (2% of the
 // activation bound) next to the symmetric rest state.
 Eigen::VectorXd initial_theta(const Problem& p);
