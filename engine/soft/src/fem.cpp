@@ -126,6 +126,8 @@ void cell_force(const Lattice& lat, const Lame& l, const Eigen::VectorXd& x, int
   }
 }
 
+const std::array<Eigen::Matrix<double, 8, 3>, 8>& gauss_shape_gradients(double h) { return scaled_table(h); }
+
 double elastic_energy(const Lattice& lat, const Lame& l, const Eigen::VectorXd& x, const CellWeights& cw,
                       Eigen::VectorXd* grad, Eigen::SparseMatrix<double>* hess) {
   const double h = lat.cell_size_m, vol_q = h * h * h / 8, inv_h = 1.0 / h;
@@ -192,8 +194,10 @@ double elastic_reduced(const Lattice& lat, const Lame& l, const Eigen::VectorXd&
     }
     B_h = h;
   }
-  Eigen::Matrix<double, 24, Eigen::Dynamic> Ue(24, r);
-  Eigen::Matrix<double, 9, Eigen::Dynamic> D(9, r), AD(9, r);
+  // Per-thread buffers: no allocation per call once r is known (playback loop).
+  thread_local Eigen::Matrix<double, 24, Eigen::Dynamic> Ue;
+  thread_local Eigen::Matrix<double, 9, Eigen::Dynamic> D, AD;
+  if (Ue.cols() != r) Ue.resize(24, r), D.resize(9, r), AD.resize(9, r);
   Eigen::Matrix<double, 24, 1> gcell;
   double energy = 0;
   for (int k = 0; k < ncell; ++k) {

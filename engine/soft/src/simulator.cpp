@@ -70,11 +70,11 @@ struct StepTargets {
   std::vector<Vector3d> ccd_point, ccd_normal;
 };
 
-StepTargets make_targets(const Character& ch, const Environment& env, double dt, const VectorXd& x,
-                         const VectorXd& x_prev) {
+// Fills t in place (no allocation once t has the lattice's sizes).
+void make_targets(const Character& ch, const Environment& env, double dt, const VectorXd& x, const VectorXd& x_prev,
+                  StepTargets& t) {
   const Lattice& lat = ch.lattice;
   const int n = lat.nodes();
-  StepTargets t;
   t.x_start = x;
   t.xt = 2 * x - x_prev;
   for (int j = 0; j < n; ++j) t.xt.segment<3>(3 * j) += dt * dt * env.gravity_m_per_s2;
@@ -88,11 +88,11 @@ StepTargets make_targets(const Character& ch, const Environment& env, double dt,
       for (int c = 0; c < 4; ++c) t.xt.segment<3>(3 * f[c]) += dt * dt * 0.25 * F / lat.node_mass_kg[f[c]];
     }
   }
-  t.mu_lambda = VectorXd::Zero(n);
+  t.mu_lambda.setZero(n);
   t.normal.assign(n, Vector3d::UnitY());
   for (int j = 0; j < n; ++j)
     t.mu_lambda[j] = env.friction * contact_normal_force(env, lat.node_mass_kg[j], x.segment<3>(3 * j), &t.normal[j]);
-  t.ccd_k = VectorXd::Zero(n);
+  t.ccd_k.setZero(n);
   t.ccd_point.assign(n, Vector3d::Zero());
   t.ccd_normal.assign(n, Vector3d::UnitY());
   const double delta = 0.25 * lat.cell_size_m;
@@ -112,7 +112,6 @@ StepTargets make_targets(const Character& ch, const Environment& env, double dt,
       if (k > t.ccd_k[j]) t.ccd_k[j] = k, t.ccd_point[j] = p, t.ccd_normal[j] = nrm;
     }
   }
-  return t;
 }
 
 // Contact + friction of node j at position xj: energy, and gradient/Hessian in x_j.
@@ -195,15 +194,55 @@ SoftState initial_state(const Character& ch, const Vector3d& offset, const Vecto
   return s;
 }
 
+void enable_rotation_strain(Character& ch) {
+  ch.rotation_strain = std::make_shared<const RotationStrain>(rotation_strain_build(ch.lattice, ch.basis.U));
+}
+
+void local_shape(const Character& ch, const VectorXd& q, VectorXd& local, MatrixXd* jacobian) {
+  if (ch.rotation_strain) {
+    rotation_strain_positions(ch.lattice, *ch.rotation_strain, q, local, jacobian);
+    return;
+  }
+  local = ch.rest_local;
+  if (ch.basis.r() > 0) local.noalias() += ch.basis.U * q;
+  if (jacobian) *jacobian = ch.basis.U;
+}
+
+namespace {
+
+// x = R local(q) + c per node; local is a buffer.
+void positions_of(const Character& ch, const VectorXd& q, const Matrix3d& R, const Vector3d& c, VectorXd& local,
+                  VectorXd& x) {
+  local_shape(ch, q, local);
+  if (x.size() != local.size()) x.resize(local.size());
+  for (int j = 0; j < ch.lattice.nodes(); ++j) x.segment<3>(3 * j) = R * local.segment<3>(3 * j) + c;
+}
+
+// Buffers of one reduced step, reused by every step of the thread (sizes only change
+// with the character), so the playback loop allocates nothing.
+struct StepWork {
+  StepTargets T;
+  VectorXd x, xp, local, q_t, q, qn, g, d, g_el, gq, b;
+  MatrixXd H, H_el, Lm, ULm, Jrs, JH, MJ;
+  Eigen::Matrix<double, 3, Eigen::Dynamic> J;
+  Eigen::LDLT<MatrixXd> ldlt;
+};
+
+StepWork& step_work() {
+  thread_local StepWork w;
+  return w;
+}
+
+}  // namespace
+
 void node_positions(const Character& ch, const SoftState& s, VectorXd& x) {
-  VectorXd local = ch.rest_local;
-  if (ch.basis.r() > 0) local.noalias() += ch.basis.U * s.q;
-  x.resize(local.size());
-  for (int j = 0; j < ch.lattice.nodes(); ++j) x.segment<3>(3 * j) = s.R * local.segment<3>(3 * j) + s.c;
+  thread_local VectorXd local;
+  positions_of(ch, s.q, s.R, s.c, local, x);
 }
 
 Vector3d centre_of_mass(const Character& ch, const SoftState& s) {
-  // Modes are M-orthogonal to translation and Xbar is centred, so the COM is c.
+  // Modes are M-orthogonal to translation and Xbar is centred (the rotation-strain
+  // reconstruction is centred explicitly), so the COM is c.
   (void)ch;
   return s.c;
 }
@@ -215,45 +254,49 @@ void reduced_step(const Character& ch, const Environment& env, const SimParams& 
   const double dt = sp.dt_s, idt2 = 1.0 / (dt * dt), eps = env.friction_eps_m_per_s * dt;
   const MatrixXd& U = ch.basis.U;
   const VectorXd& om2 = ch.basis.omega2;
-  VectorXd x, xp;
-  node_positions(ch, s, x);
-  {
-    SoftState prev = s;
-    prev.q = s.q_prev, prev.R = s.R_prev, prev.c = s.c_prev;
-    node_positions(ch, prev, xp);
-  }
-  StepTargets T = make_targets(ch, env, dt, x, xp);
+  const bool rs = ch.rotation_strain != nullptr;
+  StepWork& w = step_work();
+  positions_of(ch, s.q, s.R, s.c, w.local, w.x);
+  positions_of(ch, s.q_prev, s.R_prev, s.c_prev, w.local, w.xp);
+  StepTargets& T = w.T;
+  make_targets(ch, env, dt, w.x, w.xp, T);
   if (nodal_force)
     for (int j = 0; j < n; ++j) T.xt.segment<3>(3 * j) += dt * dt * nodal_force->segment<3>(3 * j) / lat.node_mass_kg[j];
-  const VectorXd q_t = s.q;
+  w.q_t = s.q;
+  const VectorXd& q_t = w.q_t;
   const double beta = sp.modal_damping_s / dt;
 
-  VectorXd q = s.q;
+  w.q = s.q;
+  VectorXd& q = w.q;
   Matrix3d R = s.R;
   Vector3d c = s.c;
-  VectorXd local(3 * n), xl(3 * n), grad_el;
-  MatrixXd Lm(3 * n, 3);
-  Eigen::Matrix<double, 3, Eigen::Dynamic> J(3, dof);
+  if (w.Lm.rows() != 3 * n) w.Lm.resize(3 * n, 3);
+  if (w.J.cols() != dof) w.J.resize(3, dof);
+  VectorXd& local = w.local;
 
-  // Total energy at (q, R, c); with g/H also the gradient and GN Hessian in
-  // (dq, dc, dw).
+  // Total energy at (q, R, c); with g/H also the gradient and Gauss-Newton Hessian in
+  // (dq, dc, dw). Jq = dlocal/dq: U, or the rotation-strain Jacobian.
   auto energy = [&](const VectorXd& q_, const Matrix3d& R_, const Vector3d& c_, VectorXd* g, MatrixXd* H) {
-    local = ch.rest_local;
-    if (r > 0) local.noalias() += U * q_;
-    xl = ch.rest;
-    if (r > 0) xl.noalias() += U * q_;
-    VectorXd g_el;
-    MatrixXd H_el;
-    double e = elastic_reduced(lat, ch.lame, xl, ch.cubature, U, g ? &g_el : nullptr, H ? &H_el : nullptr);
-    e += 0.5 * beta * (q_ - q_t).dot(om2.asDiagonal() * (q_ - q_t)) - u.dot(q_);
-    VectorXd b;  // R^T dE/dx per node, for the modal part
+    local_shape(ch, q_, local, (rs && g) ? &w.Jrs : nullptr);
+    const MatrixXd& Jq = (rs && g) ? w.Jrs : U;
+    // E_el is translation invariant: the local (centred) shape gives the same energy.
+    double e = elastic_reduced(lat, ch.lame, local, ch.cubature, Jq, g ? &w.g_el : nullptr, H ? &w.H_el : nullptr);
+    e += 0.5 * beta * (q_ - q_t).dot(om2.cwiseProduct(q_ - q_t)) - u.dot(q_);
     Vector3d gc = Vector3d::Zero(), gw = Vector3d::Zero();
     if (g) {
-      b = VectorXd::Zero(3 * n);
+      w.b.setZero(3 * n);  // R^T dE/dx per node, for the modal part
       if (H) {
         H->setZero(dof, dof);
-        H->topLeftCorner(r, r) = H_el;
-        H->topLeftCorner(r, r).diagonal() += (idt2 * VectorXd::Ones(r) + beta * om2);
+        H->topLeftCorner(r, r) = w.H_el;
+        if (rs) {
+          // Kinetic Gauss-Newton block Jq^T M Jq / dt^2 (U^T M U = I for the linear map).
+          if (w.MJ.rows() != 3 * n || w.MJ.cols() != r) w.MJ.resize(3 * n, r);
+          for (int j = 0; j < n; ++j) w.MJ.middleRows<3>(3 * j) = lat.node_mass_kg[j] * Jq.middleRows<3>(3 * j);
+          H->topLeftCorner(r, r).noalias() += idt2 * (Jq.transpose() * w.MJ);
+          H->topLeftCorner(r, r).diagonal() += beta * om2;
+        } else {
+          H->topLeftCorner(r, r).diagonal() += idt2 * VectorXd::Ones(r) + beta * om2;
+        }
       }
     }
     Matrix3d inertia = Matrix3d::Zero();
@@ -268,52 +311,60 @@ void reduced_step(const Character& ch, const Environment& env, const SimParams& 
       const bool env_active = touches(env, T, j, xj);
       if (env_active) e += node_environment(env, T, m, j, xj, eps, g ? &gj : nullptr, H ? &Hj : nullptr);
       if (!g) continue;
-      b.segment<3>(3 * j) += R_.transpose() * gj;
+      w.b.segment<3>(3 * j) += R_.transpose() * gj;
       gc += gj;
       gw += y.cross(gj);
       if (H) {
         const Matrix3d Y = cross_matrix(y);
         inertia += m * idt2 * Y.transpose() * Y;
-        // Kinetic coupling q-w: sum m/dt^2 (R U_j)^T (-[y]x) = -U^T Lm R^T / dt^2 with
+        // Kinetic coupling q-w: sum m/dt^2 (R Jq_j)^T (-[y]x) = -Jq^T Lm R^T / dt^2 with
         // block j of Lm = m_j [l_j]x (since R^T [R l]x = [l]x R^T); one product below.
-        Lm.block<3, 3>(3 * j, 0) = m * cross_matrix(local.segment<3>(3 * j));
+        w.Lm.block<3, 3>(3 * j, 0) = m * cross_matrix(local.segment<3>(3 * j));
         if (env_active) {
-          if (r > 0) J.leftCols(r).noalias() = R_ * U.middleRows(3 * j, 3);
-          J.block<3, 3>(0, r) = Matrix3d::Identity();
-          J.block<3, 3>(0, r + 3) = -Y;
-          H->noalias() += J.transpose() * Hj * J;
+          if (r > 0) w.J.leftCols(r).noalias() = R_.lazyProduct(Jq.middleRows(3 * j, 3));
+          w.J.block<3, 3>(0, r) = Matrix3d::Identity();
+          w.J.block<3, 3>(0, r + 3) = -Y;
+          w.JH.noalias() = w.J.transpose().lazyProduct(Hj);
+          H->noalias() += w.JH.lazyProduct(w.J);
         }
       }
     }
     if (g) {
       g->resize(dof);
-      if (r > 0) g->head(r) = U.transpose() * b + g_el + beta * om2.asDiagonal() * (q_ - q_t) - u;
+      if (r > 0) {
+        w.gq.noalias() = Jq.transpose() * w.b;
+        g->head(r) = w.gq + w.g_el + beta * om2.cwiseProduct(q_ - q_t) - u;
+      }
       g->segment<3>(r) = gc;
       g->segment<3>(r + 3) = gw;
     }
     if (H) {
-      if (r > 0) H->block(0, r + 3, r, 3).noalias() -= idt2 * (U.transpose() * Lm) * R_.transpose();
+      if (r > 0) {
+        w.ULm.noalias() = Jq.transpose() * w.Lm;
+        H->block(0, r + 3, r, 3).noalias() -= idt2 * w.ULm.lazyProduct(R_.transpose());
+      }
       H->block<3, 3>(r, r) += ch.mass_kg * idt2 * Matrix3d::Identity();
       H->block<3, 3>(r + 3, r + 3) += inertia;
       H->block(r + 3, 0, 3, r) = H->block(0, r + 3, r, 3).transpose();
-
     }
     return e;
   };
 
   StepStats st;
-  VectorXd g;
-  MatrixXd H;
+  VectorXd& g = w.g;
+  MatrixXd& H = w.H;
+  VectorXd& d = w.d;
   double e = energy(q, R, c, &g, &H);
   const double size_scale = lat.cell_size_m;
   double radius = 0;
   for (int j = 0; j < n; ++j) radius = std::max(radius, ch.rest_local.segment<3>(3 * j).norm());
   for (int it = 0; it < sp.max_newton; ++it) {
-    Eigen::LDLT<MatrixXd> ldlt(H);
-    VectorXd d = -ldlt.solve(g);
+    w.ldlt.compute(H);
+    d = w.ldlt.solve(g);
+    d = -d;
     if (!d.allFinite() || g.dot(d) >= 0) d = -g / (H.diagonal().maxCoeff() + 1e-300);  // fall back to gradient
     double alpha = 1, e_new = e;
-    VectorXd qn;
+    VectorXd& qn = w.qn;
     Matrix3d Rn;
     Vector3d cn;
     bool accepted = false;
@@ -365,7 +416,8 @@ void full_step(const Character& ch, const Environment& env, const SimParams& sp,
   const Lattice& lat = ch.lattice;
   const int n = lat.nodes();
   const double dt = sp.dt_s, idt2 = 1.0 / (dt * dt), eps = env.friction_eps_m_per_s * dt;
-  const StepTargets T = make_targets(ch, env, dt, x, x_prev);
+  StepTargets T;
+  make_targets(ch, env, dt, x, x_prev, T);
   VectorXd y = x;
   auto energy = [&](const VectorXd& z, VectorXd* g, Eigen::SparseMatrix<double>* H) {
     double e = elastic_energy(lat, ch.lame, z, CellWeights{}, g, H);

@@ -8,6 +8,7 @@
 #pragma once
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
+#include <array>
 #include <vector>
 
 #include "pliant/soft/body.h"
@@ -48,6 +49,10 @@ double elastic_energy(const Lattice& lat, const Lame& l, const Eigen::VectorXd& 
 // cell (no 3N x 3N matrix): per Gauss point D = dvec(F)/dq (9 x r), H += w D^T A D.
 double elastic_reduced(const Lattice& lat, const Lame& l, const Eigen::VectorXd& x, const CellWeights& cw,
                        const Eigen::MatrixXd& U, Eigen::VectorXd* grad, Eigen::MatrixXd* hess);
+
+// dN_a/dX of the 8 trilinear shape functions (rows a) at the 8 Gauss points, cell size h
+// (cached per thread).
+const std::array<Eigen::Matrix<double, 8, 3>, 8>& gauss_shape_gradients(double h);
 
 // Internal force of one cell (24 values: -dE/dx of its 8 nodes).
 void cell_force(const Lattice& lat, const Lame& l, const Eigen::VectorXd& x, int cell, double* f24);

@@ -17,12 +17,14 @@
 #pragma once
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
+#include <memory>
 #include <vector>
 
 #include "pliant/soft/body.h"
 #include "pliant/soft/environment.h"
 #include "pliant/soft/fem.h"
 #include "pliant/soft/modes.h"
+#include "pliant/soft/rotation_strain.h"
 
 namespace pliant::soft {
 
@@ -38,6 +40,9 @@ struct Character {
   Eigen::Vector3d rest_com = Eigen::Vector3d::Zero();
   Eigen::VectorXd mode_scale;    // r: largest node displacement of each unit mode
   double mass_kg = 0;
+  // Set by enable_rotation_strain: the local shape is the rotation-strain map of q
+  // (rotation_strain.h) instead of Xbar + U q; shared by copies (read-only).
+  std::shared_ptr<const RotationStrain> rotation_strain;
 };
 
 // Training of the nonlinear POD basis: `runs` full-space simulations (no gravity, no
@@ -58,6 +63,16 @@ struct PodTraining {
 // instead the r-vector POD of the training snapshots (pod_snapshots).
 Character make_character(SurfaceMesh surface, Lattice lattice, const Material& mat, int modes,
                          int derivative_modes = 0, const PodTraining* pod = nullptr);
+
+// Switches the character to rotation-strain coordinates over its current basis
+// (character.basis "rotation_strain"): factors the lattice Laplacian once (CHOLMOD).
+void enable_rotation_strain(Character& ch);
+
+// Local shape (3N, centre of mass at 0, before R and c) for modal coordinates q:
+// Xbar + U q, or the rotation-strain reconstruction; jacobian (optional) dlocal/dq.
+// Allocates nothing when local/jacobian already have their sizes.
+void local_shape(const Character& ch, const Eigen::VectorXd& q, Eigen::VectorXd& local,
+                 Eigen::MatrixXd* jacobian = nullptr);
 
 struct SimParams {
   double dt_s = 1.0 / 30;
@@ -83,13 +98,18 @@ struct StepStats {
 // At rest, centre of mass at rest_com + offset, moving with velocity v0.
 SoftState initial_state(const Character& ch, const Eigen::Vector3d& offset, const Eigen::Vector3d& v0, double dt);
 
-// Node positions (3N) of a state.
+// Node positions (3N) of a state (allocates nothing when x has its size).
 void node_positions(const Character& ch, const SoftState& s, Eigen::VectorXd& x);
 Eigen::Vector3d centre_of_mass(const Character& ch, const SoftState& s);
 
 // One implicit Euler step under modal control forces u (r values, generalized
 // forces on q; net force and torque on the body are zero: internal actuation).
 // Throws std::runtime_error naming the frame when the state turns non-finite.
+// Buffers live in a thread-local workspace: after the first step of a character
+// (per thread) a step allocates nothing (linear and POD bases; the rotation-strain
+// solve uses CHOLMOD's preallocated dense buffers). With rotation-strain
+// coordinates the Gauss-Newton Hessian uses the map's Jacobian (J^T K J, no second
+// derivatives of the map).
 // nodal_force (3N, optional): external forces on the lattice nodes (N).
 void reduced_step(const Character& ch, const Environment& env, const SimParams& sp, const Eigen::VectorXd& u,
                   SoftState& s, StepStats* stats = nullptr, const Eigen::VectorXd* nodal_force = nullptr);

@@ -1,0 +1,54 @@
+// Rotation-strain (RS) coordinates (Pan, Bao, Huang et al., "Subspace dynamic
+// simulation using rotation-strain coordinates", SIGGRAPH Asia 2015): a nonlinear map
+// from modal coordinates z to node positions that rotates parts of the body instead of
+// stretching them. At every Gauss point i of the lattice and for every basis vector
+// U_k, the displacement gradient grad U_k splits into its skew part (rotation vector
+// w_ik) and symmetric part (strain s_ik). For coordinates z the target deformation
+// gradient is
+//   F_i(z) = exp([sum_k z_k w_ik]x) (I + sum_k z_k s_ik),
+// and the positions are its least-squares integration
+//   x(z) = argmin sum_i vol_i |G_i x - F_i(z)|^2,
+// G_i x the deformation gradient of x at Gauss point i. The normal matrix G^T W G is
+// the lattice's scalar Laplacian L (N x N) times I_3; its only null space is
+// translation, fixed by pinning node 0 and then moving the mass-weighted centroid to
+// 0 (exact: translation does not change the residual). L is factored once with
+// CHOLMOD; a reconstruction is one solve with 3 right-hand sides and the Jacobian
+// dx/dz = L^-1 G^T W dF/dz is one solve with 3 r right-hand sides
+// (dF/dz_k = [J(v) w_k]x exp([v]x) S + exp([v]x) s_k, J the left Jacobian of SO(3)).
+// Per-Gauss-point targets make x(z) = X + U z + O(|z|^2) exactly (U z's gradient is
+// reproduced with zero residual), and a pure rotation field reconstructs a rigid
+// rotation with no volume change where linear modes grow the body.
+// Reconstruction buffers (CHOLMOD dense matrices, per-sample vectors) live in a
+// thread-local workspace: after the first call with given sizes nothing is allocated,
+// and concurrent threads (parallel rollouts) do not share buffers.
+#pragma once
+#include <Eigen/Core>
+#include <memory>
+#include <vector>
+
+#include "pliant/soft/body.h"
+
+namespace pliant::soft {
+
+struct RsFactor;  // CHOLMOD factor of L (opaque; rotation_strain.cpp)
+
+struct RotationStrain {
+  int nodes = 0, r = 0, samples = 0;   // samples = 8 Gauss points x cells
+  double sample_volume = 0;            // h^3 / 8
+  Eigen::MatrixXd rot;                 // 3 samples x r: rotation vectors w_ik
+  Eigen::MatrixXd strain;              // 9 samples x r: symmetric strains s_ik (column-major 3x3)
+  Eigen::VectorXd mass_fraction;       // N: node mass / total mass (centroid)
+  std::shared_ptr<const RsFactor> factor;
+};
+
+// Splits the gradients of the columns of U (3N x r, local displacements) at every
+// Gauss point and factors L. Throws std::runtime_error when CHOLMOD fails.
+RotationStrain rotation_strain_build(const Lattice& lat, const Eigen::MatrixXd& U);
+
+// Positions (3N, xyz per node, mass-weighted centroid 0) for coordinates z (r); with
+// jacobian, also dx/dz (3N x r, centroid-free columns). x and jacobian are resized
+// only when their size differs.
+void rotation_strain_positions(const Lattice& lat, const RotationStrain& rs, const Eigen::VectorXd& z,
+                               Eigen::VectorXd& x, Eigen::MatrixXd* jacobian = nullptr);
+
+}  // namespace pliant::soft
