@@ -1,6 +1,8 @@
 // Editor-facing entry points: mode-shape preview, optimization, checkpoint theta and
 // frame-by-frame playback. The "soft" job uses the same playback step, so what the
 // editor plays is what the take holds.
+#include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 #include "pliant/soft/soft.h"
@@ -11,7 +13,9 @@ void soft_mode_shape(const SoftModel& m, const Eigen::VectorXd& q, std::vector<E
                      Eigen::VectorXd* nodes) {
   const Character& ch = m.character;
   if (q.size() != ch.basis.r()) throw std::invalid_argument("soft_mode_shape: q needs one value per mode");
-  const Eigen::VectorXd x = ch.rest + ch.basis.U * q;
+  Eigen::VectorXd x;
+  local_shape(ch, q, x);  // Xbar + U q, or the rotation-strain shape
+  for (int j = 0; j < ch.lattice.nodes(); ++j) x.segment<3>(3 * j) += ch.rest_com;
   embed_surface(ch.lattice, x, surface);
   if (nodes) *nodes = x;
 }
@@ -63,7 +67,13 @@ void soft_playback_step(const SoftModel& m, SoftPlayback& pb) {
   const Problem& p = m.problem;
   const Character& ch = m.character;
   const Eigen::VectorXd& y = dmp_step(p.dmp, pb.theta, p.sim.dt_s, pb.dmp);
-  Eigen::VectorXd u = control_force(ch, y, max_activation_m(ch, p.dmp));
+  // control_force (objective.cpp) into a per-thread buffer: a playback frame allocates
+  // nothing (tested), the returned vector would.
+  thread_local Eigen::VectorXd u;
+  u.setZero(ch.basis.r());
+  const double a_max = max_activation_m(ch, p.dmp);
+  for (int k = 0; k < std::min<int>(int(y.size()), ch.basis.r()); ++k)
+    u[k] = ch.basis.omega2[k] * a_max * std::tanh(y[k] / a_max) / ch.mode_scale[k];
   const int f = pb.state.frame;
   if ((pb.track_kp > 0 || pb.track_kd > 0) && f >= 1 && f < int(pb.q_ref.size())) {
     // Explicit PD on the current error (state and reference at frame f); gains
@@ -76,7 +86,8 @@ void soft_playback_step(const SoftModel& m, SoftPlayback& pb) {
   }
   if (pb.push_n.squaredNorm() > 0) {
     const int n = ch.lattice.nodes();
-    Eigen::VectorXd f(3 * n);
+    thread_local Eigen::VectorXd f;
+    f.resize(3 * n);
     for (int j = 0; j < n; ++j) f.segment<3>(3 * j) = pb.push_n * (ch.lattice.node_mass_kg[j] / ch.mass_kg);
     reduced_step(ch, p.env, p.sim, u, pb.state, &pb.last, &f);
     pb.push_n.setZero();
