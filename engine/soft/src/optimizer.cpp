@@ -12,6 +12,7 @@ const char* optimizer_name(OptimizerKind k) {
     case OptimizerKind::Hybrid: return "hybrid";
     case OptimizerKind::LM: return "lm";
     case OptimizerKind::LBFGS: return "lbfgs";
+    case OptimizerKind::Spacetime: return "spacetime";
   }
   return "?";
 }
@@ -32,7 +33,8 @@ Eigen::MatrixXd fd_jacobian(const ResidualFn& r, const Eigen::VectorXd& theta, c
   return J;
 }
 
-void optimize(const ResidualFn& rf, const OptimizerSettings& s, OptimizerState& st, const IterationFn& on_iteration) {
+void optimize(const ResidualFn& rf, const OptimizerSettings& settings, OptimizerState& st,
+              const IterationFn& on_iteration) {
   const int n = int(st.theta.size());
   Eigen::VectorXd r = rf(st.theta);
   ++st.evaluations;
@@ -42,6 +44,8 @@ void optimize(const ResidualFn& rf, const OptimizerSettings& s, OptimizerState& 
   // L-BFGS memory.
   std::deque<Eigen::VectorXd> S, Y;
   Eigen::VectorXd g_prev, theta_prev;
+  OptimizerSettings s = settings;
+  if (s.kind == OptimizerKind::Spacetime) s.kind = OptimizerKind::Hybrid;  // see optimizer.h
   bool lbfgs = s.kind == OptimizerKind::LBFGS || (s.kind == OptimizerKind::Hybrid && st.in_lbfgs);
   int lm_stalls = 0;
   while (st.iteration < s.max_iterations) {

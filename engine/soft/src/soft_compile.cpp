@@ -200,15 +200,25 @@ SoftModel soft_compile(const Scene& scene) {
   // Optimizer.
   p.frames = std::min(m.frames, 60);
   if (auto oj = root.object("optimizer")) {
-    const std::string method = oj->choice("method", "hybrid", {"hybrid", "lm", "lbfgs", "none"});
-    m.optimizer.kind = method == "lm" ? OptimizerKind::LM : method == "lbfgs" ? OptimizerKind::LBFGS : OptimizerKind::Hybrid;
+    const std::string method = oj->choice("method", "hybrid", {"hybrid", "lm", "lbfgs", "spacetime", "none"});
+    m.optimizer.kind = method == "lm"          ? OptimizerKind::LM
+                       : method == "lbfgs"     ? OptimizerKind::LBFGS
+                       : method == "spacetime" ? OptimizerKind::Spacetime
+                                               : OptimizerKind::Hybrid;
     m.optimizer.max_iterations = int(oj->integer("iterations", 20, 0, 100000));
     if (method == "none") m.optimizer.max_iterations = 0;
     p.frames = int(oj->integer("horizon_frames", p.frames, 1, 100000));
     m.optimizer.fd_step = oj->number("fd_step", m.optimizer.fd_step, 1e-12, 1);
     m.optimizer.tolerance = oj->number("tolerance", m.optimizer.tolerance, 0, 1);
+    // Spacetime penalty weights (spacetime.h), per metre^2.
+    SpacetimeSettings& sp = m.spacetime;
+    sp.w_physics = oj->number("physics_weight", sp.w_physics, 1e-6, 1e16);
+    sp.w_dmp_initial = oj->number("dmp_weight_initial", sp.w_dmp_initial, 1e-12, 1e16);
+    sp.w_dmp_max = oj->number("dmp_weight_max", sp.w_dmp_max, sp.w_dmp_initial, 1e16);
     oj->finish();
   }
+  m.spacetime.max_iterations = m.optimizer.max_iterations;
+  m.spacetime.tolerance = m.optimizer.tolerance;
   // Navigation: gaits (forward, left, right) + RRT* to a goal (navigation.h).
   if (auto nj = root.object("navigation")) {
     NavSettings& nav = m.navigation;

@@ -203,7 +203,7 @@ nlohmann::json soft_run_job(JobContext& ctx) {
   // Checkpoints hold theta in f32: the resumed run continues from the rounded value.
   const auto t_opt = std::chrono::steady_clock::now();
   ctx.progress.stage("optimize", m.optimizer.max_iterations);
-  soft_optimize(m, st, [&](const OptimizerState& s) {
+  const IterationFn checkpoint = [&](const OptimizerState& s) {
     Record ck;
     ck.kind = RecordKind::Checkpoint;
     ck.index = s.iteration;
@@ -215,7 +215,12 @@ nlohmann::json soft_run_job(JobContext& ctx) {
     ctx.progress.report(s.iteration, s.objective);
     ctx.progress.check_cancelled();
     return true;
-  });
+  };
+  SpacetimeReport spacetime;
+  if (m.optimizer.kind == OptimizerKind::Spacetime)
+    spacetime_optimize(p, m.spacetime, st, checkpoint, &spacetime);
+  else
+    soft_optimize(m, st, checkpoint);
   const double optimize_s = seconds_since(t_opt);
 
   // Re-simulate the whole take under the optimized controller.
@@ -264,6 +269,13 @@ nlohmann::json soft_run_job(JobContext& ctx) {
       {"dmp_parameters", p.dmp.parameters()},
       {"cubature_cells", m.cubature.cells},
       {"cubature_kept_fraction", m.cubature.kept_fraction}};
+  if (m.optimizer.kind == OptimizerKind::Spacetime)
+    metrics["spacetime"] = {{"merit", spacetime.merit},
+                            {"physics_violation_m", spacetime.physics_violation},
+                            {"dmp_mismatch_m", spacetime.dmp_mismatch},
+                            {"dmp_weight", spacetime.w_dmp},
+                            {"resimulated_objective", spacetime.resimulated},
+                            {"steps", spacetime.steps}};
   return metrics;
 }
 

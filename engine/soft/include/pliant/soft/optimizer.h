@@ -18,7 +18,9 @@
 
 namespace pliant::soft {
 
-enum class OptimizerKind { Hybrid, LM, LBFGS };
+// Spacetime is spacetime.h's method (states, controls and theta as unknowns); it
+// needs the Problem, so optimize() given only r(theta) runs the hybrid for it.
+enum class OptimizerKind { Hybrid, LM, LBFGS, Spacetime };
 
 struct OptimizerSettings {
   OptimizerKind kind = OptimizerKind::Hybrid;

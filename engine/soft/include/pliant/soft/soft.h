@@ -10,7 +10,8 @@
 //   stepping   optimization-based implicit Euler, Gauss-Newton + line search (simulator.h)
 //   environment penalty contact, lagged smoothed Coulomb friction, C1 drag (environment.h)
 //   control    periodic DMP per controlled mode (dmp.h)
-//   planning   shooting over DMP parameters; LM, L-BFGS or hybrid (objective.h, optimizer.h)
+//   planning   shooting over DMP parameters; LM, L-BFGS or hybrid (objective.h, optimizer.h),
+//              or spacetime LM over states, controls and theta (spacetime.h)
 // Entry points for the CLI and the editor: soft_compile, soft_run_job, soft_job_frames,
 // soft_summary; editor: soft_mode_shape, soft_optimize, soft_playback_start/step. SoftModel is read-only after compile; SoftState is plain data.
 #pragma once
@@ -27,6 +28,7 @@
 #include "pliant/soft/objective.h"
 #include "pliant/soft/optimizer.h"
 #include "pliant/soft/simulator.h"
+#include "pliant/soft/spacetime.h"
 
 namespace pliant::soft {
 
@@ -35,6 +37,7 @@ struct SoftModel {
   RepairReport repair;
   Problem problem;             // optimization problem (horizon = problem.frames)
   OptimizerSettings optimizer;
+  SpacetimeSettings spacetime; // optimizer.kind == Spacetime (iterations from optimizer)
   int frames = 100;            // frames written to the take (frame 0 = rest)
   CubatureReport cubature;     // cells == 0 when cubature is off
   NavSettings navigation;      // enabled: the job plans gait sequences to a goal

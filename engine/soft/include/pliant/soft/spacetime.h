@@ -1,0 +1,91 @@
+// Spacetime optimization of a DMP controller (Pan & Manocha TOG 2018, section 6 and
+// Algorithm 6; dissertation chapter 4): the unknowns are every frame's reduced state
+// z_f = (q_f, R_f, c_f), every frame's activations a_f (metres, the controlled modes'
+// saturated DMP output) and the DMP parameters theta. The merit is |r|^2 / 2 with
+//   physics  sqrt(w_phys) (z_f - step(z_{f-1}, z_{f-2}, a_f))   per frame (direct
+//            multiple shooting with one-frame intervals; `reduced_step` is the step,
+//            differences in metres: q scaled by mode_scale, rotation log by the body
+//            radius, translation as is)
+//   DMP      sqrt(w_dmp) (a_f - a_max tanh(y_f(theta) / a_max))  per frame
+//   task     trajectory_residuals(p, frames, theta) (objective.h)
+// The activation a drives the step through the modal force omega^2 a / s (the same
+// force control_force gives when the DMP's activation saturates to a).
+// Levenberg-Marquardt on the block-banded Jacobian: physics blocks by forward
+// differences of single steps (frames in parallel), DMP blocks analytic in a and by
+// differences of DMP rollouts in theta, task blocks by differences of
+// trajectory_residuals; normal equations J^T J + lambda (diag + eps) solved by
+// Eigen's SimplicialLDLT. Accepted steps lower the merit at fixed weights (monotone).
+// Adaptive DMP penalty: w_dmp starts small (the controls may leave the DMP's span
+// to reach the task) and is raised x10 whenever LM stalls, until the DMP alone
+// reproduces the activations (RMS below dmp_tolerance of a_max).
+// The controller reported is theta; its objective is always that of the DMP
+// open-loop re-simulation (shooting, residuals()), so the take is physical.
+#pragma once
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "pliant/soft/objective.h"
+#include "pliant/soft/optimizer.h"
+
+namespace pliant::soft {
+
+struct SpacetimeSettings {
+  int max_iterations = 30;       // LM iterations over all penalty weights
+  double w_physics = 1e8;        // per metre^2 of physics violation
+  double w_dmp_initial = 1;      // per metre^2 of activation mismatch
+  double w_dmp_factor = 10;
+  double w_dmp_max = 1e8;
+  double stall = 0.02;           // relative merit decrease that counts as stalled
+  double fd_step_m = 1e-6;       // finite-difference step, metres (or metre-equivalents)
+  double dmp_tolerance = 1e-3;   // DMP RMS mismatch, fraction of a_max, to stop raising w_dmp
+  double tolerance = 1e-6;       // stop when the re-simulated objective <= tolerance x initial
+};
+
+// The unknowns. frames[f] is the state after step f + 1 (its *_prev fields are kept
+// equal to frame f's values); act is (controlled modes) x frames.
+struct SpacetimeVars {
+  std::vector<SoftState> frames;
+  Eigen::MatrixXd act;
+  Eigen::VectorXd theta;
+};
+
+struct SpacetimeReport {
+  std::vector<double> merit;              // after each iteration (first: initial)
+  std::vector<double> physics_violation;  // RMS over frames, metres
+  std::vector<double> dmp_mismatch;       // RMS over frames, metres
+  std::vector<double> w_dmp;
+  std::vector<double> resimulated;        // residuals(p, theta) objective per iteration
+  int steps = 0;                          // reduced_step calls
+};
+
+// Trajectory and activations of the open-loop rollout of theta (zero violation, zero
+// DMP mismatch).
+SpacetimeVars spacetime_from_rollout(const Problem& p, const Eigen::VectorXd& theta);
+
+// Block sizes: per frame state (r + 6), activations per frame (controlled modes).
+int spacetime_state_size(const Problem& p);
+int spacetime_unknowns(const Problem& p);
+
+// New unknowns from a step dz (metre-equivalent units, layout: frame states,
+// activations frame by frame, theta); rotations by R <- exp([dw / L]) R.
+SpacetimeVars spacetime_apply(const Problem& p, const SpacetimeVars& v, const Eigen::VectorXd& dz);
+
+// Physics violation of frame f (r + 6 values, metres, unweighted).
+Eigen::VectorXd physics_violation(const Problem& p, const SpacetimeVars& v, int f);
+
+// Whole residual [physics (frames x (r+6)), DMP (frames x modes), task] at weights.
+Eigen::VectorXd spacetime_residuals(const Problem& p, const SpacetimeVars& v, double w_physics, double w_dmp);
+
+// Jacobian of spacetime_residuals with respect to spacetime_apply's dz (dense; the
+// physics and DMP blocks are banded).
+Eigen::MatrixXd spacetime_jacobian(const Problem& p, const SpacetimeVars& v, double w_physics, double w_dmp,
+                                   double fd_step_m);
+
+// Continues from st.theta (empty: initial_theta); st.history holds the best
+// re-simulated objective so far (first: the initial theta's), st.theta the theta that
+// reached it, st.evaluations counts rollout equivalents (steps / frames).
+void spacetime_optimize(const Problem& p, const SpacetimeSettings& s, OptimizerState& st,
+                        const IterationFn& on_iteration = {}, SpacetimeReport* report = nullptr);
+
+}  // namespace pliant::soft
