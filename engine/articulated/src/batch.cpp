@@ -9,7 +9,7 @@ namespace pliant::articulated {
 int batch_rollout(const Model& m, const SimOptions& o, std::vector<State>& states, int steps,
                   int threads) {
   const int n = static_cast<int>(states.size());
-  const bool pbad = o.integrator == Integrator::Pbad2 || o.integrator == Integrator::Pbad3;
+  const bool pbad = integrator_is_pbad(o.integrator);
   std::vector<SimWorkspace> ws(n);
   std::vector<PbadStep> step(n);
   std::vector<int> done_steps(n, 0);

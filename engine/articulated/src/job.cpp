@@ -44,7 +44,7 @@ ArticulatedScene articulated_compile(const Scene& scene) {
   }
   const Model& m = a.model;
   SimOptions& o = a.options;
-  o.integrator = integrator_from_name(r.choice("integrator", "pbad3", {"pbad2", "pbad3", "euler", "rk4"}));
+  o.integrator = integrator_from_name(r.choice("integrator", "pbad3", {"pbad2", "pbad3", "pbad4", "euler", "rk4"}));
   o.dt = r.number("dt", m.timestep, 1e-6, 1.0);
   a.duration_s = r.number("duration_s", 5, 0, 1e6);
   a.steps = static_cast<int>(std::llround(a.duration_s / o.dt));

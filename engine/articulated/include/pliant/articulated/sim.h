@@ -8,6 +8,11 @@
 // replaced by a backward finite difference of positions, collocated at t_{i+1}:
 //   pbad2: X'' ~ (X_{i+1} - 2 X_i + X_{i-1}) / dt^2                (w = 1/2)
 //   pbad3: X'' ~ (2 X_{i+1} - 5 X_i + 4 X_{i-1} - X_{i-2}) / dt^2  (w = 1, 2nd-order accurate)
+//   pbad4: X'' ~ (5 X_{i+1} - 14 X_i + 14 X_{i-1} - 6 X_{i-2} + X_{i-3}) / (2 dt^2)  (w = 5/4)
+//          = pbad3's stencil + 1/2 of the 4th difference: still 2nd-order accurate, and
+//          the one member of that family whose O((omega dt)^4) energy damping per step
+//          vanishes (left: O((omega dt)^6)); its extra roots (|z| = 0.45) are damped and it
+//          stays stable for any omega dt on y'' = -omega^2 y (see README, "pbad4").
 // Y is the same stencil applied to the past frames. Because X is affine in p per
 // body, the integral is exact with mass, centre and second moment (12 numbers of
 // pose per body). Solver: Levenberg-Marquardt; its Gauss-Newton matrix is
@@ -23,7 +28,9 @@
 
 namespace pliant::articulated {
 
-enum class Integrator { Pbad2, Pbad3, Euler, Rk4 };
+enum class Integrator { Pbad2, Pbad3, Euler, Rk4, Pbad4 };  // new ones appended
+// True for the PBAD family (pbad2/3/4).
+bool integrator_is_pbad(Integrator i);
 // PBAD's per-step minimiser: Levenberg-Marquardt on the exact Hessian (Gauss-Newton
 // blocks plus the geometric term of the forces' curvature, still O(N) through
 // tree_solve) or on the Gauss-Newton model alone, or L-BFGS preconditioned by the
@@ -55,7 +62,7 @@ struct State {
   double time = 0;
   int step = 0;
   VecX qpos, qvel, ctrl;
-  std::vector<VecX> past;        // PBAD: q_{i-1}, q_{i-2}
+  std::vector<VecX> past;        // PBAD: q_{i-1}, q_{i-2} (pbad4: and q_{i-3})
   std::vector<double> normal_force_prev;  // PBAD friction: normal force of each contact slot last step
 };
 
@@ -85,7 +92,7 @@ struct PbadStep {
 struct SimWorkspace {
   Kinematics kin;
   VecX kin_at;  // qpos of kin when it is complete (cdof, cinert), else empty
-  std::vector<Kinematics> frame_kin;  // poses of recent frames q_i, q_{i-1}, q_{i-2}
+  std::vector<Kinematics> frame_kin;  // poses of recent frames q_i .. q_{i-3}
   std::vector<VecX> frame_q;
   std::vector<long> frame_stamp;
   long frame_clock = 0;
