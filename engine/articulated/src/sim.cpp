@@ -385,7 +385,7 @@ void pbad_begin(const Model& m, const SimOptions& o, State& s, PbadStep& p, SimW
   static const double kPbad2[] = {1, -2, 1}, kPbad3[] = {2, -5, 4, -1}, kPbad4[] = {2.5, -7, 7, -3, 0.5};
   const double* c = o.integrator == Integrator::Pbad4 ? kPbad4 : o.integrator == Integrator::Pbad3 ? kPbad3 : kPbad2;
   const int frames = o.integrator == Integrator::Pbad4 ? 3 : 2;  // past frames q_{i-1}, ...
-  const int used = o.integrator == Integrator::Pbad2 ? 1 : frames;  // of which the stencil reads
+  const int used = o.integrator == Integrator::Pbad2 ? 1 : frames;  // frames the stencil reads
   if (static_cast<int>(s.past.size()) < frames) startup_past(m, o, s, ws, frames, &s.past);
   const VecX& q1 = s.past[0];
   p.past1 = q1;
