@@ -9,7 +9,14 @@
 // case, pliant_s, lbfgs_s, speedup, iou_min, peak_mb plus per-keyframe IoU, L-BFGS's own
 // IoU, the ADMM profile (seconds per iteration by phase) and the FAS V-cycle factor.
 //   bench_smoke_control [--quick] [--iterations N] [--lbfgs-iterations N] [--polish N]
-//                       [--grid N] [--frames T] [--r R] [--coarse-to-fine] [--out FILE] [scene.json ...]
+//                       [--grid N] [--frames T] [--r R] [--coarse-to-fine] [--out FILE] [--merge]
+//                       [--nso-vcycles N] [--ao-iterations N] [scene.json ...]
+//   bench_smoke_control --converged [--budget X] [--baseline plain|c2f|both] [--deadline-unix S]
+//                       [--pliant-given E CPU_S IOU] [--grid N] [--merge] [--out FILE] scene.json ...
+// --converged: issue 3's converged comparison (converged_comparison.h): Pliant as users
+// run it to its end, then L-BFGS with X (20) times Pliant's CPU time to reach its error.
+// --merge keeps the output file's other rows (a row replaces the row of the same case).
+// --nso-vcycles / --ao-iterations override the scenes' ADMM settings (A/B experiments).
 // --grid / --frames rescale a scene (N cells per axis, same domain; T frames with the
 // keyframes moved proportionally) for the time-per-iteration vs cells x frames rows.
 // --coarse-to-fine runs BOTH solvers through their progressive preview (quarter and half
@@ -146,6 +153,8 @@ int main(int argc, char** argv) {
   bool quick = false;
   int iterations = 0, lbfgs_iterations = 0, polish = -1, grid = 0, frames = 0;
   bool coarse_to_fine = false, converged = false, merge = false;
+  int nso_vcycles = -1, ao_iterations = 0;  // ADMM setting overrides (A/B experiments)
+  double nso_skip_gap = -1;
   pliant::smoke::bench::ConvergedOptions conv;
   double r_override = 0;
   std::string out = "bench/results/smoke.json";
@@ -162,12 +171,19 @@ int main(int argc, char** argv) {
     else if (a == "--coarse-to-fine") coarse_to_fine = true;
     else if (a == "--r" && i + 1 < argc) r_override = std::stod(argv[++i]);
     else if (a == "--converged") converged = true;
+    else if (a == "--nso-vcycles" && i + 1 < argc) nso_vcycles = std::stoi(argv[++i]);
+    else if (a == "--ao-iterations" && i + 1 < argc) ao_iterations = std::stoi(argv[++i]);
+    else if (a == "--nso-skip-gap" && i + 1 < argc) nso_skip_gap = std::stod(argv[++i]);
     else if (a == "--budget" && i + 1 < argc) conv.budget_factor = std::stod(argv[++i]);
     else if (a == "--deadline-unix" && i + 1 < argc) conv.deadline_unix = std::stod(argv[++i]);
     else if (a == "--baseline" && i + 1 < argc) {
       const std::string b = argv[++i];
       conv.plain = b != "c2f";
       conv.c2f = b != "plain";
+    } else if (a == "--pliant-given" && i + 3 < argc) {  // E* CPU_S IOU_MIN of an earlier run
+      conv.given_objective = std::stod(argv[++i]);
+      conv.given_pliant_s = std::stod(argv[++i]);
+      conv.given_iou_min = std::stod(argv[++i]);
     } else if (a == "--merge") merge = true;
     else scenes.push_back(a);
   }
@@ -202,6 +218,9 @@ int main(int argc, char** argv) {
     if (quick) m.polish_iterations = std::min(m.polish_iterations, 20);
     if (polish >= 0) m.polish_iterations = polish;
     if (r_override > 0) m.r = r_override;
+    if (nso_vcycles >= 0) m.nso_vcycles = nso_vcycles;
+    if (ao_iterations > 0) m.ao_iterations = ao_iterations;
+    if (nso_skip_gap >= 0) m.nso_skip_gap = nso_skip_gap;
     if (converged) {  // issue 3's converged comparison (converged_comparison.h)
       std::string name = path.substr(path.find_last_of('/') + 1);
       if (grid > 0 || frames > 0)
@@ -238,8 +257,11 @@ int main(int argc, char** argv) {
     const ControlMetrics cm = control_evaluate(m, a.force);
     const ControlMetrics lmx = control_evaluate(m, l.force);
     double ao = 0, nso = 0, forces = 0, vc = 0;
-    int nvc = 0;
+    int nvc = 0, nso_skipped = 0;
+    nlohmann::json gaps = nlohmann::json::array();
     for (const auto& s : st) {
+      nso_skipped += s.nso_skipped;
+      gaps.push_back(s.nso_start_gap);
       ao += s.ao_s, nso += s.nso_s, forces += s.forces_s;
       for (double f : s.vcycle_factors) vc += f, ++nvc;
     }
@@ -257,6 +279,9 @@ int main(int argc, char** argv) {
     if (grid > 0 || frames > 0)
       name += " " + std::to_string(m.sim.n[0]) + "^" + std::to_string(m.sim.dim) + "x" + std::to_string(m.sim.frames);
     if (r_override > 0) name += " r=" + nlohmann::json(r_override).dump();
+    if (nso_vcycles >= 0) name += " nso_vcycles=" + std::to_string(nso_vcycles);
+    if (ao_iterations > 0) name += " ao_iterations=" + std::to_string(ao_iterations);
+    if (nso_skip_gap >= 0) name += " nso_skip_gap=" + nlohmann::json(nso_skip_gap).dump();
     if (c2f) name += " coarse-to-fine";
     nlohmann::json j = {{"case", name},
                         {"coarse_to_fine", c2f},
@@ -300,6 +325,9 @@ int main(int argc, char** argv) {
                         {"admm_nso_s", nso / n},
                         {"admm_forces_s", forces / n},
                         {"fas_vcycle_factor", nvc ? vc / nvc : 0.0},
+                        {"nso_skip_gap", m.nso_skip_gap},
+                        {"nso_skipped", nso_skipped},
+                        {"nso_start_gaps", gaps},
                         {"peak_mb", peak_mb()},
                         {"machine", pliant::bench::machine_description()},
                         {"mode", quick ? "quick" : "full"}};

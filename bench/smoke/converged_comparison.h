@@ -20,6 +20,9 @@ struct ConvergedOptions {
   double budget_factor = 20;   // L-BFGS CPU budget in units of Pliant's CPU time
   double deadline_unix = 0;    // > 0: stop every run at this wall-clock time (reason "deadline")
   bool plain = true, c2f = true;  // which baselines to run
+  // > 0: Pliant's result from an earlier run of the same case (E*, CPU s, IoU min), so a
+  // second process can run the other baseline without repeating Pliant's solve.
+  double given_objective = 0, given_pliant_s = 0, given_iou_min = 0;
 };
 
 // One JSON row per baseline (case "<name> converged lbfgs" / "... lbfgs coarse-to-fine"),

@@ -103,6 +103,7 @@ void admm_run(const ControlModel& m, ControlState& s, Progress& progress, const 
   AoSolver ao(m, ops);
   NsoSolver nso(m, ops);
   nso.set_damping(s.nso_damping);
+  nso.skip_gap = m.nso_skip_gap;
   progress.stage(m.stage_label.empty() ? "admm" : "admm " + m.stage_label, m.max_iterations);
   while (s.iteration < m.max_iterations) {
     // Stopping rule on the stored residuals, so a run resumed from the checkpoint
@@ -141,6 +142,8 @@ void admm_run(const ControlModel& m, ControlState& s, Progress& progress, const 
     it.vcycle_factors = ns.vcycle_factors;
     it.nso_lm_steps = ns.lm_steps;
     it.nso_rejected = ns.rejected;
+    it.nso_start_gap = ns.start_gap;
+    it.nso_skipped = ns.skipped;
     it.nso_s = seconds_since(t1);
     for (int t = 0; t < T; ++t)
       for (size_t e = 0; e < F; ++e) lam[t][e] += u[t][e] - z[t][e];

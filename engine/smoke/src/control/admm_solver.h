@@ -32,6 +32,8 @@ struct AdmmIterationStats {
   int nso_lm_steps = 0, nso_rejected = 0;  // Levenberg-Marquardt steps accepted / rejected
   double beta = 0;  // penalty used in this iteration
   std::vector<double> vcycle_factors;
+  double nso_start_gap = -1;  // NsoStats::start_gap
+  bool nso_skipped = false;   // NsoStats::skipped (ControlModel::nso_skip_gap)
 };
 
 // Runs ADMM outer iterations on s until tolerance / max_iterations / cancellation.

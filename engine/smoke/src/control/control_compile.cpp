@@ -3,7 +3,7 @@
 // keyframe targets are rasterised by engine/geom.
 //
 //   "control": {"method": "admm"|"lbfgs", "r": >0, "max_iterations", "tolerance",
-//     "admm": {"penalty", "ao_iterations", "nso_vcycles", "polish_iterations"}, "progressive_preview",
+//     "admm": {"penalty", "ao_iterations", "nso_vcycles", "nso_skip_gap" (0..1), "polish_iterations"}, "progressive_preview",
 //     "coarse_iterations" (outer iterations per coarse level of the progressive preview,
 //     default max_iterations),
 //     "initial_density": [TARGET], "obstacles": [TARGET],
@@ -264,6 +264,8 @@ ControlModel control_compile(const Scene& scene) {
     if (!(m.admm_penalty > 0)) a->fail("penalty", "expected a number > 0");
     m.ao_iterations = int(a->integer("ao_iterations", m.ao_iterations, 1, 100000));
     m.nso_vcycles = int(a->integer("nso_vcycles", m.nso_vcycles, 1, 100000));
+    m.nso_skip_gap = a->number("nso_skip_gap", m.nso_skip_gap);
+    if (!(m.nso_skip_gap >= 0 && m.nso_skip_gap < 1)) a->fail("nso_skip_gap", "expected a number in [0, 1)");
     m.polish_iterations = int(a->integer("polish_iterations", m.polish_iterations, 0, 1000000));
     a->finish();
   }

@@ -34,6 +34,10 @@ struct NsoStats {
   std::vector<double> vcycle_factors;  // residual ratio of each V-cycle of the accepted step
   int lm_steps = 0, rejected = 0;
   bool projected_start = false;  // started from P d (NsoSolver::projected_start)
+  // Dynamics share r||f(Pd)||^2 / E(Pd) of the projected start (an upper bound on the
+  // relative gain any divergence-free z can make over P d); -1 when not computed.
+  double start_gap = -1;
+  bool skipped = false;  // multigrid skipped (start_gap < skip_gap)
 };
 
 class NsoSolver {
@@ -52,6 +56,8 @@ class NsoSolver {
   void set_damping(double mu) { mu_ = mu; }
   // Try z = P d (per-frame projection of the target) as the start when its energy is lower.
   bool projected_start = true;
+  // Skip the multigrid when the projected start's start_gap is below this (0: never).
+  double skip_gap = 0;
 
  private:
   const ControlModel& m_;

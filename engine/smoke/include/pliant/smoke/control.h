@@ -57,6 +57,10 @@ struct ControlModel {
   double admm_penalty = 1.0;           // beta of the augmented Lagrangian
   int ao_iterations = 10;              // fixed-point iterations per AO solve
   int nso_vcycles = 2;                 // FAS V-cycles per NSO solve (after the projected start)
+  // Skip the NSO's multigrid when the projected start P d is provably within this
+  // relative gap of the NSO optimum (its dynamics term r||f(Pd)||^2 is below nso_skip_gap
+  // times its energy: no divergence-free z has a lower proximity term than P d). 0: never.
+  double nso_skip_gap = 0.0;
   // L-BFGS iterations on E(f) after the ADMM loop, from its best forces (0 = none):
   // ADMM finds the transport path from rest (where plain L-BFGS stalls at once), the
   // polish makes the re-simulated keyframes exact up to what the discretisation allows.
