@@ -596,6 +596,7 @@ void pbad_finish(const Model& m, const SimOptions& o, State& s, const PbadStep& 
   // metric is not dominated by the velocity estimate).
   s.qvel = (3 * a - b) / (2 * o.dt);
   // Shift the history q_{i-1} .. q_{i-k} (reusing the vectors' storage).
+  if (s.past.empty()) s.past.push_back(q1);  // pbad_begin always fills it; defensive
   for (size_t f = s.past.size() - 1; f > 0; --f) std::swap(s.past[f], s.past[f - 1]);
   std::swap(s.past[0], s.qpos);
   s.qpos = p.q;
