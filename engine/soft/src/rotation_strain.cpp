@@ -4,6 +4,7 @@
 #include <cholmod.h>
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -55,6 +56,7 @@ struct RsWork {
   cholmod_common cc;
   cholmod_dense *B = nullptr, *X = nullptr, *Y = nullptr, *E = nullptr;      // positions: N x 3
   cholmod_dense *BJ = nullptr, *XJ = nullptr, *YJ = nullptr, *EJ = nullptr;  // Jacobian: N x 3r
+  Eigen::VectorXd hstep;  // curvature: difference step per coordinate
   Eigen::VectorXd v, sv;  // per-sample rotation vectors (3 S) and strains (9 S)
   RsWork() { cholmod_start(&cc); }
   ~RsWork() {
@@ -215,6 +217,66 @@ void rotation_strain_positions(const Lattice& lat, const RotationStrain& rs, con
     if (jacobian->rows() != 3 * n || jacobian->cols() != r) jacobian->resize(3 * n, r);
     gather_centred(w, w.XJ, rs.mass_fraction, *jacobian);
   }
+}
+
+void rotation_strain_curvature(const Lattice& lat, const RotationStrain& rs, const Eigen::VectorXd& z,
+                               const Eigen::VectorXd& g, Eigen::MatrixXd& curvature) {
+  if (!rs.factor || z.size() != rs.r || lat.nodes() != rs.nodes || g.size() != 3 * rs.nodes)
+    throw std::invalid_argument("rotation_strain_curvature: sizes do not match");
+  RsWork& w = work();
+  const int n = rs.nodes, r = rs.r, ncell = int(lat.cells.size());
+  const auto& G = gauss_shape_gradients(lat.cell_size_m);
+  const double vol = rs.sample_volume;
+  // lambda = L^-1 P^T g: P^T g = g - mass_fraction (sum_j g_j) per coordinate.
+  w.ensure(w.B, n, 3);
+  double* b = static_cast<double*>(w.B->x);
+  for (int s = 0; s < 3; ++s) {
+    double sum = 0;
+    for (int j = 0; j < n; ++j) sum += g[3 * j + s];
+    for (int j = 0; j < n; ++j) b[size_t(s) * size_t(n) + size_t(j)] = g[3 * j + s] - rs.mass_fraction[j] * sum;
+  }
+  solve(w, *rs.factor, w.B, &w.X, &w.Y, &w.E);
+  const double* lam = static_cast<const double*>(w.X->x);
+  w.v.resize(3 * rs.samples);
+  w.sv.resize(9 * rs.samples);
+  w.v.noalias() = rs.rot * z;
+  w.sv.noalias() = rs.strain * z;
+  if (curvature.rows() != r || curvature.cols() != r) curvature.resize(r, r);
+  curvature.setZero();
+  // Step per coordinate: at most 1e-4 rad of rotation or strain anywhere.
+  w.hstep.resize(r);
+  for (int a = 0; a < r; ++a) {
+    const double big = std::max(rs.rot.col(a).cwiseAbs().maxCoeff(), rs.strain.col(a).cwiseAbs().maxCoeff());
+    w.hstep[a] = 1e-4 / std::max(big, 1e-300);
+  }
+  for (int e = 0; e < ncell; ++e) {
+    const auto& ids = lat.cells[e];
+    for (int q = 0; q < 8; ++q) {
+      const int i = 8 * e + q;
+      Matrix3d Lam = Matrix3d::Zero();  // grad lambda at the sample: Lam(s, c) = sum_k lambda(k, s) G(k, c)
+      for (int k = 0; k < 8; ++k)
+        for (int s = 0; s < 3; ++s) Lam.row(s) += lam[size_t(s) * size_t(n) + size_t(ids[k])] * G[q].row(k);
+      const Matrix3d S0 = Matrix3d::Identity() + Eigen::Map<const Matrix3d>(w.sv.data() + 9 * i);
+      for (int a = 0; a < r; ++a) {
+        const double h = w.hstep[a];
+        const Vector3d wa = rs.rot.block<3, 1>(3 * i, a);
+        const Eigen::Map<const Matrix3d> sa(rs.strain.col(a).data() + 9 * i);
+        for (int sgn = -1; sgn <= 1; sgn += 2) {
+          Matrix3d E, J;
+          exp_and_jacobian(w.v.segment<3>(3 * i) + sgn * h * wa, &E, &J);
+          const Matrix3d S = S0 + sgn * h * sa;
+          const Matrix3d ES = E * S;
+          for (int k = 0; k < r; ++k) {
+            const Matrix3d dF = cross_matrix(J * rs.rot.block<3, 1>(3 * i, k)) * ES +
+                                E * Eigen::Map<const Matrix3d>(rs.strain.col(k).data() + 9 * i);
+            curvature(k, a) += sgn * vol / (2 * h) * (dF.array() * Lam.array()).sum();
+          }
+        }
+      }
+    }
+  }
+  for (int a = 0; a < r; ++a)
+    for (int k = a + 1; k < r; ++k) curvature(k, a) = curvature(a, k) = 0.5 * (curvature(k, a) + curvature(a, k));
 }
 
 }  // namespace pliant::soft

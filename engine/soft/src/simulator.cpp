@@ -222,8 +222,8 @@ void positions_of(const Character& ch, const VectorXd& q, const Matrix3d& R, con
 // with the character), so the playback loop allocates nothing.
 struct StepWork {
   StepTargets T;
-  VectorXd x, xp, local, q_t, q, qn, g, d, g_el, gq, b;
-  MatrixXd H, H_el, Lm, ULm, Jrs, JH, MJ;
+  VectorXd x, xp, local, q_t, q, qn, g, d, g_el, gq, b, gl;
+  MatrixXd H, H_el, Lm, ULm, Jrs, JH, MJ, Tc, Hgn;
   Eigen::Matrix<double, 3, Eigen::Dynamic> J;
   Eigen::LDLT<MatrixXd> ldlt;
 };
@@ -274,6 +274,7 @@ void reduced_step(const Character& ch, const Environment& env, const SimParams& 
   if (w.J.cols() != dof) w.J.resize(3, dof);
   VectorXd& local = w.local;
 
+  bool curvature_on = false;
   // Total energy at (q, R, c); with g/H also the gradient and Gauss-Newton Hessian in
   // (dq, dc, dw). Jq = dlocal/dq: U, or the rotation-strain Jacobian.
   auto energy = [&](const VectorXd& q_, const Matrix3d& R_, const Vector3d& c_, VectorXd* g, MatrixXd* H) {
@@ -338,6 +339,17 @@ void reduced_step(const Character& ch, const Environment& env, const SimParams& 
       g->segment<3>(r) = gc;
       g->segment<3>(r + 3) = gw;
     }
+    if (H && rs && r > 0 && curvature_on) {
+      // Exact Hessian: add sum_j (dE/dl_j) . d2l_j/dq2 (the map's curvature), which
+      // Gauss-Newton drops; it matters when the elastic force is large (the linear
+      // convergence of plain Gauss-Newton then needs hundreds of iterations). Costs
+      // about 5x a Gauss-Newton iteration, so only steps still unconverged after
+      // eight iterations turn it on.
+      elastic_energy(lat, ch.lame, local, ch.cubature, &w.gl, nullptr);
+      w.gl += w.b;
+      rotation_strain_curvature(lat, *ch.rotation_strain, q_, w.gl, w.Tc);
+      H->topLeftCorner(r, r) += w.Tc;
+    }
     if (H) {
       if (r > 0) {
         w.ULm.noalias() = Jq.transpose() * w.Lm;
@@ -362,6 +374,14 @@ void reduced_step(const Character& ch, const Environment& env, const SimParams& 
     w.ldlt.compute(H);
     d = w.ldlt.solve(g);
     d = -d;
+    if (curvature_on && r > 0 && (!d.allFinite() || g.dot(d) >= 0 || w.ldlt.vectorD().minCoeff() <= 0)) {
+      // The curvature term made H indefinite: Gauss-Newton step instead.
+      w.Hgn = H;
+      w.Hgn.topLeftCorner(r, r) -= w.Tc;
+      w.ldlt.compute(w.Hgn);
+      d = w.ldlt.solve(g);
+      d = -d;
+    }
     if (!d.allFinite() || g.dot(d) >= 0) d = -g / (H.diagonal().maxCoeff() + 1e-300);  // fall back to gradient
     double alpha = 1, e_new = e;
     VectorXd& qn = w.qn;
@@ -392,6 +412,7 @@ void reduced_step(const Character& ch, const Environment& env, const SimParams& 
     // Re-orthonormalize R against drift.
     Eigen::JacobiSVD<Matrix3d> svd(R, Eigen::ComputeFullU | Eigen::ComputeFullV);
     R = svd.matrixU() * svd.matrixV().transpose();
+    if (rs && it >= 7) curvature_on = true;
     e = energy(q, R, c, &g, &H);
     if (step < sp.newton_tol * size_scale) {
       st.converged = true;

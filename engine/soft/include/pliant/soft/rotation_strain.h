@@ -51,4 +51,13 @@ RotationStrain rotation_strain_build(const Lattice& lat, const Eigen::MatrixXd& 
 void rotation_strain_positions(const Lattice& lat, const RotationStrain& rs, const Eigen::VectorXd& z,
                                Eigen::VectorXd& x, Eigen::MatrixXd* jacobian = nullptr);
 
+// Second-order term of the map for a fixed nodal vector g (3N, e.g. dE/dx):
+//   curvature(a, b) = sum_j g_j . d2x_j / dz_a dz_b   (r x r, symmetric),
+// the part of the exact Hessian that Gauss-Newton (J^T K J) drops. Adjoint form:
+// J^T g = sum_i vol <dF_i/dz, grad lambda_i> with L lambda = P^T g (one solve, P the
+// centroid removal), differentiated in z by central differences of dF_i/dz (no more
+// solves).
+void rotation_strain_curvature(const Lattice& lat, const RotationStrain& rs, const Eigen::VectorXd& z,
+                               const Eigen::VectorXd& g, Eigen::MatrixXd& curvature);
+
 }  // namespace pliant::soft
