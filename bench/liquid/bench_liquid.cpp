@@ -1,5 +1,6 @@
 // bench_liquid [--quick] [--out FILE] [--sim-only | --planners-only | --feedback-only]
-//   [--no-feedback] [--problems N] [--feedback-problems N] [--case NAME] [--sim-s S]: prints one
+//   [--no-feedback] [--problems N] [--feedback-problems N] [--family zero|follow|both]
+//   [--case NAME] [--sim-s S]: prints one
 // JSON object per case and merges them into bench/results/liquid.json (rows of
 // other cases are kept).
 //   sim_<dim>d_<n>k_t<threads>: dam-break-style collapse, particle_steps_per_s
@@ -96,6 +97,7 @@ int main(int argc, char** argv) {
   bool quick = false, sims = true, planners = true, feedback = true;
   int problems = 0, feedback_problems = 0;
   std::string out = PLIANT_BENCH_RESULTS, only;  // --case NAME: run just that simulator case
+  std::string family = "both";
   double sim_override = 0;                       // --sim-s S: simulated seconds per case
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--quick")) quick = true;
@@ -108,7 +110,9 @@ int main(int argc, char** argv) {
     else if (!std::strcmp(argv[i], "--sim-s") && i + 1 < argc) sim_override = std::atof(argv[++i]);
     else if (!std::strcmp(argv[i], "--problems") && i + 1 < argc) problems = std::atoi(argv[++i]);
     else if (!std::strcmp(argv[i], "--feedback-problems") && i + 1 < argc) feedback_problems = std::atoi(argv[++i]);
+    else if (!std::strcmp(argv[i], "--family") && i + 1 < argc) family = argv[++i];  // planner cases
   }
+  const bool zero = family != "follow", follow = family != "zero";
   const std::string mach = pliant::bench::machine_description();
   nlohmann::json all = nlohmann::json::array();
   auto emit = [&](nlohmann::json j) {
@@ -148,14 +152,14 @@ int main(int argc, char** argv) {
     run("dam_break_3d", dam, t2, dam_s);
     run("dam_break_3d_t1", dam, 1, dam_s);
   }
-  if (planners)
+  if (planners && zero)
     for (auto& j : bench_planners(quick, problems)) emit(j);
   // TRANSFER+FOLLOW (moving target) held-out problems: *_follow_2d cases.
-  if (planners)
+  if (planners && follow)
     for (auto& j : bench_planners(quick, problems, pliant::liquid::Family::Follow)) emit(j);
-  if (feedback) emit(bench_feedback(feedback_problems > 0 ? feedback_problems : quick ? 5 : 100));
-  if (feedback)
-    emit(bench_feedback(feedback_problems > 0 ? feedback_problems : quick ? 5 : 100, pliant::liquid::Family::Follow));
+  const int fb_count = feedback_problems > 0 ? feedback_problems : quick ? 5 : 100;
+  if (feedback && zero) emit(bench_feedback(fb_count));
+  if (feedback && follow) emit(bench_feedback(fb_count, pliant::liquid::Family::Follow));
   // Merge into the results file: rows of the cases run now replace theirs, the
   // other rows (e.g. planner cases run separately) are kept, in their order.
   nlohmann::json merged = nlohmann::json::array();

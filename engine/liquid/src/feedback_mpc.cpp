@@ -50,6 +50,28 @@ double pose_violation(const LiquidModel& m, const Pose& pose, double t) {
 
 }  // namespace
 
+double stream_spill(const MpcSettings& ms, double land, double near, double centre, double inner) {
+  auto ramp = [&](double x) {
+    return std::clamp((std::abs(x - centre) / inner - ms.spill_inner) / (ms.spill_outer - ms.spill_inner), 0.0, 1.0);
+  };
+  if (ms.stream_near <= 0 && ms.stream_far <= 0) return ramp(land);
+  double sum = ramp(land);
+  for (double f : {-ms.stream_near, -0.5 * ms.stream_near, 0.5 * ms.stream_far, ms.stream_far})
+    sum += ramp(land + f * (land - near));
+  return sum / 5;
+}
+
+bool set_mpc_setting(MpcSettings& ms, const std::string& name, double value) {
+  double* fields[] = {&ms.approach_weight, &ms.approach_goal, &ms.spill_inner, &ms.spill_outer,
+                      &ms.spill_weight,    &ms.stream_near,   &ms.stream_far};
+  const char* names[] = {"approach_weight", "approach_goal", "spill_inner", "spill_outer",
+                         "spill_weight",    "stream_near",   "stream_far"};
+  for (int k = 0; k < 7; ++k)
+    if (name == names[k]) return *fields[k] = value, true;
+  if (name == "horizon") return ms.horizon = int(value), true;
+  return false;
+}
+
 MpcAction mpc_decide(const FeedbackContext& c, const FeedbackPredictor& net, const MpcSettings& ms, double time_s,
                      const Pose& pose, double fraction, const MpcAction& committed) {
   const LiquidModel& m = *c.model;
@@ -95,8 +117,13 @@ MpcAction mpc_decide(const FeedbackContext& c, const FeedbackPredictor& net, con
       // Measured against where the (FOLLOW: moving) target is when the stream arrives.
       const double centre = target_pose_at(m, t_end - 0.5 * dt + flight).position_m[0];
       const double d = std::abs(land - centre) / inner;
-      const double spill = std::clamp((d - 0.25) / 0.4, 0.0, 1.0);
-      cost[i] += 6 * dv * spill - dv * (1 - spill) + 1.0 * std::max(dv, 0.01) * d * d;
+      // Stream width (MpcSettings): the near edge is the lip's own fall with
+      // the container's velocity.
+      const double lvx = a.vx - wz * (lip[1] - r.y), lvy = a.vy + wz * (lip[0] - r.x);
+      const double ld = lvy * lvy + 2 * g * (lip[1] - rim);
+      const double near = lip[0] + lvx * (ld >= 0 ? (lvy + std::sqrt(ld)) / g : 0.0);
+      const double spill = stream_spill(ms, land, near, centre, inner);
+      cost[i] += ms.spill_weight * dv * spill - dv * (1 - spill) + 1.0 * std::max(dv, 0.01) * d * d;
       r.fraction -= dv;
       r.tilt = std::min(max_tilt, r.tilt + w * dt);
       r.x += a.vx * dt, r.y += a.vy * dt;

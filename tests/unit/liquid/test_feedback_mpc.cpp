@@ -38,6 +38,34 @@ TEST(FeedbackMpc, DecisionIsDeterministic) {
   EXPECT_NE(std::find(ms.speeds.begin(), ms.speeds.end(), a.vx), ms.speeds.end());
 }
 
+TEST(FeedbackMpc, StreamSpillAveragesOverTheStreamWidth) {
+  MpcSettings ms;  // ramp from 0.25 to 0.65 inner radii
+  // Mean stream only: the ramp at the mean landing point.
+  EXPECT_EQ(stream_spill(ms, 1.0, 0.5, 1.0, 0.1), 0.0);
+  EXPECT_NEAR(stream_spill(ms, 1.045, 0.5, 1.0, 0.1), 0.5, 1e-12);
+  EXPECT_EQ(stream_spill(ms, 0.9, 0.5, 1.0, 0.1), 1.0);
+  // Width: mean on the centre, near edge 0.1 m short (1 inner radius): the
+  // point at -0.1 m spills fully, the one at -0.05 m (0.5 radii) 0.625, the
+  // mean none.
+  ms.stream_near = 1.0;
+  EXPECT_NEAR(stream_spill(ms, 1.0, 0.9, 1.0, 0.1), 1.625 / 5, 1e-12);
+  ms.stream_near = 0.5;  // -0.025 m (none) and -0.05 m (0.625)
+  EXPECT_NEAR(stream_spill(ms, 1.0, 0.9, 1.0, 0.1), 0.625 / 5, 1e-12);
+  ms.stream_far = 1.0;   // +0.05 m (0.625) and +0.1 m (full) beyond the mean
+  EXPECT_NEAR(stream_spill(ms, 1.0, 0.9, 1.0, 0.1), 2.25 / 5, 1e-12);
+  // A near edge on the mean: no width, the mean's ramp.
+  EXPECT_NEAR(stream_spill(ms, 1.045, 1.045, 1.0, 0.1), 0.5, 1e-12);
+}
+
+TEST(FeedbackMpc, SettingsByName) {
+  MpcSettings ms;
+  EXPECT_TRUE(set_mpc_setting(ms, "stream_near", 0.5));
+  EXPECT_EQ(ms.stream_near, 0.5);
+  EXPECT_TRUE(set_mpc_setting(ms, "horizon", 6));
+  EXPECT_EQ(ms.horizon, 6);
+  EXPECT_FALSE(set_mpc_setting(ms, "stream_nearr", 1));
+}
+
 TEST(FeedbackMpc, ClosedLoopIsReproducedByItsKeyPoses) {
   LiquidModel m = generate_problem(3, 2026, 2).model;
   m.frames = 30;

@@ -25,6 +25,7 @@
 #include <array>
 #include <filesystem>
 #include <functional>
+#include <string>
 #include <nlohmann/json.hpp>
 #include <vector>
 
@@ -132,7 +133,25 @@ struct MpcSettings {
   // target's centre (cost weight per interval, squared offset in inner radii). Tuned on validation problems of the training split
   // (liquid_train --evaluate), never on the held-out split.
   double approach_weight = 4, approach_goal = 0.3;
+  // Spill score: landing offsets (inner radii) from the centre where the
+  // penalty starts and where it is full, and its weight per unit of liquid.
+  double spill_inner = 0.25, spill_outer = 0.65, spill_weight = 6;
+  // Stream width: the networks predict the stream's mean exit only. The
+  // liquid also lands between the mean landing point and the point straight
+  // below the lip moving with the container (a thin first trickle, liquid
+  // running down the outer wall), and beyond the mean (the faster part of the
+  // stream). The spill is averaged over points from `stream_near` of the way
+  // back toward the lip's fall point to `stream_far` beyond the mean
+  // (fractions of that distance); 0, 0 is the mean stream only.
+  double stream_near = 0, stream_far = 0;
 };
+// Spill share (0..1) of a stream landing at `land` (mean) whose near edge
+// lands at `near`, against an opening at `centre` with inner radius `inner`
+// (x, m): the spill ramp averaged over the stream's width (MpcSettings).
+double stream_spill(const MpcSettings& ms, double land, double near, double centre, double inner);
+// Sets one MpcSettings field by name (liquid_train --evaluate --mpc NAME=VALUE);
+// false for an unknown name.
+bool set_mpc_setting(MpcSettings& ms, const std::string& name, double value);
 
 // One MPC decision at the start of an interval: the volume fraction measured now,
 // the pose now, and the action already committed for the current interval.
