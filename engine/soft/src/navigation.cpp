@@ -36,18 +36,34 @@ double clearance(const NavSettings& nav, const Eigen::Vector2d& p) {
 
 int period_frames(const Problem& p) { return std::max(1, int(std::lround(p.dmp.period_s / p.sim.dt_s))); }
 
+// Planar motion of one controller period in the body frame at its start.
+struct Primitive {
+  double forward_m = 0, side_m = 0, yaw_rad = 0;
+};
+
 // Cost to go of the gait primitives: periods needed to reach the goal disc from a
-// planar pose (x, z, yaw), on a lattice of cells (about a third of a step in x and
-// z, 48 yaw bins). Each cell has one edge per gait, to the cell of the primitive
-// applied at its centre, unless that lands in an inflated obstacle or off the
-// lattice; a breadth-first search backwards from the goal cells gives the number
-// of periods (edges all cost one period). This is the primitives' optimal policy
-// from every pose at once, so the executor can replan from wherever the
-// re-simulated body actually is without running a planner again.
+// planar pose (x, z, yaw) and the gait history. The gaits are not stationary: the
+// period after a switch moves differently from a held gait (the DMP activations lag
+// the parameters; the spider's right gait turns 0.15 rad right in the period after
+// forward, then barely turns), and switching back and forth every period does not
+// move the body as any held-gait primitive predicts. So the lattice has one layer
+// per (gait, settled or just switched): a settled gait may be held (its measured
+// primitive) or switched (the transition primitive measured after holding it); a
+// just-switched gait is held one more period (the held primitive) and is then
+// settled. Cells are about a third of a step in x and z, 72 yaw bins. A
+// breadth-first search backwards from the goal cells gives the number of periods
+// (edges all cost one period): the primitives' optimal policy from every pose at
+// once, so the executor can replan from wherever the re-simulated body actually is
+// without running a planner again.
 class PrimitiveCostToGo {
  public:
-  PrimitiveCostToGo(const std::vector<Gait>& gaits, const NavSettings& nav, const Eigen::Vector2d& start,
-                    double inflate, double step) {
+  // Layers: g (gait g settled), G + g (gait g just switched to).
+  static int settled(int g) { return g; }
+  int fresh(int g) const { return G_ + g; }
+  // held[g]: gait g held; trans[prev * G + g]: gait g in the period after settled prev.
+  PrimitiveCostToGo(const std::vector<Primitive>& held, const std::vector<Primitive>& trans, const NavSettings& nav,
+                    const Eigen::Vector2d& start, double inflate, double step)
+      : G_(int(held.size())), L_(2 * int(held.size())) {
     Eigen::Vector2d lo = start.cwiseMin(nav.goal_m), hi = start.cwiseMax(nav.goal_m);
     for (const auto& o : nav.obstacles) {
       lo = lo.cwiseMin(o.center_m - Eigen::Vector2d::Constant(o.radius_m));
@@ -56,83 +72,116 @@ class PrimitiveCostToGo {
     const double margin = 2 * inflate + nav.goal_tolerance_m + 8 * step;  // room to loop around
     lo_ = lo - Eigen::Vector2d::Constant(margin);
     const Eigen::Vector2d ext = hi - lo + Eigen::Vector2d::Constant(2 * margin);
-    h_ = std::max(0.35 * step, std::sqrt(ext[0] * ext[1] / 40000.0));  // at most ~40k cells per yaw bin
+    h_ = std::max(0.35 * step, std::sqrt(ext[0] * ext[1] / 12000.0));  // at most ~12k cells per yaw bin
     nx_ = int(std::ceil(ext[0] / h_)) + 1;
     nz_ = int(std::ceil(ext[1] / h_)) + 1;
-    const int n = nx_ * nz_ * kYaw;
-    const int G = int(gaits.size());
-    // Reverse edges in CSR form: who reaches cell j with one primitive.
-    std::vector<int> succ(size_t(n) * G, -1), count(size_t(n) + 1, 0);
-    for (int c = 0; c < n; ++c) {
-      const Eigen::Vector3d pose = centre(c);
-      for (int g = 0; g < G; ++g) {
-        const double cs = std::cos(pose[2]), sn = std::sin(pose[2]);
-        const Eigen::Vector3d q(pose[0] + cs * gaits[g].forward_m - sn * gaits[g].side_m,
-                                pose[1] + sn * gaits[g].forward_m + cs * gaits[g].side_m, pose[2] + gaits[g].yaw_rad);
-        const Eigen::Vector2d mid = 0.5 * (pose.head<2>() + q.head<2>());
-        if (clearance(nav, q.head<2>()) <= inflate || clearance(nav, mid) <= inflate) continue;
-        const int j = cell(q);
-        if (j < 0) continue;
-        succ[size_t(c) * G + g] = j;
-        ++count[size_t(j) + 1];
-      }
+    const int plane = nx_ * nz_, layer = plane * kYaw, n = layer * L_;
+    std::vector<char> free(size_t(plane), 0);
+    for (int c = 0; c < plane; ++c) {
+      const Eigen::Vector2d x(lo_[0] + (c % nx_) * h_, lo_[1] + (c / nx_) * h_);
+      free[size_t(c)] = clearance(nav, x) > inflate;
     }
-    for (int j = 0; j < n; ++j) count[size_t(j) + 1] += count[size_t(j)];
-    std::vector<int> pred(static_cast<size_t>(count[size_t(n)])), fill(count.begin(), count.end() - 1);
+    // Per (yaw bin, layer, gait): the edge's offset in x and z, its end yaw bin and
+    // layer (-1: no such edge); the same for every cell of a plane.
+    struct Edge {
+      double dx = 0, dz = 0;
+      int a = 0, layer = -1;
+    };
+    std::vector<Edge> edges(size_t(kYaw) * L_ * G_);
+    for (int a = 0; a < kYaw; ++a)
+      for (int l = 0; l < L_; ++l)
+        for (int g = 0; g < G_; ++g) {
+          const int from = l % G_;
+          const bool is_fresh = l >= G_;
+          if (is_fresh && g != from) continue;
+          const Primitive& m = g == from ? held[size_t(g)] : trans[size_t(from * G_ + g)];
+          const double yaw = a * 2 * M_PI / kYaw, cs = std::cos(yaw), sn = std::sin(yaw);
+          int b = int(std::lround((yaw + m.yaw_rad) / (2 * M_PI / kYaw))) % kYaw;
+          if (b < 0) b += kYaw;
+          edges[(size_t(a) * L_ + size_t(l)) * G_ + size_t(g)] = {cs * m.forward_m - sn * m.side_m,
+                                                                   sn * m.forward_m + cs * m.side_m, b,
+                                                                   g == from ? settled(g) : fresh(g)};
+        }
+    // Successor of cell c under gait g (-1: no edge, blocked or off the lattice).
+    auto successor = [&](int c, int g) {
+      const int i = c % nx_, k = (c / nx_) % nz_, a = (c / plane) % kYaw, l = c / layer;
+      const Edge& e = edges[(size_t(a) * L_ + size_t(l)) * G_ + size_t(g)];
+      if (e.layer < 0 || !free[size_t(k * nx_ + i)]) return -1;
+      const double x = lo_[0] + i * h_ + e.dx, z = lo_[1] + k * h_ + e.dz;
+      const int ii = int(std::lround((x - lo_[0]) / h_)), kk = int(std::lround((z - lo_[1]) / h_));
+      if (ii < 0 || kk < 0 || ii >= nx_ || kk >= nz_ || !free[size_t(kk * nx_ + ii)]) return -1;
+      // The step's midpoint must be free too (steps are a few cells long).
+      const int im = int(std::lround((x - 0.5 * e.dx - lo_[0]) / h_)), km = int(std::lround((z - 0.5 * e.dz - lo_[1]) / h_));
+      if (im < 0 || km < 0 || im >= nx_ || km >= nz_ || !free[size_t(km * nx_ + im)]) return -1;
+      return ((e.layer * kYaw + e.a) * nz_ + kk) * nx_ + ii;
+    };
+    // Reverse edges in CSR form (who reaches cell j with one primitive); successors
+    // are recomputed in the second pass rather than stored, and start_of counts
+    // down to each range's start while it is filled.
+    std::vector<int> start_of(size_t(n) + 1, 0);
     for (int c = 0; c < n; ++c)
-      for (int g = 0; g < G; ++g)
-        if (succ[size_t(c) * G + g] >= 0) pred[size_t(fill[size_t(succ[size_t(c) * G + g])]++)] = c;
+      for (int g = 0; g < G_; ++g) {
+        const int j = successor(c, g);
+        if (j >= 0) ++start_of[size_t(j)];
+      }
+    for (int j = 0; j < n; ++j) start_of[size_t(j) + 1] += start_of[size_t(j)];
+    std::vector<int> pred(static_cast<size_t>(start_of[size_t(n)]));
+    for (int c = 0; c < n; ++c)
+      for (int g = 0; g < G_; ++g) {
+        const int j = successor(c, g);
+        if (j >= 0) pred[size_t(--start_of[size_t(j)])] = c;
+      }
     cost_.assign(size_t(n), kUnreached);
     std::vector<int> queue;
     queue.reserve(size_t(n));
     // Goal cells: centre well inside the disc (the re-simulated motion differs from
     // the primitives by a few centimetres per period).
-    for (int c = 0; c < n; ++c)
-      if ((centre(c).head<2>() - nav.goal_m).norm() <= 0.7 * nav.goal_tolerance_m) cost_[size_t(c)] = 0, queue.push_back(c);
-    for (size_t k = 0; k < queue.size(); ++k) {
-      const int j = queue[k];
-      for (int e = count[size_t(j)]; e < count[size_t(j) + 1]; ++e) {
+    for (int c = 0; c < n; ++c) {
+      const Eigen::Vector2d x(lo_[0] + (c % nx_) * h_, lo_[1] + ((c / nx_) % nz_) * h_);
+      if ((x - nav.goal_m).norm() <= 0.7 * nav.goal_tolerance_m) cost_[size_t(c)] = 0, queue.push_back(c);
+    }
+    for (size_t q = 0; q < queue.size(); ++q) {
+      const int j = queue[q];
+      for (int e = start_of[size_t(j)]; e < start_of[size_t(j) + 1]; ++e) {
         const int c = pred[size_t(e)];
         if (cost_[size_t(c)] == kUnreached) cost_[size_t(c)] = cost_[size_t(j)] + 1, queue.push_back(c);
       }
     }
   }
-  // Periods to the goal from pose (x, z, yaw). The lattice's cell, or where that
-  // is unreached (the primitives are steady-state averages and the body is often
-  // between them), the cheapest cell with another yaw (one period per yaw bin of
-  // difference, about the turning gaits' rate) or a neighbouring position (half a
-  // period); infinity when none is reached or the pose is off the lattice.
-  double operator()(const Eigen::Vector3d& pose) const {
-    const int c = cell(pose);
+  // Periods to the goal from pose (x, z, yaw) in layer l. The lattice's cell, or
+  // where that is unreached (the body is often between the primitives' poses), the
+  // cheapest cell with another yaw (one period per 0.1 rad of difference, about the
+  // turning gaits' rate) or a neighbouring position (half a period); infinity when
+  // none is reached or the pose is off the lattice.
+  double operator()(const Eigen::Vector3d& pose, int l) const {
+    const int c = cell(pose, l);
     if (c < 0) return std::numeric_limits<double>::infinity();
     if (cost_[size_t(c)] != kUnreached) return cost_[size_t(c)];
-    const int i = c % nx_, k = (c / nx_) % nz_, a = c / (nx_ * nz_);
+    const int i = c % nx_, k = (c / nx_) % nz_, a = (c / (nx_ * nz_)) % kYaw;
     double best = std::numeric_limits<double>::infinity();
     for (int da = -kYaw / 2; da <= kYaw / 2; ++da)
       for (int dk = -1; dk <= 1; ++dk)
         for (int di = -1; di <= 1; ++di) {
           const int ii = i + di, kk = k + dk, aa = ((a + da) % kYaw + kYaw) % kYaw;
           if (ii < 0 || kk < 0 || ii >= nx_ || kk >= nz_) continue;
-          const int v = cost_[size_t((aa * nz_ + kk) * nx_ + ii)];
-          if (v != kUnreached) best = std::min(best, v + std::abs(da) + ((di || dk) ? 0.5 : 0.0));
+          const int v = cost_[size_t(((l * kYaw + aa) * nz_ + kk) * nx_ + ii)];
+          if (v != kUnreached)
+            best = std::min(best, v + std::abs(da) * (2 * M_PI / kYaw) / 0.1 + ((di || dk) ? 0.5 : 0.0));
         }
     return best;
   }
 
  private:
-  static constexpr int kYaw = 48;
+  static constexpr int kYaw = 180;
   static constexpr int kUnreached = std::numeric_limits<int>::max();
-  int cell(const Eigen::Vector3d& pose) const {
+  int cell(const Eigen::Vector3d& pose, int l) const {
     const int i = int(std::lround((pose[0] - lo_[0]) / h_)), k = int(std::lround((pose[1] - lo_[1]) / h_));
-    if (i < 0 || k < 0 || i >= nx_ || k >= nz_) return -1;
+    if (i < 0 || k < 0 || i >= nx_ || k >= nz_ || l < 0 || l >= L_) return -1;
     int a = int(std::lround(pose[2] / (2 * M_PI / kYaw))) % kYaw;
     if (a < 0) a += kYaw;
-    return (a * nz_ + k) * nx_ + i;
+    return ((l * kYaw + a) * nz_ + k) * nx_ + i;
   }
-  Eigen::Vector3d centre(int c) const {
-    const int i = c % nx_, k = (c / nx_) % nz_, a = c / (nx_ * nz_);
-    return {lo_[0] + i * h_, lo_[1] + k * h_, a * 2 * M_PI / kYaw};
-  }
+  int G_, L_;
   Eigen::Vector2d lo_;
   double h_ = 0;
   int nx_ = 0, nz_ = 0;
@@ -321,9 +370,66 @@ std::vector<Eigen::Vector3d> plan_dubins_path(const Eigen::Vector3d& start, cons
 #endif
 }
 
+namespace {
+
+// Motion of one period in the body frame of its start pose a.
+Primitive relative_motion(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  const double c = std::cos(a[2]), s = std::sin(a[2]);
+  const double dx = b[0] - a[0], dz = b[1] - a[1];
+  return {c * dx + s * dz, -s * dx + c * dz, wrap(b[2] - a[2])};
+}
+
+}  // namespace
+
+std::vector<Eigen::Vector3d> transition_primitives(const Problem& p, const std::vector<Gait>& gaits,
+                                                   const Eigen::Vector3d& body_axis, int warmup) {
+  const Character& ch = *p.character;
+  const int G = int(gaits.size()), P = period_frames(p);
+  const double a_max = max_activation_m(ch, p.dmp);
+  std::vector<Eigen::Vector3d> out(size_t(G) * G);
+  auto play = [&](const Eigen::VectorXd& theta, SoftState& s, DmpState& d) {
+    for (int f = 0; f < P; ++f) {
+      const Eigen::VectorXd& y = dmp_step(p.dmp, theta, p.sim.dt_s, d);
+      reduced_step(ch, p.env, p.sim, control_force(ch, y, a_max), s);
+    }
+  };
+#pragma omp parallel for schedule(dynamic, 1) if (G > 1)
+  for (int prev = 0; prev < G; ++prev) {
+    SoftState s = initial_state(ch, p.start_offset_m, Eigen::Vector3d::Zero(), p.sim.dt_s);
+    DmpState d = dmp_init(p.dmp);
+    for (int k = 0; k < warmup; ++k) play(gaits[size_t(prev)].theta, s, d);
+    const Eigen::Vector3d from = planar_pose(s, body_axis);
+    for (int g = 0; g < G; ++g) {
+      SoftState x = s;
+      DmpState e = d;
+      play(gaits[size_t(g)].theta, x, e);
+      const Primitive m = relative_motion(from, planar_pose(x, body_axis));
+      out[size_t(prev * G + g)] = {m.forward_m, m.side_m, m.yaw_rad};
+    }
+  }
+  return out;
+}
+
+namespace {
+
+// One node of the executor's search: the state after a sequence of re-simulated
+// periods that starts with gait `first` and ends with gait `gait`.
+struct SearchNode {
+  SoftState s;
+  DmpState dmp;
+  int first = 0, gait = 0, layer = 0;  // layer of the cost to go (PrimitiveCostToGo)
+  std::vector<SoftState> states;  // frames of the first period (depth-1 nodes only)
+  double min_clearance = std::numeric_limits<double>::infinity();
+  int goal_frame = -1;  // frame of the search (from 0) at which the goal disc was entered
+  double score = std::numeric_limits<double>::infinity();
+};
+
+}  // namespace
+
 NavResult navigate(const Problem& p, const std::vector<Gait>& gaits, const NavSettings& nav,
                    const std::function<void(const SoftState&, int)>& on_frame) {
   const Character& ch = *p.character;
+  const int G = int(gaits.size());
   NavResult res;
   // Turning radius from the turning gaits: speed over yaw rate, per period.
   double rho = 0;
@@ -355,14 +461,15 @@ NavResult navigate(const Problem& p, const std::vector<Gait>& gaits, const NavSe
   // such as the spider (radius 0.52 m, turning radius 0.6 m) has no primitive
   // sequence around the rock from its start pose.
   const double keep_out = 0.5 * radius + nav.clearance_m;
-  const int H = 1;  // periods per decision (2 and 3 ended further away: 0.49, 0.47 m)
-  // The primitives are measured from rest over a few periods; held longer, a gait
-  // can move differently (the spider's left turn doubles its yaw rate). The gait
-  // being held updates its primitive from what the re-simulation shows, and the
-  // cost to go is rebuilt when a primitive has moved by more than a tolerance.
-  std::vector<Gait> model = gaits, built = gaits;
-  auto cost_table = std::make_unique<PrimitiveCostToGo>(model, nav, pose_start.head<2>(), keep_out, step);
-  auto cost_to_go = [&](const Eigen::Vector3d& q) { return (*cost_table)(q); };
+  // Edges: the held gaits' measured primitives, and for a switch the period after
+  // it measured from a held previous gait.
+  std::vector<Primitive> held(static_cast<size_t>(G)), trans(static_cast<size_t>(G * G));
+  {
+    const std::vector<Eigen::Vector3d> tr = transition_primitives(p, gaits, nav.body_axis);
+    for (int g = 0; g < G; ++g) held[size_t(g)] = {gaits[size_t(g)].forward_m, gaits[size_t(g)].side_m, gaits[size_t(g)].yaw_rad};
+    for (size_t k = 0; k < tr.size(); ++k) trans[k] = {tr[k][0], tr[k][1], tr[k][2]};
+  }
+  const PrimitiveCostToGo cost_to_go(held, trans, nav, pose_start.head<2>(), keep_out, step);
 
   DmpState d = dmp_init(p.dmp);
   const double a_max = max_activation_m(ch, p.dmp);
@@ -371,85 +478,78 @@ NavResult navigate(const Problem& p, const std::vector<Gait>& gaits, const NavSe
   res.com.push_back(s.c);
   res.min_clearance_m = clearance(nav, planar(s));
   int frame = 0;
-  // One controller period of gait g from (s, d), re-simulated: the states per frame,
-  // the closest clearance and whether (and at which frame) the goal disc was reached.
-  struct Period {
-    std::vector<SoftState> states;
-    DmpState dmp;
-    double min_clearance = std::numeric_limits<double>::infinity();
-    int goal_frame = -1;
-    double score = std::numeric_limits<double>::infinity();
+  // Re-simulates one period of gait g from node `from` into `to`.
+  auto expand = [&](const SearchNode& from, int g, int frames_left, int frames_before, bool keep, SearchNode& to) {
+    to.s = from.s;
+    to.dmp = from.dmp;
+    to.gait = g;
+    to.min_clearance = from.min_clearance;
+    to.goal_frame = from.goal_frame;
+    to.states.clear();
+    for (int f = 0; f < std::min(P, frames_left) && to.goal_frame < 0; ++f) {
+      const Eigen::VectorXd& y = dmp_step(p.dmp, gaits[size_t(g)].theta, p.sim.dt_s, to.dmp);
+      reduced_step(ch, p.env, p.sim, control_force(ch, y, a_max), to.s);
+      if (keep) to.states.push_back(to.s);
+      to.min_clearance = std::min(to.min_clearance, clearance(nav, planar(to.s)));
+      if ((planar(to.s) - goal).norm() <= nav.goal_tolerance_m) to.goal_frame = frames_before + f;
+    }
   };
-  std::vector<Period> cand(gaits.size());
+  // Score of a leaf: periods to go (plus the distance to the goal in steps / 10 to
+  // break ties); a sequence that brings the COM closer than keep_out to an
+  // obstacle's footprint is penalized; one that enters the goal disc wins, the
+  // sooner the better.
+  auto score = [&](const SearchNode& n) {
+    if (n.goal_frame >= 0) return -1e6 + n.goal_frame;
+    const Eigen::Vector3d q = planar_pose(n.s, nav.body_axis);
+    if (!std::isfinite(q.sum())) return std::numeric_limits<double>::infinity();
+    const double dist = (q.head<2>() - goal).norm() / step;
+    const double ctg = cost_to_go(q, n.layer);
+    double v = (std::isfinite(ctg) ? ctg : 1000 + dist) + 0.1 * dist;
+    if (n.min_clearance < keep_out) v += 1e4 * (1 + (keep_out - n.min_clearance) / keep_out);
+    return v;
+  };
+  std::vector<SearchNode> level1(static_cast<size_t>(G));
+  SearchNode root;
+  int last = -1;           // gait of the previous period (-1: at rest)
+  bool last_fresh = false;  // it was a switch
   while (frame < nav.max_frames && (planar(s) - goal).norm() > nav.goal_tolerance_m) {
-    // Every gait is re-simulated for H periods from the current state (the DMP
-    // keeps its phase and activations across switches); the one whose simulated
-    // pose has the smallest cost to go (periods, plus the distance to the goal in
-    // steps / 10 to break ties) is played. Periods that bring the COM closer than
-    // keep_out to an obstacle's footprint are penalized; a period that reaches the
-    // goal disc wins.
+    // Every allowed gait is re-simulated for a period from the current state (the
+    // DMP keeps its phase and activations across switches); the one whose end pose
+    // has the smallest cost to go is played. A switch is held for at least two
+    // periods (switching every period does not move the body as the primitives say).
     const int frames_left = nav.max_frames - frame;
-#pragma omp parallel for schedule(dynamic, 1) if (gaits.size() > 1)
-    for (int g = 0; g < int(gaits.size()); ++g) {
-      Period& c = cand[size_t(g)];
-      SoftState x = s;
-      c.dmp = d;
-      c.states.clear();
-      c.min_clearance = std::numeric_limits<double>::infinity();
-      c.goal_frame = -1;
-      for (int f = 0; f < std::min(H * P, frames_left); ++f) {
-        const Eigen::VectorXd& y = dmp_step(p.dmp, gaits[size_t(g)].theta, p.sim.dt_s, c.dmp);
-        reduced_step(ch, p.env, p.sim, control_force(ch, y, a_max), x);
-        c.states.push_back(x);
-        c.min_clearance = std::min(c.min_clearance, clearance(nav, planar(x)));
-        if ((planar(x) - goal).norm() <= nav.goal_tolerance_m) {
-          c.goal_frame = f;
-          break;
-        }
-      }
-      const Eigen::Vector3d q = planar_pose(x, nav.body_axis);
-      const double dist = (q.head<2>() - goal).norm() / step;
-      const double ctg = cost_to_go(q);
-      c.score = (std::isfinite(ctg) ? ctg : 1000 + dist) + 0.1 * dist;
-      if (c.min_clearance < keep_out) c.score += 1e4 * (1 + (keep_out - c.min_clearance) / keep_out);
-      if (!std::isfinite(q.sum())) c.score = std::numeric_limits<double>::infinity();
-      if (c.goal_frame >= 0) c.score = -1e6 + c.goal_frame;
+    root.s = s;
+    root.dmp = d;
+    root.min_clearance = std::numeric_limits<double>::infinity();
+    root.goal_frame = -1;
+#pragma omp parallel for schedule(dynamic, 1) if (G > 1)
+    for (int g = 0; g < G; ++g) {
+      SearchNode& n = level1[size_t(g)];
+      n.first = g;
+      n.states.clear();
+      n.score = std::numeric_limits<double>::infinity();
+      if (last_fresh && g != last) continue;
+      expand(root, g, frames_left, 0, true, n);
+      n.layer = g == last ? PrimitiveCostToGo::settled(g) : cost_to_go.fresh(g);
+      n.score = score(n);
     }
     int choice = 0;
-    for (size_t g = 1; g < gaits.size(); ++g)
-      if (cand[g].score < cand[size_t(choice)].score) choice = int(g);
-    const Period& c = cand[size_t(choice)];
+    for (int g = 1; g < G; ++g)
+      if (level1[size_t(g)].score < level1[size_t(choice)].score) choice = g;
+    const SearchNode& c = level1[size_t(choice)];
     if (c.states.empty() || !std::isfinite(c.states.back().c.sum()))
       throw std::runtime_error("navigation: the reduced simulation diverged at frame " + std::to_string(frame));
     res.gait_sequence.push_back(choice);
-    for (int k = 1; k < H && int(c.states.size()) > k * P; ++k) res.gait_sequence.push_back(choice);
     for (const SoftState& x : c.states) {
       ++frame;
       res.com.push_back(x.c);
       res.min_clearance_m = std::min(res.min_clearance_m, clearance(nav, planar(x)));
       if (on_frame) on_frame(x, choice);
     }
-    const Eigen::Vector3d before = planar_pose(s, nav.body_axis);
-    const bool held = int(res.gait_sequence.size()) > H && res.gait_sequence[res.gait_sequence.size() - H - 1] == choice;
+    last_fresh = choice != last;
+    last = choice;
     s = c.states.back();
     d = c.dmp;
-    if (held && int(c.states.size()) == H * P) {
-      const Eigen::Vector3d after = planar_pose(s, nav.body_axis);
-      const double cs = std::cos(before[2]), sn = std::sin(before[2]);
-      const double dx = after[0] - before[0], dz = after[1] - before[1];
-      Gait& mg = model[size_t(choice)];
-      // Per period over the two, as the mean of a constant turn would give.
-      mg.forward_m = 0.5 * mg.forward_m + 0.5 / H * (cs * dx + sn * dz);
-      mg.side_m = 0.5 * mg.side_m + 0.5 / H * (-sn * dx + cs * dz);
-      mg.yaw_rad = 0.5 * mg.yaw_rad + 0.5 / H * wrap(after[2] - before[2]);
-      const Gait& bg = built[size_t(choice)];
-      if (std::abs(mg.yaw_rad - bg.yaw_rad) > 0.03 ||
-          std::hypot(mg.forward_m - bg.forward_m, mg.side_m - bg.side_m) > 0.2 * step) {
-        cost_table = std::make_unique<PrimitiveCostToGo>(model, nav, pose_start.head<2>(), keep_out, step);
-        built = model;
-        ++res.primitive_updates;
-      }
-    }
   }
   res.final_distance_m = (planar(s) - goal).norm();
   res.reached = res.final_distance_m <= nav.goal_tolerance_m;

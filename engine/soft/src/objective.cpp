@@ -65,6 +65,11 @@ class ResidualAccumulator {
     if (o_.w_turn > 0) n += 2;
     shuffle_at_ = n;
     if (o_.w_shuffle > 0) n += p.frames;
+    course_at_ = n;
+    if (o_.w_course > 0) n += p.frames;
+    // Unit normal of the course in the ground plane (y up): y x d.
+    course_normal_ = Eigen::Vector3d(o_.course_direction[2], 0, -o_.course_direction[0]);
+    if (course_normal_.norm() > 1e-12) course_normal_.normalize();
     // Keyframe blocks in the order the rollout meets them (by frame, then listed order).
     key_at_.assign(o_.keyframes.size(), -1);
     if (o_.w_keyframes > 0)
@@ -111,6 +116,9 @@ class ResidualAccumulator {
       const double e = 1e-3;
       res_[shuffle_at_ + frame_ - 1] = std::sqrt(o_.w_shuffle * dt_) * (std::sqrt(acc / ch_.mass_kg + e * e) - e);
     }
+    if (o_.w_course > 0 && frame_ <= p_.frames)
+      res_[course_at_ + frame_ - 1] =
+          std::sqrt(o_.w_course * dt_ / std::max(dt_, p_.frames * dt_)) * (com - com0_).dot(course_normal_);
     if (o_.w_keyframes > 0) {
       bool have_x = false;
       for (size_t k = 0; k < o_.keyframes.size(); ++k) {
@@ -170,7 +178,8 @@ class ResidualAccumulator {
   const double dt_;
   const SoftState s0_;
   const Eigen::Vector3d com0_;
-  Eigen::Index shuffle_at_ = 0, effort_at_ = 0;
+  Eigen::Index shuffle_at_ = 0, course_at_ = 0, effort_at_ = 0;
+  Eigen::Vector3d course_normal_ = Eigen::Vector3d::Zero();
   std::vector<Eigen::Index> key_at_;
   Eigen::VectorXd res_, x_, xp_;
   SoftState prev_;

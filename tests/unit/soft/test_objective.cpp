@@ -73,6 +73,8 @@ TEST(Objective, TrajectoryResidualsEqualRolloutResiduals) {
   soft_bind(m);
   m.problem.obj.w_turn = 1;
   m.problem.obj.turn_rate_rad_per_s = 0.3;
+  m.problem.obj.w_course = 1;
+  m.problem.obj.course_direction = Eigen::Vector3d(1, 0, 1);
   const Eigen::VectorXd theta = 20 * initial_theta(m.problem);
   std::vector<SoftState> frames;
   simulate(m.problem, theta, m.problem.frames, [&](const SoftState& s) { frames.push_back(s); });
@@ -80,11 +82,46 @@ TEST(Objective, TrajectoryResidualsEqualRolloutResiduals) {
   const Eigen::VectorXd r = residuals(m.problem, theta);
   const Eigen::VectorXd rt = trajectory_residuals(m.problem, frames, theta);
   ASSERT_EQ(r.size(), rt.size());
-  EXPECT_EQ(r.size(), 3 + 3 + 3 + 1 + 1 + 2 + 4 + 9 + theta.size());
+  EXPECT_EQ(r.size(), 3 + 3 + 3 + 1 + 1 + 2 + 4 + 4 + 9 + theta.size());
   for (Eigen::Index i = 0; i < r.size(); ++i) EXPECT_DOUBLE_EQ(r[i], rt[i]) << "residual " << i;
   // A different trajectory gives different residuals (the frames are really read).
   frames[1].c += Eigen::Vector3d(0, 0.01, 0);
   EXPECT_GT((trajectory_residuals(m.problem, frames, theta) - r).norm(), 1e-4);
   frames.pop_back();
   EXPECT_THROW(trajectory_residuals(m.problem, frames, theta), std::invalid_argument);
+}
+
+TEST(Objective, CourseTermIsTheLateralOffsetAndFailsWhenThePathVeers) {
+  SoftModel m = soft_compile(t_scene(R"({"effort": {"weight": 0}})", R"({"method": "none", "horizon_frames": 5})"));
+  soft_bind(m);
+  Problem& p = m.problem;
+  p.obj.w_course = 4;
+  p.obj.course_direction = Eigen::Vector3d(1, 0, 0);
+  const Eigen::VectorXd theta = Eigen::VectorXd::Zero(p.dmp.parameters());
+  const double scale = std::sqrt(4 * p.sim.dt_s / (p.frames * p.sim.dt_s));
+  // Frames that translate the rest state: along the course the residuals vanish;
+  // veering by 0.3 m per metre gives offsets -0.3 x (the normal is y x d = -z).
+  const SoftState s0 = initial_state(*p.character, p.start_offset_m, Eigen::Vector3d::Zero(), p.sim.dt_s);
+  std::vector<SoftState> straight, veer;
+  for (int f = 1; f <= p.frames; ++f) {
+    straight.push_back(s0), veer.push_back(s0);
+    straight.back().c += Eigen::Vector3d(0.05 * f, 0, 0);
+    veer.back().c += Eigen::Vector3d(0.05 * f, 0, 0.3 * 0.05 * f);
+  }
+  const Eigen::VectorXd rs = trajectory_residuals(p, straight, theta), rv = trajectory_residuals(p, veer, theta);
+  ASSERT_EQ(rs.size(), p.frames + theta.size());
+  EXPECT_LT(rs.head(p.frames).cwiseAbs().maxCoeff(), 1e-12);
+  for (int f = 0; f < p.frames; ++f) EXPECT_NEAR(rv[f], -scale * 0.3 * 0.05 * (f + 1), 1e-12);
+  // Finite differences on a simulated trajectory: d r_f / d c_f = scale * normal.
+  std::vector<SoftState> frames;
+  simulate(p, 20 * initial_theta(p), p.frames, [&](const SoftState& s) { frames.push_back(s); });
+  const int k = 2;
+  const double h = 1e-6;
+  const Eigen::Vector3d normal(0, 0, -1);
+  for (int a = 0; a < 3; ++a) {
+    std::vector<SoftState> plus = frames, minus = frames;
+    plus[k].c[a] += h, minus[k].c[a] -= h;
+    const double fd = (trajectory_residuals(p, plus, theta)[k] - trajectory_residuals(p, minus, theta)[k]) / (2 * h);
+    EXPECT_NEAR(fd, scale * normal[a], 1e-6) << "axis " << a;
+  }
 }

@@ -68,6 +68,12 @@ bool mirror_gait(const Problem& p, const Eigen::VectorXd& theta, Eigen::VectorXd
 Gait measure_gait(const Problem& p, const std::string& name, const Eigen::VectorXd& theta,
                   const Eigen::Vector3d& body_axis, int warmup = 2, int periods = 6);
 
+// Transition primitives: entry prev * G + g is the planar motion (forward, side, yaw;
+// body frame at its start) of one period of gait g right after `warmup` periods of
+// gait prev from rest (the period after a switch differs from a held gait).
+std::vector<Eigen::Vector3d> transition_primitives(const Problem& p, const std::vector<Gait>& gaits,
+                                                   const Eigen::Vector3d& body_axis, int warmup = 2);
+
 // Planar pose (x, z, yaw) of a state.
 Eigen::Vector3d planar_pose(const SoftState& s, const Eigen::Vector3d& body_axis);
 

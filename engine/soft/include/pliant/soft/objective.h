@@ -10,6 +10,10 @@
 //   jump       smooth max over frames of COM height gain minus target height (1)
 //   distance   final COM displacement along a direction minus target distance (1)
 //   shuffle    per frame, RMS tangential speed of nodes touching an obstacle (frames)
+//   course     per frame, horizontal offset of the COM from the straight line
+//              through the start COM along a direction, scaled by sqrt(dt / T) so
+//              that its sum is the time average (frames); holds a walk's course
+//              (heading alone lets the path veer)
 //   keyframes  surface vertices minus (rest position + offset) at chosen frames
 //   turn       mean yaw rate of a body axis about +y minus target (rad/s), and COM
 //              progress along the initial heading per second minus target speed
@@ -44,6 +48,8 @@ struct Objectives {
   double distance_m = 0;
   Eigen::Vector3d distance_direction = Eigen::Vector3d::UnitX();
   double w_shuffle = 0;
+  double w_course = 0;
+  Eigen::Vector3d course_direction = Eigen::Vector3d::UnitX();  // its horizontal part is used
   double w_keyframes = 0;
   std::vector<Keyframe> keyframes;
   double w_turn = 0;
