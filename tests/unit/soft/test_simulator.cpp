@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <vector>
 
 #include "pliant/geom/triangle_mesh.h"
 #include "pliant/soft/fem.h"
@@ -196,7 +197,7 @@ TEST(Simulator, ThinSheetDroppedFastDoesNotTunnelThroughTheGround) {
 namespace {
 // A T with long arms (top bar 2 x 0.2 x 0.2 m on a 0.2 x 0.6 x 0.2 stem), two boxes
 // whose union the winding-number lattice takes.
-Character long_t(int modes, bool rotation_strain) {
+Character long_t(int modes) {
   pliant::geom::TriangleMesh m;
   auto add_box = [&m](Eigen::Vector3d lo, Eigen::Vector3d hi) {
     const auto cube = pliant::geom::unit_cube_mesh();
@@ -212,9 +213,7 @@ Character long_t(int modes, bool rotation_strain) {
   add_box({-0.1, 0, -0.1}, {0.1, 0.6, 0.1});
   SurfaceMesh s = repair_mesh(m);
   Lattice lat = build_lattice(s, 20, 1000);
-  Character ch = make_character(std::move(s), std::move(lat), Material{1000, 1e5, 0.3}, modes);
-  if (rotation_strain) enable_rotation_strain(ch);
-  return ch;
+  return make_character(std::move(s), std::move(lat), Material{1000, 1e5, 0.3}, modes);
 }
 
 double lattice_volume(const Lattice& lat, const Eigen::VectorXd& x) {
@@ -241,7 +240,9 @@ struct BendResult {
 // Pure bending couples at both arm tips (zero net force and torque) that curl the
 // arms down by about 90 degrees; implicit Euler with dt = 1 s is nearly static. The
 // load ramps over 4 steps, then holds for `hold` steps.
-BendResult bend_t(const Character& ch, const Character& full, int hold) {
+// Every model in `models` runs beside one full FEM run (full = models[0]'s lattice).
+std::vector<BendResult> bend_t(const std::vector<const Character*>& models, int hold) {
+  const Character& full = *models[0];
   Environment env;
   env.gravity_m_per_s2.setZero();
   SimParams sp;
@@ -269,33 +270,42 @@ BendResult bend_t(const Character& ch, const Character& full, int hold) {
   for (int j : tip_r) f0[3 * j] = M / s2 * (lat.rest[j][1] - yc);   // tension on top: curls down
   for (int j : tip_l) f0[3 * j] = -M / s2 * (lat.rest[j][1] - yc);
   Eigen::VectorXd x = full.rest, xp = full.rest, y, f;
-  int unconverged = 0;
-  SoftState s = initial_state(ch, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), sp.dt_s);
+  const size_t nm = models.size();
+  std::vector<int> unconverged(nm, 0);
+  std::vector<SoftState> states;
+  for (const Character* ch : models)
+    states.push_back(initial_state(*ch, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), sp.dt_s));
   for (int k = 0; k < 4 + hold; ++k) {
     f = std::min(1.0, (k + 1) / 4.0) * f0;
     full_step(full, env, sp, f, x, xp);
-    StepStats st;
-    reduced_step(ch, env, sp, Eigen::VectorXd::Zero(ch.basis.r()), s, &st, &f);
-    unconverged += st.converged ? 0 : 1;
+    for (size_t i = 0; i < nm; ++i) {
+      StepStats st;
+      reduced_step(*models[i], env, sp, Eigen::VectorXd::Zero(models[i]->basis.r()), states[i], &st, &f);
+      unconverged[i] += st.converged ? 0 : 1;
+    }
   }
-  node_positions(ch, s, y);
-  BendResult b;
-  b.unconverged = unconverged;
-  b.rel_error = (y - x).norm() / (x - full.rest).norm();
-  const double v0 = lattice_volume(lat, full.rest);
-  b.volume_change = lattice_volume(lat, y) / v0 - 1;
-  b.full_volume_change = lattice_volume(lat, x) / v0 - 1;
-  // Tip direction: top minus bottom node of the right tip face (rest: +y).
-  int top = tip_r[0], bot = tip_r[0];
-  for (int j : tip_r) {
-    if (lat.rest[j][1] > lat.rest[top][1]) top = j;
-    if (lat.rest[j][1] < lat.rest[bot][1]) bot = j;
+  std::vector<BendResult> out;
+  for (size_t i = 0; i < nm; ++i) {
+    node_positions(*models[i], states[i], y);
+    BendResult b;
+    b.unconverged = unconverged[i];
+    b.rel_error = (y - x).norm() / (x - full.rest).norm();
+    const double v0 = lattice_volume(lat, full.rest);
+    b.volume_change = lattice_volume(lat, y) / v0 - 1;
+    b.full_volume_change = lattice_volume(lat, x) / v0 - 1;
+    // Tip direction: top minus bottom node of the right tip face (rest: +y).
+    int top = tip_r[0], bot = tip_r[0];
+    for (int j : tip_r) {
+      if (lat.rest[j][1] > lat.rest[top][1]) top = j;
+      if (lat.rest[j][1] < lat.rest[bot][1]) bot = j;
+    }
+    const Eigen::Vector3d d = x.segment<3>(3 * top) - x.segment<3>(3 * bot);
+    b.tip_angle_deg = std::atan2(-d[0], d[1]) * 180 / M_PI;
+    const Eigen::Vector3d dr = y.segment<3>(3 * top) - y.segment<3>(3 * bot);
+    b.reduced_tip_angle_deg = std::atan2(-dr[0], dr[1]) * 180 / M_PI;
+    out.push_back(b);
   }
-  const Eigen::Vector3d d = x.segment<3>(3 * top) - x.segment<3>(3 * bot);
-  b.tip_angle_deg = std::atan2(-d[0], d[1]) * 180 / M_PI;
-  const Eigen::Vector3d dr = y.segment<3>(3 * top) - y.segment<3>(3 * bot);
-  b.reduced_tip_angle_deg = std::atan2(-dr[0], dr[1]) * 180 / M_PI;
-  return b;
+  return out;
 }
 }  // namespace
 
@@ -304,11 +314,14 @@ BendResult bend_t(const Character& ch, const Character& full, int hold) {
 // BEND_MODES, BEND_HOLD, BEND_SCALE (load / Euler-Bernoulli 90-degree load) override
 // the set-up for the README's figures.
 TEST(Simulator, RotationStrainBendsTheTWithoutGrowingIt) {
-  const Character full = long_t(1, false);
   const int modes = getenv("BEND_MODES") ? atoi(getenv("BEND_MODES")) : 10;
   const int hold = getenv("BEND_HOLD") ? atoi(getenv("BEND_HOLD")) : 3;
-  const BendResult lin = bend_t(long_t(modes, false), full, hold);
-  const BendResult rs = bend_t(long_t(modes, true), full, hold);
+  const Character linear = long_t(modes);
+  Character strain = linear;
+  enable_rotation_strain(strain);
+  const std::vector<BendResult> res = bend_t({&linear, &strain}, hold);
+  const BendResult& lin = res[0];
+  const BendResult& rs = res[1];
   std::printf("T bend (full FEM tip %.0f deg, volume %+.1f%%), %d modes: linear error %.3f volume %+.1f%%;"
               " rotation-strain error %.3f volume %+.1f%%\n",
               lin.tip_angle_deg, 100 * lin.full_volume_change, modes, lin.rel_error,
