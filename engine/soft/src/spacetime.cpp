@@ -103,6 +103,15 @@ SoftState start_state(const Problem& p) {
   return initial_state(*p.character, p.start_offset_m, Eigen::Vector3d::Zero(), p.sim.dt_s);
 }
 
+// The states of the rollout under v's activations (physics violation zero).
+void project_states(const Problem& p, SpacetimeVars& v) {
+  SoftState s = start_state(p);
+  for (int f = 0; f < p.frames; ++f) {
+    reduced_step(*p.character, p.env, p.sim, activation_force(*p.character, v.act.col(f)), s);
+    v.frames[size_t(f)] = s;
+  }
+}
+
 }  // namespace
 
 int spacetime_state_size(const Problem& p) { return p.character->basis.r() + 6; }
@@ -263,9 +272,8 @@ void spacetime_optimize(const Problem& p, const SpacetimeSettings& s, OptimizerS
   double merit = merit_of(v, &res);
   record(res);
   rep.resimulated.push_back(best);
-  double lambda = 1e-3;
-  int iteration = 0;
-  while (iteration < s.max_iterations) {
+  double lambda = s.lambda_initial;
+  while (st.iteration < s.max_iterations) {
     if (best <= s.tolerance * f_initial) break;
     const Eigen::MatrixXd Jd = spacetime_jacobian(p, v, s.w_physics, w_dmp, s.fd_step_m);
     for (int f = 0; f < T; ++f) rep.steps += 1 + std::min(f, 2) * ns + m;
@@ -283,7 +291,15 @@ void spacetime_optimize(const Problem& p, const SpacetimeSettings& s, OptimizerS
         continue;
       }
       const Eigen::VectorXd dz = ldlt.solve(-g);
-      const SpacetimeVars vn = spacetime_apply(p, v, dz);
+      SpacetimeVars vn = spacetime_apply(p, v, dz);
+      if (s.project) {
+        try {
+          project_states(p, vn);
+        } catch (const std::runtime_error&) {
+          lambda *= 4;
+          continue;
+        }
+      }
       Eigen::VectorXd rn;
       const double fn = merit_of(vn, &rn);
       if (fn < f0) {
@@ -301,9 +317,8 @@ void spacetime_optimize(const Problem& p, const SpacetimeSettings& s, OptimizerS
     if (stalled && w_dmp < s.w_dmp_max && dmp_rms > s.dmp_tolerance * a_max) {
       w_dmp = std::min(w_dmp * s.w_dmp_factor, s.w_dmp_max);
       merit = merit_of(v, &res);
-      lambda = 1e-3;
+      lambda = s.lambda_initial;
     }
-    ++iteration;
     ++st.iteration;
     record(res);
     const double fr = resimulated(v.theta);

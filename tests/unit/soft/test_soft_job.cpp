@@ -4,6 +4,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 
@@ -22,9 +23,10 @@ const char* kScene = R"({"pliant": 1, "kind": "soft",
   "objectives": {"velocity": {"target_m_per_s": [0.1, 0, 0], "weight": 10}},
   "optimizer": {"method": "lm", "iterations": ITER, "horizon_frames": 6}})";
 
-Scene scene_with(int iterations) {
+Scene scene_with(int iterations, const std::string& method = "lm") {
   std::string t = kScene;
   t.replace(t.find("ITER"), 4, std::to_string(iterations));
+  t.replace(t.find("\"lm\""), 4, "\"" + method + "\"");
   return parse_scene(t, "job.json", std::string(PLIANT_ASSETS_DIR) + "/characters");
 }
 
@@ -98,4 +100,29 @@ TEST(SoftJob, BadSceneFieldsAreInputErrors) {
             "/character/resolution");
   EXPECT_EQ(pointer_of(R"({"pliant":1,"kind":"soft","character":{"mesh":"worm.obj"},"environment":{"type":"lava"}})"),
             "/environment/type");
+}
+
+// "method": "spacetime" runs spacetime_optimize: one checkpoint per iteration, its
+// per-iteration blocks in the metrics, physics violation of accepted points ~ 0
+// (feasibility projection), and the history is the re-simulated objective.
+TEST(SoftJob, SpacetimeMethodReportsItsTerms) {
+  TempDir tmp;
+  const Scene scene = scene_with(2, "spacetime");
+  TakeWriter take = TakeWriter::create(tmp.dir / "take", Manifest{});
+  const nlohmann::json m = run(scene, take, false);
+  EXPECT_EQ(m["optimizer"], "spacetime");
+  EXPECT_EQ(m["iterations"], 2);
+  const auto hist = m["objective_history"].get<std::vector<double>>();
+  ASSERT_EQ(hist.size(), 3u);
+  for (size_t i = 1; i < hist.size(); ++i) EXPECT_LE(hist[i], hist[i - 1]);
+  const auto& st = m["spacetime"];
+  ASSERT_EQ(st["physics_violation_m"].size(), 3u);
+  for (double v : st["physics_violation_m"]) EXPECT_LT(v, 1e-9);
+  EXPECT_EQ(st["dmp_weight"].size(), 3u);
+  const auto resim = st["resimulated_objective"].get<std::vector<double>>();
+  EXPECT_DOUBLE_EQ(*std::min_element(resim.begin(), resim.end()), hist.back());
+  TakeReader reader(tmp.dir / "take");
+  Record ck;
+  ASSERT_TRUE(reader.latest(RecordKind::Checkpoint, &ck));
+  EXPECT_EQ(ck.index, 2);
 }
