@@ -5,6 +5,8 @@
 
 #include <Eigen/Dense>
 #include <Eigen/Geometry>
+#include <thread>
+#include <vector>
 
 #include "pliant/geom/triangle_mesh.h"
 #include "pliant/soft/fem.h"
@@ -136,4 +138,24 @@ TEST(RotationStrain, CurvatureMatchesDifferencesOfTheJacobian) {
   }
   EXPECT_LT((C - fd).norm(), 1e-5 * fd.norm());
   EXPECT_LT((C - C.transpose()).norm(), 1e-12 * C.norm());
+}
+
+// Parallel rollouts (navigation's candidates) reconstruct from one shared factor, each
+// thread with its own CHOLMOD buffers.
+TEST(RotationStrain, ConcurrentReconstructionsMatchSerial) {
+  const Lattice lat = beam_lattice();
+  const ModalBasis b = linear_modes(lat, lame_from(Material{1000, 1e5, 0.3}), 4);
+  const RotationStrain rs = rotation_strain_build(lat, b.U);
+  const double s = 0.2 / b.U.cwiseAbs().maxCoeff();
+  std::vector<Eigen::VectorXd> serial(4), parallel(4);
+  for (int t = 0; t < 4; ++t) rotation_strain_positions(lat, rs, Eigen::VectorXd::Constant(4, s * (t + 1) / 4), serial[t]);
+  std::vector<std::thread> threads;
+  for (int t = 0; t < 4; ++t)
+    threads.emplace_back([&, t] {
+      Eigen::MatrixXd J;
+      for (int rep = 0; rep < 20; ++rep)
+        rotation_strain_positions(lat, rs, Eigen::VectorXd::Constant(4, s * (t + 1) / 4), parallel[t], &J);
+    });
+  for (auto& th : threads) th.join();
+  for (int t = 0; t < 4; ++t) EXPECT_EQ((parallel[t] - serial[t]).cwiseAbs().maxCoeff(), 0.0) << "thread " << t;
 }
