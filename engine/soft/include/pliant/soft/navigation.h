@@ -7,12 +7,13 @@
 // by the body's radius + clearance (reported as the route). Execution is closed
 // loop on the re-simulated body: every controller period each gait is
 // re-simulated from the current state (DMP phase kept) and the one whose end pose
-// has the smallest cost to go is played. The cost to go (periods to the goal disc)
-// comes from a breadth-first search over a lattice of planar poses (x, z, yaw)
-// whose edges are the gait primitives, so it replans from wherever the body is;
-// a held gait's primitive is updated from the re-simulation and the lattice
-// rebuilt when it moved. Planar coordinates are (x, z) of the world (y up);
-// yaw = atan2(h_z, h_x) of the body axis h. A Dubins-space RRT* was tried first
+// has the smallest cost to go is played (a switch is held two periods). The cost
+// to go (periods to the goal disc) comes from a breadth-first search over a
+// lattice of planar poses (x, z, 180 yaw bins) x (gait, settled or just switched)
+// whose edges are the held gaits' primitives and, for a switch, the transition
+// primitives (the period after it, measured: gaits are not stationary), so it
+// replans from wherever the body is. Planar coordinates are (x, z) of the world
+// (y up); yaw = atan2(h_z, h_x) of the body axis h. A Dubins-space RRT* was tried first
 // (see navigation.cpp).
 // Without OMPL (libompl-dev) navigation is unavailable: soft_compile rejects a
 // "navigation" section with an InputError.
@@ -95,7 +96,7 @@ struct NavResult {
   double final_distance_m = 0;           // COM to goal, horizontal
   double min_clearance_m = 0;            // COM to the nearest obstacle footprint (not inflated)
   bool reached = false;
-  int primitive_updates = 0;             // cost-to-go rebuilds after a held gait moved differently
+  int primitive_updates = 0;             // cost-to-go rebuilds (0 since the transition lattice; kept for the API)
 };
 
 // Plans and executes: on_frame(state, gait) after every simulated frame.
