@@ -5,6 +5,8 @@
 // "navigation" scene is an InputError.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "pliant/core/error.h"
 #include "pliant/core/scene.h"
 #include "pliant/soft/soft.h"
@@ -49,10 +51,8 @@ TEST(Navigation, SceneWithoutOmplIsInputErrorAndBadGaitsAreRejected) {
   }
 }
 
-// Re-simulates the whole plan (about 30 s of spider walking): label slow.
-// NOTE: the spider does not reach the goal yet (after the turns the forward gait,
-// optimized from rest, stalls), so this checks the plan, the gaits and that the
-// COM never enters an obstacle, not arrival (see engine/soft/README.md, Missing).
+// Re-simulates the whole plan (about 23 s of spider walking): label slow. The
+// spider reaches the goal disc and its COM never enters an obstacle.
 TEST(NavigationSlow, CachedGaitsPlanAroundTheObstacle) {
   if (!navigation_available()) GTEST_SKIP() << "built without OMPL";
   SoftModel m = soft_compile(load_scene(std::string(PLIANT_ASSETS_DIR) + "/scenes/soft_navigate.json"));
@@ -69,21 +69,21 @@ TEST(NavigationSlow, CachedGaitsPlanAroundTheObstacle) {
   ASSERT_TRUE(mirror_gait(m.problem, nav.cached_theta[1], &mirrored));
   EXPECT_LT((mirrored - nav.cached_theta[2]).norm(), 1e-4 * mirrored.norm());
   // The period after a switch is not the held gait (the executor's lattice has these
-  // transition primitives as edges): right after forward the right gait turns right
-  // faster than held, and the left gait turns less than held (it lags a period).
+  // transition primitives as edges): right after forward a turning gait turns the
+  // same way but less than held (the DMP activations lag the parameters).
   const std::vector<Eigen::Vector3d> tr = transition_primitives(m.problem, gaits, nav.body_axis);
   ASSERT_EQ(tr.size(), 9u);
-  EXPECT_LT(tr[0 * 3 + 2][2], gaits[2].yaw_rad);
-  EXPECT_LT(tr[0 * 3 + 1][2], gaits[1].yaw_rad - 0.05);
+  for (int k = 1; k < 3; ++k) {
+    EXPECT_GT(tr[size_t(k)][2] * gaits[size_t(k)].yaw_rad, 0.0) << "gait " << k;
+    EXPECT_LT(std::abs(tr[size_t(k)][2]), 0.8 * std::abs(gaits[size_t(k)].yaw_rad)) << "gait " << k;
+  }
   const NavResult r = navigate(m.problem, gaits, nav);
   ASSERT_FALSE(r.planned.empty());
   EXPECT_LE((r.planned.back().head<2>() - nav.goal_m).norm(), nav.goal_tolerance_m);
   EXPECT_GT(r.min_clearance_m, 0.0);  // the COM never entered an obstacle's footprint
-  // Closed loop on the re-simulated body. NOT MET yet: the spider ends 0.43 m from
-  // the goal (tolerance 0.2 m), facing away after its turn around the rock
-  // (engine/soft/README.md, Missing); the bound guards the progress (open-loop
-  // pure pursuit ended 1.0 m short, the start is 2.0 m away).
-  EXPECT_LT(r.final_distance_m, 0.6) << "after " << r.com.size() << " frames";
+  // Closed loop on the re-simulated body: the COM ends within the goal tolerance.
+  EXPECT_TRUE(r.reached) << "ended " << r.final_distance_m << " m from the goal after " << r.com.size() << " frames";
+  EXPECT_LE(r.final_distance_m, nav.goal_tolerance_m);
   for (const Eigen::Vector3d& c : r.com)
     for (const NavObstacle& o : nav.obstacles) ASSERT_GT((Eigen::Vector2d(c[0], c[2]) - o.center_m).norm(), o.radius_m);
   std::printf("navigation: final distance %.3f m, %zu frames, min clearance %.3f m, %d primitive updates\n",
