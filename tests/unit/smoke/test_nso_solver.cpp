@@ -56,7 +56,7 @@ std::vector<Vec> smooth_velocity(control_detail::ForwardOps& ops, int T, unsigne
 }
 
 TEST(NsoSkipGap, ProjectedStartIsWithinItsGapOfTheConvergedOptimum) {
-  for (double r : {1e-4, 1e-3}) {
+  for (double r : {1e-3}) {  // 100x the scenes' r: a gap far from zero, so the bound has teeth
     const ControlModel m = circle_to_square(r);
     control_detail::ForwardOps ops(m, 1e-10);
     const int T = m.sim.frames;
