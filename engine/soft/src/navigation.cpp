@@ -121,18 +121,29 @@ class PrimitiveCostToGo {
     // Reverse edges in CSR form (who reaches cell j with one primitive); successors
     // are recomputed in the second pass rather than stored, and start_of counts
     // down to each range's start while it is filled.
+    // Both passes run in parallel: the order of a cell's predecessors varies, the
+    // breadth-first distances do not.
     std::vector<int> start_of(size_t(n) + 1, 0);
+#pragma omp parallel for schedule(static)
     for (int c = 0; c < n; ++c)
       for (int g = 0; g < G_; ++g) {
         const int j = successor(c, g);
-        if (j >= 0) ++start_of[size_t(j)];
+        if (j >= 0) {
+#pragma omp atomic
+          ++start_of[size_t(j)];
+        }
       }
     for (int j = 0; j < n; ++j) start_of[size_t(j) + 1] += start_of[size_t(j)];
     std::vector<int> pred(static_cast<size_t>(start_of[size_t(n)]));
+#pragma omp parallel for schedule(static)
     for (int c = 0; c < n; ++c)
       for (int g = 0; g < G_; ++g) {
         const int j = successor(c, g);
-        if (j >= 0) pred[size_t(--start_of[size_t(j)])] = c;
+        if (j < 0) continue;
+        int at;
+#pragma omp atomic capture
+        at = --start_of[size_t(j)];
+        pred[size_t(at)] = c;
       }
     cost_.assign(size_t(n), kUnreached);
     std::vector<int> queue;
