@@ -62,19 +62,26 @@ double stream_spill(const MpcSettings& ms, double land, double near, double cent
 }
 
 bool set_mpc_setting(MpcSettings& ms, const std::string& name, double value) {
-  double* fields[] = {&ms.approach_weight, &ms.approach_goal, &ms.spill_inner, &ms.spill_outer,
-                      &ms.spill_weight,    &ms.stream_near,   &ms.stream_far};
-  const char* names[] = {"approach_weight", "approach_goal", "spill_inner", "spill_outer",
-                         "spill_weight",    "stream_near",   "stream_far"};
-  for (int k = 0; k < 7; ++k)
+  double* fields[] = {&ms.approach_weight,    &ms.approach_goal,      &ms.spill_inner,
+                      &ms.spill_outer,        &ms.spill_weight,       &ms.stream_near,
+                      &ms.stream_far,         &ms.centre_weight,      &ms.moving_spill_outer,
+                      &ms.moving_stream_near, &ms.moving_stream_far};
+  const char* names[] = {"approach_weight",    "approach_goal",      "spill_inner",
+                         "spill_outer",        "spill_weight",       "stream_near",
+                         "stream_far",         "centre_weight",      "moving_spill_outer",
+                         "moving_stream_near", "moving_stream_far"};
+  for (int k = 0; k < 11; ++k)
     if (name == names[k]) return *fields[k] = value, true;
   if (name == "horizon") return ms.horizon = int(value), true;
   return false;
 }
 
-MpcAction mpc_decide(const FeedbackContext& c, const FeedbackPredictor& net, const MpcSettings& ms, double time_s,
-                     const Pose& pose, double fraction, const MpcAction& committed) {
+MpcAction mpc_decide(const FeedbackContext& c, const FeedbackPredictor& net, const MpcSettings& settings,
+                     double time_s, const Pose& pose, double fraction, const MpcAction& committed) {
   const LiquidModel& m = *c.model;
+  MpcSettings ms = settings;
+  if (target_moves(m))
+    ms.spill_outer = ms.moving_spill_outer, ms.stream_near = ms.moving_stream_near, ms.stream_far = ms.moving_stream_far;
   const double dt = net.interval_s, g = gravity_norm(m);
   const double max_tilt = m.planner.max_tilt_rad;
   const double rim = m.target.pose.position_m[1] + m.target.shape.height_m;
@@ -123,7 +130,7 @@ MpcAction mpc_decide(const FeedbackContext& c, const FeedbackPredictor& net, con
       const double ld = lvy * lvy + 2 * g * (lip[1] - rim);
       const double near = lip[0] + lvx * (ld >= 0 ? (lvy + std::sqrt(ld)) / g : 0.0);
       const double spill = stream_spill(ms, land, near, centre, inner);
-      cost[i] += ms.spill_weight * dv * spill - dv * (1 - spill) + 1.0 * std::max(dv, 0.01) * d * d;
+      cost[i] += ms.spill_weight * dv * spill - dv * (1 - spill) + ms.centre_weight * std::max(dv, 0.01) * d * d;
       r.fraction -= dv;
       r.tilt = std::min(max_tilt, r.tilt + w * dt);
       r.x += a.vx * dt, r.y += a.vy * dt;

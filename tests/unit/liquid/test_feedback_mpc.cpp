@@ -39,7 +39,8 @@ TEST(FeedbackMpc, DecisionIsDeterministic) {
 }
 
 TEST(FeedbackMpc, StreamSpillAveragesOverTheStreamWidth) {
-  MpcSettings ms;  // ramp from 0.25 to 0.65 inner radii
+  MpcSettings ms;
+  ms.spill_inner = 0.25, ms.spill_outer = 0.65, ms.stream_near = 0, ms.stream_far = 0;
   // Mean stream only: the ramp at the mean landing point.
   EXPECT_EQ(stream_spill(ms, 1.0, 0.5, 1.0, 0.1), 0.0);
   EXPECT_NEAR(stream_spill(ms, 1.045, 0.5, 1.0, 0.1), 0.5, 1e-12);
