@@ -60,9 +60,9 @@ struct ControlModel {
   // Skip the NSO's multigrid when the projected start P d is provably within this
   // relative gap of the NSO optimum (its dynamics term r||f(Pd)||^2 is below nso_skip_gap
   // times its energy: no divergence-free z has a lower proximity term than P d). 0: never.
-  // With the scenes' r = 1e-5 the gap is 3e-4..1e-3 every iteration (letter 64^2 x 40), so
-  // the V-cycles could gain < 0.1% of the NSO energy: skipping them made an ADMM iteration
-  // 3.5x cheaper (1.32 -> 0.375 s CPU) and 15 iterations reached E 720 instead of 740.
+  // ADMM from rest with the scenes' r = 1e-5 (letter 64^2 x 40): gaps 3e-4..6e-4, skipping
+  // made an iteration 3.5x cheaper (1.32 -> 0.375 s CPU) and 15 iterations reached E 720
+  // instead of 740. On a fine level started from coarse forces the gaps are 0.01-0.6 (no skip).
   double nso_skip_gap = 0.01;
   // L-BFGS iterations on E(f) after the ADMM loop, from its best forces (0 = none):
   // ADMM finds the transport path from rest (where plain L-BFGS stalls at once), the
