@@ -73,6 +73,7 @@ bool set_mpc_setting(MpcSettings& ms, const std::string& name, double value) {
   for (int k = 0; k < 11; ++k)
     if (name == names[k]) return *fields[k] = value, true;
   if (name == "horizon") return ms.horizon = int(value), true;
+  if (name == "bottle_stream_width") return ms.bottle_stream_width = value != 0, true;
   return false;
 }
 
@@ -82,6 +83,7 @@ MpcAction mpc_decide(const FeedbackContext& c, const FeedbackPredictor& net, con
   MpcSettings ms = settings;
   if (target_moves(m))
     ms.spill_outer = ms.moving_spill_outer, ms.stream_near = ms.moving_stream_near, ms.stream_far = ms.moving_stream_far;
+  if (m.source.shape.type == ContainerShape::Bottle && !ms.bottle_stream_width) ms.stream_near = ms.stream_far = 0;
   const double dt = net.interval_s, g = gravity_norm(m);
   const double max_tilt = m.planner.max_tilt_rad;
   const double rim = m.target.pose.position_m[1] + m.target.shape.height_m;

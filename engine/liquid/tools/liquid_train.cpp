@@ -4,7 +4,7 @@
 // feedback planner's networks; writes NET.json and prints one JSON line.
 //
 // liquid_train --evaluate NET.json [--first ID] [--count N] [--seed S]
-//   [--family zero|follow] [--trace ID] [--mpc NAME=VALUE ...]
+//   [--family zero|follow] [--trace ID] [--mpc NAME=VALUE ...] [--shape bottle|...]
 // Runs the feedback closed loop (MPC + full 2D simulation) on N validation
 // problems of the generator: training-split ids from ID on (id % 5 != 0, so the
 // held-out split is never touched) that the shipped dataset does not use
@@ -60,12 +60,15 @@ int evaluate(int argc, char** argv) {
   uint64_t seed = 2026;
   std::string family = "zero";
   MpcSettings ms;
+  std::string shape;
+  const char* shapes[] = {"cylinder", "oval", "box", "cup", "bottle", "mesh"};
   for (int i = 3; i + 1 < argc; i += 2) {
     const std::string k = argv[i];
     if (k == "--first") first = std::atoi(argv[i + 1]);
     else if (k == "--count") count = std::atoi(argv[i + 1]);
     else if (k == "--seed") seed = std::strtoull(argv[i + 1], nullptr, 10);
     else if (k == "--family") family = argv[i + 1];
+    else if (k == "--shape") shape = argv[i + 1];  // only problems with this source shape
     else if (k == "--trace") trace = std::atoi(argv[i + 1]);  // per-frame lines of one problem
     else if (k == "--mpc") {  // NAME=VALUE of an MpcSettings field
       const std::string kv = argv[i + 1];
@@ -86,6 +89,7 @@ int evaluate(int argc, char** argv) {
   for (int id = trace >= 0 ? trace : first; done < count; ++id) {
     if (id % 5 == 0) continue;  // held out: never used for tuning
     const TransferProblem p = generate_problem(id, seed, 2, family == "follow" ? Family::Follow : Family::Zero);
+    if (!shape.empty() && trace < 0 && shape != shapes[int(p.model.source.shape.type)]) continue;
     std::function<void(const LiquidModel&, const LiquidState&)> on_frame;
     Diagnosis dg(p.model);
     if (trace >= 0) {
@@ -118,7 +122,6 @@ int evaluate(int argc, char** argv) {
     transfer += fr[0];
     spilled += fr[1];
     const LiquidModel& pm = p.model;
-    const char* shapes[] = {"cylinder", "oval", "box", "cup", "bottle", "mesh"};
     const Pose tp = target_pose_at(m, run.final_state.time_s);
     int short_n = 0, long_n = 0, air_n = 0;
     for (size_t q = 0; q < run.final_state.count(); ++q) {

@@ -64,6 +64,8 @@ TEST(FeedbackMpc, SettingsByName) {
   EXPECT_EQ(ms.stream_near, 0.5);
   EXPECT_TRUE(set_mpc_setting(ms, "horizon", 6));
   EXPECT_EQ(ms.horizon, 6);
+  EXPECT_TRUE(set_mpc_setting(ms, "bottle_stream_width", 1));
+  EXPECT_TRUE(ms.bottle_stream_width);
   EXPECT_FALSE(set_mpc_setting(ms, "stream_nearr", 1));
 }
 

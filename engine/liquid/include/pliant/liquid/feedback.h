@@ -153,6 +153,9 @@ struct MpcSettings {
   // FOLLOW validation problems the width and the narrower band lowered
   // success@5% from 0.964 to 0.929 (the near edge lags a target moving away).
   double moving_spill_outer = 0.65, moving_stream_near = 0, moving_stream_far = 0;
+  // Bottles pour from a narrow neck as a jet, not a trickle down the wall:
+  // the width is off for them (on validation it stalled bottle pours).
+  bool bottle_stream_width = false;
 };
 // Spill share (0..1) of a stream landing at `land` (mean) whose near edge
 // lands at `near`, against an opening at `centre` with inner radius `inner`
