@@ -41,7 +41,10 @@ SoftModel soft_compile(const Scene& scene) {
   const int derivatives = int(ch->integer("modal_derivatives", 0, 0, 8));
   // "pod": nonlinear POD of full simulations under random smooth loads (compile cost:
   // pod_runs x pod_frames full-space steps).
-  const bool pod = ch->choice("basis", "linear", {"linear", "pod"}) == "pod";
+  // "rotation_strain": the linear modes (+ derivatives) in rotation-strain coordinates
+  // (Pan et al. 2015), positions by a prefactored CHOLMOD solve.
+  const std::string basis_kind = ch->choice("basis", "linear", {"linear", "pod", "rotation_strain"});
+  const bool pod = basis_kind == "pod";
   PodTraining pod_training;
   pod_training.runs = int(ch->integer("pod_runs", pod_training.runs, 1, 200));
   pod_training.frames = int(ch->integer("pod_frames", pod_training.frames, 1, 1000));
@@ -78,6 +81,8 @@ SoftModel soft_compile(const Scene& scene) {
   if (pod && derivatives > 0)
     ch->fail("modal_derivatives", "modal derivatives and \"basis\": \"pod\" cannot be combined");
   m.character = make_character(std::move(surface), std::move(lat), mat, modes, derivatives, pod ? &pod_training : nullptr);
+  // Before the cubature training and soft_bind, which use the character's map.
+  if (basis_kind == "rotation_strain") enable_rotation_strain(m.character);
 
   // Environment.
   Environment& env = p.env;
@@ -153,6 +158,11 @@ SoftModel soft_compile(const Scene& scene) {
       o.heading_axis = unit3(*t, "body_axis", Eigen::Vector3d::UnitX());
       o.heading_direction = unit3(*t, "direction", Eigen::Vector3d::UnitX());
       o.w_heading = t->number("weight", 1, 0);
+      t->finish();
+    }
+    if (auto t = oj->object("course")) {
+      o.course_direction = unit3(*t, "direction", Eigen::Vector3d::UnitX());
+      o.w_course = t->number("weight", 1, 0);
       t->finish();
     }
     if (auto t = oj->object("turn")) {

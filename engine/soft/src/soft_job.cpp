@@ -217,10 +217,7 @@ nlohmann::json soft_run_job(JobContext& ctx) {
     return true;
   };
   SpacetimeReport spacetime;
-  if (m.optimizer.kind == OptimizerKind::Spacetime)
-    spacetime_optimize(p, m.spacetime, st, checkpoint, &spacetime);
-  else
-    soft_optimize(m, st, checkpoint);
+  soft_optimize(m, st, checkpoint, &spacetime);
   const double optimize_s = seconds_since(t_opt);
 
   // Re-simulate the whole take under the optimized controller.

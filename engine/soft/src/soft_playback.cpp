@@ -30,8 +30,13 @@ void soft_state_surface(const SoftModel& m, const SoftState& s, std::vector<Eige
   embed_surface(m.character.lattice, x, surface);
 }
 
-double soft_optimize(const SoftModel& m, OptimizerState& st, const IterationFn& on_iteration) {
+double soft_optimize(const SoftModel& m, OptimizerState& st, const IterationFn& on_iteration,
+                     SpacetimeReport* report) {
   const Problem& p = m.problem;
+  if (m.optimizer.kind == OptimizerKind::Spacetime) {
+    spacetime_optimize(p, m.spacetime, st, on_iteration, report);
+    return st.history.back();
+  }
   if (st.theta.size() == 0) st.theta = initial_theta(p);
   const ResidualFn rf = [&p](const Eigen::VectorXd& th) { return residuals(p, th); };
   optimize(rf, m.optimizer, st, on_iteration);

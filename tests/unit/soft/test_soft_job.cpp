@@ -126,3 +126,21 @@ TEST(SoftJob, SpacetimeMethodReportsItsTerms) {
   ASSERT_TRUE(reader.latest(RecordKind::Checkpoint, &ck));
   EXPECT_EQ(ck.index, 2);
 }
+
+// "basis": "rotation_strain" switches the character's map (a rotation of the first
+// mode's coordinate keeps the volume, unlike linear modes); "course" sets its term.
+TEST(SoftJob, SceneSelectsRotationStrainBasisAndCourseTerm) {
+  std::string t = kScene;
+  t.replace(t.find("ITER"), 4, "0");
+  t.replace(t.find("\"modes\": 4}"), 11, "\"modes\": 4, \"basis\": \"rotation_strain\"}");
+  t.replace(t.find("\"weight\": 10}}"), 14,
+            "\"weight\": 10}, \"course\": {\"direction\": [0, 0, 2], \"weight\": 3}}");
+  const soft::SoftModel m =
+      soft::soft_compile(parse_scene(t, "rs.json", std::string(PLIANT_ASSETS_DIR) + "/characters"));
+  EXPECT_NE(m.character.rotation_strain, nullptr);
+  EXPECT_DOUBLE_EQ(m.problem.obj.w_course, 3.0);
+  EXPECT_NEAR(m.problem.obj.course_direction.z(), 1.0, 1e-12);
+  const soft::SoftModel lin = soft::soft_compile(scene_with(0));
+  EXPECT_EQ(lin.character.rotation_strain, nullptr);
+  EXPECT_DOUBLE_EQ(lin.problem.obj.w_course, 0.0);
+}

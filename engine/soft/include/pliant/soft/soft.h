@@ -76,9 +76,11 @@ Eigen::VectorXd soft_q_from_amplitudes(const SoftModel& m, const Eigen::VectorXd
 // Surface vertices of a simulated state (world frame).
 void soft_state_surface(const SoftModel& m, const SoftState& s, std::vector<Eigen::Vector3d>& surface);
 
-// Runs the scene's optimizer from st (st.theta empty: initial_theta); on_iteration
-// as in optimize (return false to stop). Returns the final objective.
-double soft_optimize(const SoftModel& m, OptimizerState& st, const IterationFn& on_iteration = {});
+// Runs the scene's optimizer (shooting kinds, or spacetime_optimize; report filled
+// for spacetime) from st (st.theta empty: initial_theta); on_iteration as in optimize
+// (return false to stop). Returns the final objective.
+double soft_optimize(const SoftModel& m, OptimizerState& st, const IterationFn& on_iteration = {},
+                     SpacetimeReport* report = nullptr);
 
 // theta from the latest checkpoint of a take written by the "soft" job; false when
 // there is none or its size does not match the model's controller.
