@@ -68,7 +68,7 @@ JobProcess* start_job(App& app, const json& scene, const fs::path& take, std::st
 }  // namespace
 
 const std::vector<std::string>& articulated_integrators() {
-  static const std::vector<std::string> k = {"pbad2", "pbad3", "euler", "rk4"};
+  static const std::vector<std::string> k = {"pbad2", "pbad3", "pbad4", "euler", "rk4"};
   return k;
 }
 

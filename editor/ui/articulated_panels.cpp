@@ -154,7 +154,7 @@ void draw_inspector(App& app) {
     ImGui::PopTextWrapPos();
   }
   if (ImGui::CollapsingHeader("Simulation", ImGuiTreeNodeFlags_DefaultOpen)) {
-    json_choice(doc, "integrator", "/integrator", "pbad3", {"pbad2", "pbad3", "euler", "rk4"});
+    json_choice(doc, "integrator", "/integrator", "pbad3", {"pbad2", "pbad3", "pbad4", "euler", "rk4"});
     tooltip("pbad2/pbad3: position-based collocation of 2nd/3rd order (implicit, one LM solve per step); "
             "euler: semi-implicit Euler; rk4: Runge-Kutta 4");
     json_double(doc, "dt", "/dt", 0.01, 0.0005f, 1e-6, 1.0, "%.4g");
@@ -216,8 +216,11 @@ void draw_inspector(App& app) {
   }
 }
 
+// In the order of articulated_integrators(): pbad2, pbad3, pbad4, euler, rk4.
 const ImU32 kRunColors[] = {IM_COL32(90, 160, 255, 255), IM_COL32(110, 220, 110, 255),
-                            IM_COL32(255, 100, 90, 255), IM_COL32(255, 185, 60, 255)};
+                            IM_COL32(200, 120, 255, 255), IM_COL32(255, 100, 90, 255),
+                            IM_COL32(255, 185, 60, 255)};
+static_assert(sizeof(kRunColors) / sizeof(kRunColors[0]) == 5, "one colour per integrator");
 
 ImU32 run_color(const std::string& integrator) {
   const auto& names = articulated_integrators();
@@ -325,7 +328,7 @@ void draw_jobs(App& app) {
   tooltip("run the scene once per ticked integrator (same dt) and plot their energies together");
   if (!valid) ImGui::EndDisabled();
   for (size_t i = 0; i < articulated_integrators().size(); ++i) {
-    if (i) ImGui::SameLine();
+    if (i % 3) ImGui::SameLine();  // PBAD schemes on one row, the explicit ones below (narrow panels)
     ImGui::Checkbox(articulated_integrators()[i].c_str(), &st.compare_pick[i]);
     ui_mark("pick_" + articulated_integrators()[i]);
   }

@@ -38,7 +38,7 @@ struct IntegratorRun {
 };
 
 struct ArticulatedUiState : KindUiState {
-  bool compare_pick[4] = {true, true, true, true};  // pbad2, pbad3, euler, rk4
+  bool compare_pick[5] = {true, true, false, true, true};  // pbad2, pbad3, pbad4, euler, rk4
   std::vector<IntegratorRun> runs;                  // the newest comparison
   std::string compare_error;
   // Model summary cache (per document revision).

@@ -77,6 +77,11 @@ void draw_objectives(App& app) {
     json_vec(doc, "direction", o + "heading/direction", 3);
     json_double(doc, "weight##heading", o + "heading/weight", 1, 0.05f, 0, 1e6);
   }
+  if (objective_toggle(doc, "course", {{"direction", {1, 0, 0}}, {"weight", 10}},
+                       "keep the centre of mass on the straight line along a direction")) {
+    json_vec(doc, "direction##course", o + "course/direction", 3);
+    json_double(doc, "weight##course", o + "course/weight", 10, 0.05f, 0, 1e6);
+  }
   if (objective_toggle(doc, "jump", {{"height_m", 0.1}, {"weight", 100}},
                        "raise the centre of mass by this height (drag the pink handle)")) {
     json_double(doc, "height_m", o + "jump/height_m", 0.1, 0.002f, 0, 1e3);
@@ -123,6 +128,9 @@ void draw_soft_inspector(App& app) {
     json_double(doc, "scale", "/character/scale", 1.0, 0.01f, 1e-6, 1e6);
     json_int(doc, "lattice resolution", "/character/resolution", 8, 2, 64);
     json_int(doc, "modes", "/character/modes", 10, 1, 60);
+    json_choice(doc, "basis", "/character/basis", "linear", {"linear", "pod", "rotation_strain"});
+    if (ImGui::IsItemHovered())
+      ImGui::SetTooltip("linear modes; POD of simulated poses; or rotation-strain coordinates (large bends)");
     json_int(doc, "modal derivatives", "/character/modal_derivatives", 0, 0, 8);
     json_bool(doc, "cubature", "/character/cubature", true);
   }
@@ -156,7 +164,7 @@ void draw_soft_inspector(App& app) {
   }
   if (ImGui::CollapsingHeader("Objectives", ImGuiTreeNodeFlags_DefaultOpen)) draw_objectives(app);
   if (ImGui::CollapsingHeader("Optimizer", ImGuiTreeNodeFlags_DefaultOpen)) {
-    json_choice(doc, "method", "/optimizer/method", "hybrid", {"hybrid", "lm", "lbfgs", "none"});
+    json_choice(doc, "method", "/optimizer/method", "hybrid", {"hybrid", "lm", "lbfgs", "spacetime", "none"});
     json_int(doc, "iterations", "/optimizer/iterations", 20, 0, 100000);
     json_int(doc, "horizon_frames", "/optimizer/horizon_frames", 60, 1, 100000);
     json_double(doc, "fd_step", "/optimizer/fd_step", 1e-3, 1e-5f, 1e-12, 1, "%.1e");
