@@ -65,12 +65,12 @@ bool set_mpc_setting(MpcSettings& ms, const std::string& name, double value) {
   double* fields[] = {&ms.approach_weight,    &ms.approach_goal,      &ms.spill_inner,
                       &ms.spill_outer,        &ms.spill_weight,       &ms.stream_near,
                       &ms.stream_far,         &ms.centre_weight,      &ms.moving_spill_outer,
-                      &ms.moving_stream_near, &ms.moving_stream_far};
+                      &ms.moving_stream_near, &ms.moving_stream_far,  &ms.moving_centre_weight};
   const char* names[] = {"approach_weight",    "approach_goal",      "spill_inner",
                          "spill_outer",        "spill_weight",       "stream_near",
                          "stream_far",         "centre_weight",      "moving_spill_outer",
-                         "moving_stream_near", "moving_stream_far"};
-  for (int k = 0; k < 11; ++k)
+                         "moving_stream_near", "moving_stream_far",  "moving_centre_weight"};
+  for (int k = 0; k < 12; ++k)
     if (name == names[k]) return *fields[k] = value, true;
   if (name == "horizon") return ms.horizon = int(value), true;
   if (name == "bottle_stream_width") return ms.bottle_stream_width = value != 0, true;
@@ -82,7 +82,8 @@ MpcAction mpc_decide(const FeedbackContext& c, const FeedbackPredictor& net, con
   const LiquidModel& m = *c.model;
   MpcSettings ms = settings;
   if (target_moves(m))
-    ms.spill_outer = ms.moving_spill_outer, ms.stream_near = ms.moving_stream_near, ms.stream_far = ms.moving_stream_far;
+    ms.spill_outer = ms.moving_spill_outer, ms.stream_near = ms.moving_stream_near, ms.stream_far = ms.moving_stream_far,
+    ms.centre_weight = ms.moving_centre_weight;
   if (m.source.shape.type == ContainerShape::Bottle && !ms.bottle_stream_width) ms.stream_near = ms.stream_far = 0;
   const double dt = net.interval_s, g = gravity_norm(m);
   const double max_tilt = m.planner.max_tilt_rad;
