@@ -35,12 +35,6 @@ const GaussTable& gauss() {
   return t;
 }
 
-Matrix3d cross_matrix(const Eigen::Vector3d& v) {
-  Matrix3d m;
-  m << 0, -v[2], v[1], v[2], 0, -v[0], -v[1], v[0], 0;
-  return m;
-}
-
 Matrix3d cofactor(const Matrix3d& F) {
   Matrix3d C;
   C.col(0) = F.col(1).cross(F.col(2));
@@ -231,6 +225,18 @@ double elastic_reduced(const Lattice& lat, const Lame& l, const Eigen::VectorXd&
     if (grad) grad->noalias() += Ue.transpose().lazyProduct(gcell);
   }
   return energy;
+}
+
+double lattice_volume(const Lattice& lat, const Eigen::VectorXd& x) {
+  const double h = lat.cell_size_m;
+  const auto& G = gauss_shape_gradients(h);
+  double v = 0;
+  for (const auto& ids : lat.cells) {
+    Eigen::Matrix<double, 3, 8> X;
+    for (int a = 0; a < 8; ++a) X.col(a) = x.segment<3>(3 * ids[a]);
+    for (int q = 0; q < 8; ++q) v += h * h * h / 8 * (X * G[q]).determinant();
+  }
+  return v;
 }
 
 }  // namespace pliant::soft

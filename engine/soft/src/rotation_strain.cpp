@@ -29,12 +29,6 @@ namespace {
 using Eigen::Matrix3d;
 using Eigen::Vector3d;
 
-Matrix3d cross_matrix(const Vector3d& v) {
-  Matrix3d m;
-  m << 0, -v[2], v[1], v[2], 0, -v[0], -v[1], v[0], 0;
-  return m;
-}
-
 // exp([v]x) (Rodrigues) and the left Jacobian of SO(3):
 // d/dt exp([v + t d]x) = [J(v) d]x exp([v]x), J = I + a [v]x + b [v]x^2.
 void exp_and_jacobian(const Vector3d& v, Matrix3d* E, Matrix3d* J) {

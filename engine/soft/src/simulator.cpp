@@ -17,12 +17,6 @@ using Eigen::MatrixXd;
 using Eigen::Vector3d;
 using Eigen::VectorXd;
 
-Matrix3d cross_matrix(const Vector3d& v) {
-  Matrix3d m;
-  m << 0, -v[2], v[1], v[2], 0, -v[0], -v[1], v[0], 0;
-  return m;
-}
-
 Matrix3d rotation_exp(const Vector3d& w) {
   const double a = w.norm();
   if (a < 1e-300) return Matrix3d::Identity();

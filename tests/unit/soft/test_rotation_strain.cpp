@@ -33,18 +33,6 @@ Eigen::VectorXd centred_rest(const Lattice& lat) {
   return x;
 }
 
-// Volume of the deformed lattice: sum over Gauss points of vol det F.
-double lattice_volume(const Lattice& lat, const Eigen::VectorXd& x) {
-  const double h = lat.cell_size_m;
-  const auto& G = gauss_shape_gradients(h);
-  double v = 0;
-  for (const auto& ids : lat.cells) {
-    Eigen::Matrix<double, 3, 8> X;
-    for (int a = 0; a < 8; ++a) X.col(a) = x.segment<3>(3 * ids[a]);
-    for (int q = 0; q < 8; ++q) v += h * h * h / 8 * (X * G[q]).determinant();
-  }
-  return v;
-}
 }  // namespace
 
 TEST(RotationStrain, SmallCoordinatesReproduceLinearModes) {

@@ -216,18 +216,6 @@ Character long_t(int modes) {
   return make_character(std::move(s), std::move(lat), Material{1000, 1e5, 0.3}, modes);
 }
 
-double lattice_volume(const Lattice& lat, const Eigen::VectorXd& x) {
-  const double h = lat.cell_size_m;
-  const auto& G = gauss_shape_gradients(h);
-  double v = 0;
-  for (const auto& ids : lat.cells) {
-    Eigen::Matrix<double, 3, 8> X;
-    for (int a = 0; a < 8; ++a) X.col(a) = x.segment<3>(3 * ids[a]);
-    for (int q = 0; q < 8; ++q) v += h * h * h / 8 * (X * G[q]).determinant();
-  }
-  return v;
-}
-
 struct BendResult {
   double rel_error = 0;       // |x_red - x_full| / |x_full - X| at the end
   double volume_change = 0;   // V_red / V0 - 1

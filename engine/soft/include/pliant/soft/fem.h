@@ -15,6 +15,13 @@
 
 namespace pliant::soft {
 
+// [v]x, the cross-product matrix: [v]x u = v x u.
+inline Eigen::Matrix3d cross_matrix(const Eigen::Vector3d& v) {
+  Eigen::Matrix3d m;
+  m << 0, -v[2], v[1], v[2], 0, -v[0], -v[1], v[0], 0;
+  return m;
+}
+
 struct Material {
   double density_kg_per_m3 = 1000;
   double young_pa = 1e5;
@@ -56,5 +63,8 @@ const std::array<Eigen::Matrix<double, 8, 3>, 8>& gauss_shape_gradients(double h
 
 // Internal force of one cell (24 values: -dE/dx of its 8 nodes).
 void cell_force(const Lattice& lat, const Lame& l, const Eigen::VectorXd& x, int cell, double* f24);
+
+// Volume of the lattice at node positions x (3N): sum over Gauss points of vol det F.
+double lattice_volume(const Lattice& lat, const Eigen::VectorXd& x);
 
 }  // namespace pliant::soft
