@@ -72,6 +72,8 @@ bool set_mpc_setting(MpcSettings& ms, const std::string& name, double value) {
                          "moving_stream_near", "moving_stream_far",  "moving_centre_weight"};
   for (int k = 0; k < 12; ++k)
     if (name == names[k]) return *fields[k] = value, true;
+  if (name == "stop_at") return ms.stop_at = value, true;
+  if (name == "stop_tilt_rate") return ms.stop_tilt_rate = value, true;
   if (name == "horizon") return ms.horizon = int(value), true;
   if (name == "bottle_stream_width") return ms.bottle_stream_width = value != 0, true;
   return false;
@@ -85,6 +87,9 @@ MpcAction mpc_decide(const FeedbackContext& c, const FeedbackPredictor& net, con
     ms.spill_outer = ms.moving_spill_outer, ms.stream_near = ms.moving_stream_near, ms.stream_far = ms.moving_stream_far,
     ms.centre_weight = ms.moving_centre_weight;
   if (m.source.shape.type == ContainerShape::Bottle && !ms.bottle_stream_width) ms.stream_near = ms.stream_far = 0;
+  // Stop rule (MpcSettings::stop_at): upright before the end, no rollout.
+  if (!target_moves(m) && ms.stop_at > 0 && time_s >= ms.stop_at * m.planner.pour_time_s - 1e-9)
+    return MpcAction{-ms.stop_tilt_rate, 0, 0};
   const double dt = net.interval_s, g = gravity_norm(m);
   const double max_tilt = m.planner.max_tilt_rad;
   const double rim = m.target.pose.position_m[1] + m.target.shape.height_m;
@@ -201,7 +206,8 @@ FeedbackRun run_feedback(const LiquidModel& model, const FeedbackPredictor& net,
           mpc_decide(c, net, ms, s.time_s, source_pose_at(m, s.time_s), fraction, committed);
       KeyPose next = b;
       next.time_s = b.time_s + dt;
-      next.pose.tilt_rad = std::min(m.planner.max_tilt_rad, b.pose.tilt_rad + act.tilt_rate * dt);
+      // The stop rule's negative rate ends upright, not past it.
+      next.pose.tilt_rad = std::clamp(b.pose.tilt_rad + act.tilt_rate * dt, std::min(0.0, b.pose.tilt_rad), m.planner.max_tilt_rad);
       next.pose.position_m[0] += act.vx * dt;
       next.pose.position_m[1] += act.vy * dt;
       keys.push_back(next);

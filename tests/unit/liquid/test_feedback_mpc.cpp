@@ -69,6 +69,29 @@ TEST(FeedbackMpc, SettingsByName) {
   EXPECT_FALSE(set_mpc_setting(ms, "stream_nearr", 1));
 }
 
+TEST(FeedbackMpc, StopRuleTurnsUprightAfterThePourTime) {
+  const LiquidModel m = generate_problem(2, 2026, 2).model;  // ZERO: static target
+  FeedbackContext c(m);
+  const FeedbackPredictor net = fixed_net();
+  MpcSettings ms;
+  Pose pose = m.source.pose;
+  pose.tilt_rad = 1.9;
+  const MpcAction committed{0.45, 0.06, 0};
+  const double t = ms.stop_at * m.planner.pour_time_s;
+  // Before the stop time: one of the (non-negative) candidate tilt rates.
+  EXPECT_GE(mpc_decide(c, net, ms, t - 0.2, pose, 0.3, committed).tilt_rate, 0.0);
+  // From the stop time on: back upright, position held.
+  const MpcAction a = mpc_decide(c, net, ms, t, pose, 0.3, committed);
+  EXPECT_EQ(a.tilt_rate, -ms.stop_tilt_rate);
+  EXPECT_EQ(a.vx, 0.0);
+  EXPECT_EQ(a.vy, 0.0);
+  // Off: the MPC keeps choosing among its candidates.
+  ms.stop_at = 0;
+  EXPECT_GE(mpc_decide(c, net, ms, t, pose, 0.3, committed).tilt_rate, 0.0);
+  EXPECT_TRUE(set_mpc_setting(ms, "stop_at", 0.9));
+  EXPECT_EQ(ms.stop_at, 0.9);
+}
+
 TEST(FeedbackMpc, ClosedLoopIsReproducedByItsKeyPoses) {
   LiquidModel m = generate_problem(3, 2026, 2).model;
   m.frames = 30;
