@@ -95,8 +95,10 @@ TEST(NsoSkipGap, SkipsTheMultigridOnlyBelowTheThreshold) {
   EXPECT_TRUE(s1.skipped);
   EXPECT_EQ(s1.lm_steps + s1.rejected, 0);
   EXPECT_TRUE(s1.vcycle_factors.empty());
+  // The skip returns its own projection of d: equal to P d up to the pressure
+  // solve's tolerance (1e-10 relative; the two solves need not match bit for bit).
   for (int t = 0; t < T; ++t)
-    for (size_t f = 0; f < z[t].size(); ++f) ASSERT_EQ(z[t][f], pd[t][f]) << "frame " << t << " face " << f;
+    for (size_t f = 0; f < z[t].size(); ++f) ASSERT_NEAR(z[t][f], pd[t][f], 1e-8) << "frame " << t << " face " << f;
   EXPECT_FALSE(s0.skipped);
   EXPECT_GT(s0.lm_steps + s0.rejected, 0);
   // Just above the gap: the multigrid runs.
