@@ -9,11 +9,16 @@
 
 namespace pliant::soft {
 
-Eigen::VectorXd control_force(const Character& ch, const Eigen::VectorXd& y, double a_max) {
-  Eigen::VectorXd u = Eigen::VectorXd::Zero(ch.basis.r());
+void control_force(const Character& ch, const Eigen::VectorXd& y, double a_max, Eigen::VectorXd& u) {
+  u.setZero(ch.basis.r());
   // Saturated activation (muscles have bounded strength): |y| <= a_max.
   for (int k = 0; k < std::min<int>(int(y.size()), ch.basis.r()); ++k)
     u[k] = ch.basis.omega2[k] * a_max * std::tanh(y[k] / a_max) / ch.mode_scale[k];
+}
+
+Eigen::VectorXd control_force(const Character& ch, const Eigen::VectorXd& y, double a_max) {
+  Eigen::VectorXd u;
+  control_force(ch, y, a_max, u);
   return u;
 }
 

@@ -17,12 +17,6 @@ using Eigen::MatrixXd;
 using Eigen::Vector3d;
 using Eigen::VectorXd;
 
-Matrix3d rotation_exp(const Vector3d& w) {
-  const double a = w.norm();
-  if (a < 1e-300) return Matrix3d::Identity();
-  return Eigen::AngleAxisd(a, w / a).toRotationMatrix();
-}
-
 // First point where the segment a -> b enters obstacle o (a outside), with the
 // obstacle's outward normal there.
 bool segment_entry(const Obstacle& o, const Vector3d& a, const Vector3d& b, Vector3d* p, Vector3d* nrm) {
@@ -186,6 +180,12 @@ SoftState initial_state(const Character& ch, const Vector3d& offset, const Vecto
   s.c = ch.rest_com + offset;
   s.c_prev = s.c - dt * v0;
   return s;
+}
+
+Matrix3d rotation_exp(const Vector3d& w) {
+  const double a = w.norm();
+  if (a < 1e-300) return Matrix3d::Identity();
+  return Eigen::AngleAxisd(a, w / a).toRotationMatrix();
 }
 
 void enable_rotation_strain(Character& ch) {

@@ -2,7 +2,6 @@
 // frame-by-frame playback. The "soft" job uses the same playback step, so what the
 // editor plays is what the take holds.
 #include <algorithm>
-#include <cmath>
 #include <stdexcept>
 
 #include "pliant/soft/soft.h"
@@ -72,13 +71,9 @@ void soft_playback_step(const SoftModel& m, SoftPlayback& pb) {
   const Problem& p = m.problem;
   const Character& ch = m.character;
   const Eigen::VectorXd& y = dmp_step(p.dmp, pb.theta, p.sim.dt_s, pb.dmp);
-  // control_force (objective.cpp) into a per-thread buffer: a playback frame allocates
-  // nothing (tested), the returned vector would.
+  // Into a per-thread buffer: a playback frame allocates nothing (tested).
   thread_local Eigen::VectorXd u;
-  u.setZero(ch.basis.r());
-  const double a_max = max_activation_m(ch, p.dmp);
-  for (int k = 0; k < std::min<int>(int(y.size()), ch.basis.r()); ++k)
-    u[k] = ch.basis.omega2[k] * a_max * std::tanh(y[k] / a_max) / ch.mode_scale[k];
+  control_force(ch, y, max_activation_m(ch, p.dmp), u);
   const int f = pb.state.frame;
   if ((pb.track_kp > 0 || pb.track_kd > 0) && f >= 1 && f < int(pb.q_ref.size())) {
     // Explicit PD on the current error (state and reference at frame f); gains

@@ -20,12 +20,6 @@ double body_radius(const Character& ch) {
   return std::max(L, 1e-6);
 }
 
-Eigen::Matrix3d rotation_exp(const Eigen::Vector3d& w) {
-  const double a = w.norm();
-  if (a < 1e-300) return Eigen::Matrix3d::Identity();
-  return Eigen::AngleAxisd(a, w / a).toRotationMatrix();
-}
-
 Eigen::Vector3d rotation_log(const Eigen::Matrix3d& R) {
   const Eigen::AngleAxisd aa(R);
   return aa.angle() * aa.axis();

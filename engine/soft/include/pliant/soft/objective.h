@@ -74,6 +74,8 @@ struct Problem {
 // Modal control force for DMP activations y (controlled modes; others zero):
 // u_k = omega_k^2 a tanh(y_k / a) / s_k with a = a_max.
 Eigen::VectorXd control_force(const Character& ch, const Eigen::VectorXd& y, double a_max);
+// The same into u (resized to r; no allocation once it has that size).
+void control_force(const Character& ch, const Eigen::VectorXd& y, double a_max, Eigen::VectorXd& u);
 
 // Forward simulation of n frames under theta; calls on_frame(state) after every
 // step (frame 1..n) when given. Returns the final state.

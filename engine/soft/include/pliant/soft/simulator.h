@@ -95,6 +95,9 @@ struct StepStats {
   bool converged = false;
 };
 
+// exp([w]x): the rotation by |w| about w (the floating frame's update).
+Eigen::Matrix3d rotation_exp(const Eigen::Vector3d& w);
+
 // At rest, centre of mass at rest_com + offset, moving with velocity v0.
 SoftState initial_state(const Character& ch, const Eigen::Vector3d& offset, const Eigen::Vector3d& v0, double dt);
 
