@@ -154,8 +154,9 @@ void draw_inspector(App& app) {
     ImGui::PopTextWrapPos();
   }
   if (ImGui::CollapsingHeader("Simulation", ImGuiTreeNodeFlags_DefaultOpen)) {
-    json_choice(doc, "integrator", "/integrator", "pbad3", {"pbad2", "pbad3", "pbad4", "euler", "rk4"});
+    json_choice(doc, "integrator", "/integrator", "pbad3", articulated_integrators());
     tooltip("pbad2/pbad3: position-based collocation of 2nd/3rd order (implicit, one LM solve per step); "
+            "pbad4: 5-frame stencil, least damping on smooth motion (unstable in whips); "
             "euler: semi-implicit Euler; rk4: Runge-Kutta 4");
     json_double(doc, "dt", "/dt", 0.01, 0.0005f, 1e-6, 1.0, "%.4g");
     json_double(doc, "duration_s", "/duration_s", 5.0, 0.05f, 0.0, 1e6, "%.3g");

@@ -49,13 +49,13 @@ bool json_int(Document& doc, const char* label, const std::string& ptr, int def,
 }
 
 bool json_choice(Document& doc, const char* label, const std::string& ptr, const char* def,
-                 std::initializer_list<const char*> choices) {
+                 const std::vector<std::string>& choices) {
   const json* j = lookup(doc, ptr);
   std::string cur = j && j->is_string() ? j->get<std::string>() : def;
   bool changed = false;
   if (ImGui::BeginCombo(label, cur.c_str())) {
-    for (const char* c : choices) {
-      if (ImGui::Selectable(c, cur == c) && cur != c) {
+    for (const std::string& c : choices) {
+      if (ImGui::Selectable(c.c_str(), cur == c) && cur != c) {
         doc.set(ptr, c);
         changed = true;
       }
@@ -64,6 +64,11 @@ bool json_choice(Document& doc, const char* label, const std::string& ptr, const
   }
   ui_mark_field(ptr);
   return changed;
+}
+
+bool json_choice(Document& doc, const char* label, const std::string& ptr, const char* def,
+                 std::initializer_list<const char*> choices) {
+  return json_choice(doc, label, ptr, def, std::vector<std::string>(choices.begin(), choices.end()));
 }
 
 bool json_vec(Document& doc, const char* label, const std::string& ptr, int dim, float speed) {

@@ -5,6 +5,7 @@
 #pragma once
 #include <initializer_list>
 #include <string>
+#include <vector>
 
 namespace pliant::editor {
 
@@ -16,6 +17,8 @@ bool json_int(Document& doc, const char* label, const std::string& ptr, int def,
               int hi = 0);
 bool json_choice(Document& doc, const char* label, const std::string& ptr, const char* def,
                  std::initializer_list<const char*> choices);
+bool json_choice(Document& doc, const char* label, const std::string& ptr, const char* def,
+                 const std::vector<std::string>& choices);
 // A fixed-size array of numbers (dim 2 or 3), shown as DragScalarN.
 bool json_vec(Document& doc, const char* label, const std::string& ptr, int dim, float speed = 0.01f);
 bool json_text(Document& doc, const char* label, const std::string& ptr);
