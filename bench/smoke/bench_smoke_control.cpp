@@ -155,6 +155,7 @@ int main(int argc, char** argv) {
   bool coarse_to_fine = false, converged = false, merge = false;
   int nso_vcycles = -1, ao_iterations = 0;  // ADMM setting overrides (A/B experiments)
   double nso_skip_gap = -1;
+  int lbfgs_chunk = 0, coarse_iterations = -2;  // -2: the scene's
   pliant::smoke::bench::ConvergedOptions conv;
   double r_override = 0;
   std::string out = "bench/results/smoke.json";
@@ -174,12 +175,14 @@ int main(int argc, char** argv) {
     else if (a == "--nso-vcycles" && i + 1 < argc) nso_vcycles = std::stoi(argv[++i]);
     else if (a == "--ao-iterations" && i + 1 < argc) ao_iterations = std::stoi(argv[++i]);
     else if (a == "--nso-skip-gap" && i + 1 < argc) nso_skip_gap = std::stod(argv[++i]);
+    else if (a == "--lbfgs-chunk" && i + 1 < argc) lbfgs_chunk = std::stoi(argv[++i]);
+    else if (a == "--coarse-iterations" && i + 1 < argc) coarse_iterations = std::stoi(argv[++i]);
     else if (a == "--budget" && i + 1 < argc) conv.budget_factor = std::stod(argv[++i]);
     else if (a == "--deadline-unix" && i + 1 < argc) conv.deadline_unix = std::stod(argv[++i]);
     else if (a == "--baseline" && i + 1 < argc) {
       const std::string b = argv[++i];
-      conv.plain = b != "c2f";
-      conv.c2f = b != "plain";
+      conv.plain = b == "plain" || b == "both";  // "none": Pliant only
+      conv.c2f = b == "c2f" || b == "both";
     } else if (a == "--pliant-given" && i + 3 < argc) {  // E* CPU_S IOU_MIN of an earlier run
       conv.given_objective = std::stod(argv[++i]);
       conv.given_pliant_s = std::stod(argv[++i]);
@@ -221,10 +224,19 @@ int main(int argc, char** argv) {
     if (nso_vcycles >= 0) m.nso_vcycles = nso_vcycles;
     if (ao_iterations > 0) m.ao_iterations = ao_iterations;
     if (nso_skip_gap >= 0) m.nso_skip_gap = nso_skip_gap;
+    if (lbfgs_chunk > 0) m.lbfgs_chunk = lbfgs_chunk;
+    if (coarse_iterations >= -1) m.coarse_iterations = coarse_iterations;
     if (converged) {  // issue 3's converged comparison (converged_comparison.h)
       std::string name = path.substr(path.find_last_of('/') + 1);
       if (grid > 0 || frames > 0)
         name += " " + std::to_string(m.sim.n[0]) + "^" + std::to_string(m.sim.dim) + "x" + std::to_string(m.sim.frames);
+      // Overridden settings are part of the case name (so --merge keeps the shipped rows).
+      if (iterations > 0) name += " iterations=" + std::to_string(iterations);
+      if (coarse_iterations >= -1) name += " coarse_iterations=" + std::to_string(coarse_iterations);
+      if (polish >= 0) name += " polish=" + std::to_string(polish);
+      if (nso_skip_gap >= 0) name += " nso_skip_gap=" + nlohmann::json(nso_skip_gap).dump();
+      if (ao_iterations > 0) name += " ao_iterations=" + std::to_string(ao_iterations);
+      if (lbfgs_chunk > 0) name += " lbfgs_chunk=" + std::to_string(lbfgs_chunk);
       pliant::smoke::bench::converged_comparison(name, m, conv, [&](nlohmann::json j) {
         j["machine"] = pliant::bench::machine_description();
         j["omp_threads"] = omp_get_max_threads();

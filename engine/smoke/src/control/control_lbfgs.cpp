@@ -24,7 +24,6 @@ namespace pliant::smoke {
 namespace {
 
 using control_detail::Vec;
-constexpr int kChunk = 20;
 
 struct LbfgsObjective {
   LbfgsObjective(const ControlModel& m, control_detail::ForwardOps& ops, Progress& progress, int T, size_t nf)
@@ -103,7 +102,7 @@ void control_solve_lbfgs(const ControlModel& m, ControlState& s, Progress& progr
     param.epsilon_rel = 1e-9;
     param.past = 1;
     param.delta = m.tolerance;
-    param.max_iterations = std::min(kChunk, m.max_iterations - s.iteration);
+    param.max_iterations = std::min(std::max(m.lbfgs_chunk, 1), m.max_iterations - s.iteration);
     LBFGSpp::LBFGSSolver<double> solver(param);
     double fx = 0;
     int k = 0;

@@ -68,6 +68,11 @@ struct ControlModel {
   // ADMM finds the transport path from rest (where plain L-BFGS stalls at once), the
   // polish makes the re-simulated keyframes exact up to what the discretisation allows.
   int polish_iterations = 0;
+  // L-BFGS (baseline and polish) iterations per chunk: the quasi-Newton memory lives within
+  // a chunk, the state is checkpointed after it and the next chunk starts a fresh memory
+  // (LBFGS++ has no callback; exact resume repeats a killed chunk). Longer chunks converge
+  // faster (see control_lbfgs.cpp); shorter ones lose less work to a kill.
+  int lbfgs_chunk = 20;
   bool progressive_preview = true;     // write coarse-level previews first
   int coarse_iterations = -1;          // outer iterations per coarse level (-1: max_iterations)
   std::string stage_label;             // progress stage suffix ("32x32" on coarse levels)
