@@ -21,9 +21,7 @@
 #include "pliant/plugin.h"
 #include "pliant/plugin_support.h"
 
-#define PLIANT_EXPORT extern "C" __attribute__((visibility("default")))
-
-PLIANT_EXPORT const uint32_t pliant_plugin_api_version = PLIANT_PLUGIN_API_VERSION;
+PLIANT_PLUGIN_DECLARE_API_VERSION();
 
 namespace {
 
@@ -109,13 +107,9 @@ int obj_end(void*, char*, size_t) {
 
 }  // namespace
 
-PLIANT_EXPORT int pliant_plugin_load(const PliantHost*, PliantRegistry* registry) {
-  PliantExporter e{};
-  e.name = "obj";
-  e.description = "Wavefront OBJ per frame of a mesh take (soft characters: vertices + triangles)";
-  e.extension = ".obj";
-  e.begin = &obj_begin;
-  e.frame = &obj_frame;
-  e.end = &obj_end;
-  return registry->register_exporter(registry->host_data, &e);
+PLIANT_PLUGIN_EXPORT int pliant_plugin_load(const PliantHost*, PliantRegistry* registry) {
+  return pliant_plugin::register_exporter(
+      registry, "obj",
+      "Wavefront OBJ per frame of a mesh take (soft characters: vertices + triangles)",
+      ".obj", obj_begin, obj_frame, obj_end);
 }

@@ -21,9 +21,7 @@
 #include "pliant/plugin.h"
 #include "pliant/plugin_support.h"
 
-#define PLIANT_EXPORT extern "C" __attribute__((visibility("default")))
-
-PLIANT_EXPORT const uint32_t pliant_plugin_api_version = PLIANT_PLUGIN_API_VERSION;
+PLIANT_PLUGIN_DECLARE_API_VERSION();
 
 namespace {
 
@@ -91,15 +89,9 @@ int vdb_end(void*, char*, size_t) { return 0; }
 
 }  // namespace
 
-PLIANT_EXPORT int pliant_plugin_load(const PliantHost* host, PliantRegistry* registry) {
-  (void)host;
-  PliantExporter e{};
-  e.name = "vdb";
-  e.description = "density frames as OpenVDB FloatGrids (frame_NNNNN.vdb, grid \"density\")";
-  e.extension = ".vdb";
-  e.user = nullptr;
-  e.begin = vdb_begin;
-  e.frame = vdb_frame;
-  e.end = vdb_end;
-  return registry->register_exporter(registry->host_data, &e);
+PLIANT_PLUGIN_EXPORT int pliant_plugin_load(const PliantHost*, PliantRegistry* registry) {
+  return pliant_plugin::register_exporter(
+      registry, "vdb",
+      "density frames as OpenVDB FloatGrids (frame_NNNNN.vdb, grid \"density\")",
+      ".vdb", vdb_begin, vdb_frame, vdb_end);
 }

@@ -18,9 +18,7 @@
 #include "pliant/plugin.h"
 #include "pliant/plugin_support.h"
 
-#define PLIANT_EXPORT extern "C" __attribute__((visibility("default")))
-
-PLIANT_EXPORT const uint32_t pliant_plugin_api_version = PLIANT_PLUGIN_API_VERSION;
+PLIANT_PLUGIN_DECLARE_API_VERSION();
 
 namespace {
 
@@ -92,13 +90,9 @@ int particles_end(void*, char*, size_t) {
 
 }  // namespace
 
-PLIANT_EXPORT int pliant_plugin_load(const PliantHost*, PliantRegistry* registry) {
-  PliantExporter e{};
-  e.name = "particles";
-  e.description = "liquid particles per frame as PLY point clouds (x y z speed, binary little-endian)";
-  e.extension = ".ply";
-  e.begin = &particles_begin;
-  e.frame = &particles_frame;
-  e.end = &particles_end;
-  return registry->register_exporter(registry->host_data, &e);
+PLIANT_PLUGIN_EXPORT int pliant_plugin_load(const PliantHost*, PliantRegistry* registry) {
+  return pliant_plugin::register_exporter(
+      registry, "particles",
+      "liquid particles per frame as PLY point clouds (x y z speed, binary little-endian)",
+      ".ply", particles_begin, particles_frame, particles_end);
 }

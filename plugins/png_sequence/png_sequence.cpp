@@ -27,9 +27,7 @@
 #include "pliant/plugin.h"
 #include "pliant/plugin_support.h"
 
-#define PLIANT_EXPORT extern "C" __attribute__((visibility("default")))
-
-PLIANT_EXPORT const uint32_t pliant_plugin_api_version = PLIANT_PLUGIN_API_VERSION;
+PLIANT_PLUGIN_DECLARE_API_VERSION();
 
 namespace {
 
@@ -121,13 +119,9 @@ int png_end(void*, char*, size_t) {
 
 }  // namespace
 
-PLIANT_EXPORT int pliant_plugin_load(const PliantHost* host, PliantRegistry* registry) {
-  PliantExporter e{};
-  e.name = "png";
-  e.description = "PNG image sequence of the density (greyscale, 3D projected along z)";
-  e.extension = ".png";
-  e.begin = &png_begin;
-  e.frame = &png_frame;
-  e.end = &png_end;
-  return registry->register_exporter(registry->host_data, &e);
+PLIANT_PLUGIN_EXPORT int pliant_plugin_load(const PliantHost*, PliantRegistry* registry) {
+  return pliant_plugin::register_exporter(
+      registry, "png",
+      "PNG image sequence of the density (greyscale, 3D projected along z)",
+      ".png", png_begin, png_frame, png_end);
 }

@@ -11,7 +11,27 @@
 
 #include "pliant/plugin.h"
 
+/* The symbols the host looks up (dlsym) must be C names with default
+ * visibility; every plugin also exports the ABI version it was built against. */
+#define PLIANT_PLUGIN_EXPORT extern "C" __attribute__((visibility("default")))
+#define PLIANT_PLUGIN_DECLARE_API_VERSION() \
+  PLIANT_PLUGIN_EXPORT const uint32_t pliant_plugin_api_version = PLIANT_PLUGIN_API_VERSION
+
 namespace pliant_plugin {
+
+/* Registers one exporter (no user pointer: plugins keep their state in statics). */
+inline int register_exporter(PliantRegistry* registry, const char* name, const char* description,
+                             const char* extension, decltype(PliantExporter::begin) begin,
+                             decltype(PliantExporter::frame) frame, decltype(PliantExporter::end) end) {
+  PliantExporter e{};
+  e.name = name;
+  e.description = description;
+  e.extension = extension;
+  e.begin = begin;
+  e.frame = frame;
+  e.end = end;
+  return registry->register_exporter(registry->host_data, &e);
+}
 
 /* Formats the error the host shows (it names the plugin and the frame) into
  * err and returns 1, the ABI's failure code. */
