@@ -69,12 +69,15 @@ void lm_armature(const Model& m, const SimOptions& o, const PbadStep& p, double 
 
 // Energy of PBAD at q; with derivs also per-body wrenches (gradient) and Gauss-Newton
 // blocks in ws.w / ws.h and the generalized gradient in ws.grad.
+// With poses (kinematics at q, derivs false) the kinematics pass is skipped.
 double pbad_energy(const Model& m, const SimOptions& o, const State& s, const PbadStep& p,
-                   const VecX& q, SimWorkspace& ws, bool derivs) {
-  Kinematics& k = ws.kin;
-  kinematics(m, q, &k, !derivs);
-  if (derivs) ws.kin_at = q;  // full kinematics at q (pbad_finish reuses it)
-  else ws.kin_at.resize(0);
+                   const VecX& q, SimWorkspace& ws, bool derivs, const Kinematics* poses = nullptr) {
+  if (!poses) {
+    kinematics(m, q, &ws.kin, !derivs);
+    if (derivs) ws.kin_at = q;  // full kinematics at q (pbad_finish reuses it)
+    else ws.kin_at.resize(0);
+  }
+  const Kinematics& k = poses ? *poses : ws.kin;
   const int nb = static_cast<int>(m.bodies.size());
   const double c = p.weight / (o.dt * o.dt);
   double e = 0;
@@ -426,6 +429,15 @@ void pbad_begin(const Model& m, const SimOptions& o, State& s, PbadStep& p, SimW
   p.iterations = 0;
   p.done = false;
   p.energy = pbad_energy(m, o, s, p, p.q, ws, true);
+  // Where the motion is not resolved (a whip's crack: tip links turning ~1 rad per
+  // step) the quadratic predictor can overshoot into a region whose energy is far above
+  // staying at q_i (100 links, dt 0.01: 404 vs -146 J), and LM from there wandered for
+  // 30-50 iterations into other minimisers; start from q_i then (its poses are cached,
+  // so the check costs one O(N) energy sum).
+  if (pbad_energy(m, o, s, p, s.qpos, ws, false, &k0) < p.energy) {
+    p.q = s.qpos;
+    p.energy = pbad_energy(m, o, s, p, p.q, ws, true);
+  }
 }
 
 double pbad_evaluate(const Model& m, const SimOptions& o, const State& s, const PbadStep& p, const VecX& q,
@@ -592,21 +604,65 @@ bool pbad_iterate(const Model& m, const SimOptions& o, const State& s, PbadStep&
   return true;
 }
 
+namespace {
+
+// Velocity of the state from positions, independent of the joint parametrisation: the
+// mass-weighted least-squares fit J(q_{i+1}) v ~ Xdot of the second-order backward
+// difference of every body point, Xdot = (3 X_{i+1} - 4 X_i + X_{i-1}) / (2 dt):
+// M v = sum_b int rho J^T Xdot (one O(N) tree solve with the spatial inertias); the
+// joints' armature keeps the joint-space difference. Where two hinges pass near
+// gimbal lock (a whip's tip links at 100+ rad/s) the joint angles' own difference
+// quotient is wrong by orders of magnitude (Euler rates vary within a step) while the
+// body points move smoothly; with ws.kin complete at s.qpos.
+void projected_velocity(const Model& m, const SimOptions& o, State& s, SimWorkspace& ws) {
+  const Kinematics& k2 = frame_kinematics(m, s.past[1], ws);
+  const Kinematics& k1 = frame_kinematics(m, s.past[0], ws);
+  const Kinematics& k = ws.kin;
+  const int nb = static_cast<int>(m.bodies.size());
+  ws.w.resize(nb);
+  ws.w[0].setZero();
+  const double inv = 1 / (2 * o.dt);
+  for (int b = 1; b < nb; ++b) {
+    const Body& body = m.bodies[b];
+    const Vec3 cdot = (3 * k.xcom[b] - 4 * k1.xcom[b] + k2.xcom[b]) * inv;
+    const Mat3 rdot = (3 * k.xmat[b] - 4 * k1.xmat[b] + k2.xmat[b]) * inv;
+    const Mat3 rs = k.xmat[b] * second_moment(body.inertia);
+    Vec3 spin = Vec3::Zero();  // int rho (R p) x (Rdot p) over the body
+    for (int c = 0; c < 3; ++c) spin += rs.col(c).cross(rdot.col(c));
+    ws.w[b].head<3>() = body.mass * k.xcom[b].cross(cdot) + spin;
+    ws.w[b].tail<3>() = body.mass * cdot;
+  }
+  wrenches_to_generalized(m, k, ws.w, &ws.rhs);
+  ws.arm.setZero(m.nv);
+  for (const Joint& j : m.joints)
+    for (int i = 0; i < joint_nv(j.type); ++i) ws.arm[j.vadr + i] = j.armature;
+  ws.rhs += ws.arm.cwiseProduct(s.qvel);
+  tree_solve(m, k, k.cinert, ws.arm, ws.rhs, &ws.dq, &ws.tree);
+  if (ws.dq.allFinite()) s.qvel = ws.dq;
+}
+
+}  // namespace
+
 void pbad_finish(const Model& m, const SimOptions& o, State& s, const PbadStep& p, SimWorkspace& ws) {
   const VecX& q1 = p.past1;
-  const VecX a = qpos_difference(m, p.q, s.qpos), b = qpos_difference(m, s.qpos, q1);
-  // Second-order backward difference, the schemes' order (a third-order one from the
-  // pbad3/4 frames changed the chains' drift by < 0.1 points at dt 0.05/0.1: the
-  // metric is not dominated by the velocity estimate).
+  const VecX a = qpos_difference(m, p.q, s.qpos);
+  const VecX b = qpos_difference(m, s.qpos, q1);
+  // Second-order backward difference in joint space, the schemes' order; the state's
+  // velocity is its body-point form (projected_velocity), which this one only seeds
+  // (armature) and replaces if the projection fails.
   s.qvel = (3 * a - b) / (2 * o.dt);
   // Shift the history q_{i-1} .. q_{i-k} (reusing the vectors' storage).
   if (s.past.empty()) s.past.push_back(q1);  // pbad_begin always fills it; defensive
   for (size_t f = s.past.size() - 1; f > 0; --f) std::swap(s.past[f], s.past[f - 1]);
   std::swap(s.past[0], s.qpos);
   s.qpos = p.q;
-  // Normal forces for next step's friction.
-  // Poses only: contacts need them, and ws.kin goes to the past-frame cache.
-  if (!(ws.kin_at.size() == s.qpos.size() && ws.kin_at == s.qpos)) kinematics(m, s.qpos, &ws.kin, true);
+  // Full kinematics (the velocity's tree solve needs cdof and cinert); the poses serve
+  // next step's friction (normal forces) and go to the past-frame cache.
+  if (!(ws.kin_at.size() == s.qpos.size() && ws.kin_at == s.qpos)) {
+    kinematics(m, s.qpos, &ws.kin);
+    ws.kin_at = s.qpos;
+  }
+  projected_velocity(m, o, s, ws);
   s.normal_force_prev.assign(ws.points.size() * ws.obstacles.size(), 0.0);
   find_contacts(m, ws.kin, ws.points, ws.obstacles, &ws.contacts);
   for (const Contact& c : ws.contacts) s.normal_force_prev[c.slot] = o.contact.stiffness * c.depth;
