@@ -33,6 +33,14 @@ Eigen::MatrixXd fd_jacobian(const ResidualFn& r, const Eigen::VectorXd& theta, c
   return J;
 }
 
+void broyden_update(Eigen::MatrixXd& J, const Eigen::VectorXd& d, const Eigen::VectorXd& dr) {
+  const double dd = d.squaredNorm();
+  if (!(dd > 0) || !dr.allFinite()) return;
+  // Broyden's "good" rank-1 update (Broyden 1965; Madsen, Nielsen, Tingleff 2004,
+  // eq. 3.32): the smallest change (Frobenius) with J_new d = dr.
+  J.noalias() += ((dr - J * d) / dd) * d.transpose();
+}
+
 void optimize(const ResidualFn& rf, const OptimizerSettings& settings, OptimizerState& st,
               const IterationFn& on_iteration) {
   const int n = int(st.theta.size());
@@ -48,15 +56,51 @@ void optimize(const ResidualFn& rf, const OptimizerSettings& settings, Optimizer
   if (s.kind == OptimizerKind::Spacetime) s.kind = OptimizerKind::Hybrid;  // see optimizer.h
   bool lbfgs = s.kind == OptimizerKind::LBFGS || (s.kind == OptimizerKind::Hybrid && st.in_lbfgs);
   int lm_stalls = 0;
+  if (st.iteration == 0) st.lambda = s.lambda_initial;
+  // LM's Jacobian carried to the next iteration (Broyden-updated after an accepted
+  // step) and how many iterations in a row have used an updated one.
+  Eigen::MatrixXd J;
+  int reused = 0;
+  // Length of the last accepted LM step: the hybrid's first L-BFGS step has it.
+  double last_lm_step = 0;
   while (st.iteration < s.max_iterations) {
     if (st.objective <= s.tolerance * f_initial || (s.target >= 0 && st.objective <= s.target)) break;
-    const Eigen::MatrixXd J = fd_jacobian(rf, st.theta, r, s.fd_step);
-    st.evaluations += n;
-    const Eigen::VectorXd g = J.transpose() * r;
     const double f0 = st.objective;
     bool accepted = false;
     std::string kind;
-    if (!lbfgs) {
+    // Reuse step: one LM trial on the Broyden-updated Jacobian (one rollout instead
+    // of n + 1). Taken when it decreases the objective and its gain is at least a
+    // quarter of what the model predicts; otherwise the Jacobian is recomputed by
+    // finite differences and the iteration proceeds as plain LM from there.
+    if (!lbfgs && J.size() && reused < s.broyden_reuse) {
+      const Eigen::VectorXd g = J.transpose() * r;
+      Eigen::MatrixXd A = J.transpose() * J;
+      A.diagonal() += st.lambda * (A.diagonal().array() + 1e-9).matrix();
+      const Eigen::VectorXd d = A.ldlt().solve(-g);
+      const Eigen::VectorXd t = st.theta + d;
+      const Eigen::VectorXd rn = rf(t);
+      ++st.evaluations;
+      const double fn = 0.5 * rn.squaredNorm();
+      const double predicted = f0 - 0.5 * (r + J * d).squaredNorm();
+      if (std::isfinite(fn) && fn < f0 && (f0 - fn) >= 0.25 * predicted) {
+        broyden_update(J, d, rn - r);
+        last_lm_step = d.norm();
+        st.theta = t, r = rn, st.objective = fn;
+        st.lambda = std::max(st.lambda / 3, 1e-9);
+        ++reused;
+        accepted = true;
+        kind = "lm-broyden";
+      }
+    }
+    if (!accepted) {
+      reused = 0;
+      J = fd_jacobian(rf, st.theta, r, s.fd_step);
+      st.evaluations += n;
+    }
+    const Eigen::VectorXd g = accepted ? Eigen::VectorXd() : Eigen::VectorXd(J.transpose() * r);
+    if (accepted) {
+      // Broyden step taken: nothing more this iteration.
+    } else if (!lbfgs) {
       kind = "lm";
       const Eigen::MatrixXd JtJ = J.transpose() * J;
       int rejected_tries = 0;
@@ -69,6 +113,8 @@ void optimize(const ResidualFn& rf, const OptimizerSettings& settings, Optimizer
         ++st.evaluations;
         const double fn = 0.5 * rn.squaredNorm();
         if (std::isfinite(fn) && fn < f0) {
+          if (s.broyden_reuse > 0) broyden_update(J, d, rn - r);
+          last_lm_step = d.norm();
           st.theta = t, r = rn, st.objective = fn;
           st.lambda = std::max(st.lambda / 3, 1e-9);
           accepted = true;
@@ -77,6 +123,7 @@ void optimize(const ResidualFn& rf, const OptimizerSettings& settings, Optimizer
           ++rejected_tries;
         }
       }
+      if (!accepted) J.resize(0, 0);
       // LM stalls when its quadratic model fails (a try was rejected, lambda grew)
       // and the accepted step still gained little; two such steps in a row, or a
       // wholly rejected one, hand over to L-BFGS. Small gains on first tries are LM
@@ -88,6 +135,7 @@ void optimize(const ResidualFn& rf, const OptimizerSettings& settings, Optimizer
         lm_stalls = 0;
         lbfgs = true;  // next iteration(s) by L-BFGS
         S.clear(), Y.clear();
+        J.resize(0, 0);
       }
       theta_prev.resize(0);
     } else {
@@ -109,7 +157,7 @@ void optimize(const ResidualFn& rf, const OptimizerSettings& settings, Optimizer
       if (!S.empty())
         q *= S.back().dot(Y.back()) / Y.back().squaredNorm();
       else
-        q *= std::min(1.0, 0.01 * std::max(1.0, st.theta.norm()) / std::max(g.norm(), 1e-300));
+        q *= (last_lm_step > 0 ? last_lm_step : s.lbfgs_initial_step) / std::max(g.norm(), 1e-300);
       for (size_t i = 0; i < S.size(); ++i) q += S[i] * (a[i] - Y[i].dot(q) / Y[i].dot(S[i]));
       Eigen::VectorXd d = -q;
       if (g.dot(d) >= 0) d = -g;
@@ -128,8 +176,9 @@ void optimize(const ResidualFn& rf, const OptimizerSettings& settings, Optimizer
         alpha *= 0.5;
       }
       if (s.kind == OptimizerKind::Hybrid && (!accepted || (f0 - st.objective) < s.stall * f0 * 0.2)) {
-        lbfgs = false;  // back to LM with a fresh damping
-        st.lambda = 1.0;
+        lbfgs = false;  // back to LM with a fresh damping (and a fresh Jacobian)
+        J.resize(0, 0);
+        st.lambda = s.lambda_initial;
       }
     }
     st.in_lbfgs = lbfgs;

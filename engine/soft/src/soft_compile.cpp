@@ -220,6 +220,10 @@ SoftModel soft_compile(const Scene& scene) {
     p.frames = int(oj->integer("horizon_frames", p.frames, 1, 100000));
     m.optimizer.fd_step = oj->number("fd_step", m.optimizer.fd_step, 1e-12, 1);
     m.optimizer.tolerance = oj->number("tolerance", m.optimizer.tolerance, 0, 1);
+    // LM damping at the start, Broyden reuse iterations, L-BFGS first step (optimizer.h).
+    m.optimizer.lambda_initial = oj->number("lm_lambda_initial", m.optimizer.lambda_initial, 1e-12, 1e12);
+    m.optimizer.broyden_reuse = int(oj->integer("broyden_reuse", m.optimizer.broyden_reuse, 0, 1000));
+    m.optimizer.lbfgs_initial_step = oj->number("lbfgs_initial_step", m.optimizer.lbfgs_initial_step, 1e-12, 1e12);
     // Spacetime penalty weights (spacetime.h), per metre^2.
     SpacetimeSettings& sp = m.spacetime;
     sp.w_physics = oj->number("physics_weight", sp.w_physics, 1e-6, 1e16);
