@@ -2,11 +2,13 @@
 // and the pieces it is built from against the control model's own operators.
 #include <gtest/gtest.h>
 
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <iterator>
+#include <map>
 #include <random>
 #include <stdexcept>
 #include <string>
@@ -232,6 +234,40 @@ TEST(Admm, CoarseLevelCheckpointsResumeToTheUninterruptedResult) {
   ControlState bad = control_init(m);
   bad.level = 2;
   EXPECT_FALSE(control_state_fits(m, bad));
+}
+
+// The shipped FLUID / letter schedule: ADMM on the coarse level only (max_iterations 0,
+// coarse_iterations N), the L-BFGS polish on every level in chunks of lbfgs_chunk. The
+// callbacks count N ADMM iterations on the 32^2 level, none on 64^2, and one polish
+// checkpoint per chunk; changing coarse_iterations or lbfgs_chunk changes those counts.
+TEST(Admm, CoarseOnlyScheduleRunsAdmmOnTheCoarseLevelsOnly) {
+  ControlModel m = circle_to_square_variant(
+      {{"[32, 32]", "[64, 64]"}, {"0.03125", "0.015625"}, {"\"frames\": 20", "\"frames\": 6"}, {"\"frame\": 20", "\"frame\": 6"}});
+  m.progressive_preview = true;
+  m.max_iterations = 0;
+  m.polish_iterations = 6;
+  auto counts = [&](int coarse_iterations, int chunk) {
+    m.coarse_iterations = coarse_iterations;
+    m.lbfgs_chunk = chunk;
+    std::map<std::pair<int, int>, int> n;  // (level, phase) -> checkpoints
+    ControlCallbacks cb;
+    cb.on_iteration = [&](const ControlState& st) { ++n[{st.level, st.phase}]; };
+    ControlState s = control_init(m);
+    Progress progress;
+    control_solve_admm(m, s, progress, cb);
+    EXPECT_EQ(s.level, 0);
+    EXPECT_EQ(s.phase, 1);
+    return n;
+  };
+  auto a = counts(3, 100);
+  EXPECT_EQ(a[std::make_pair(1, 0)], 3);  // ADMM on 32^2 (the stall rule needs 6)
+  EXPECT_EQ(a[std::make_pair(0, 0)], 0);  // none on 64^2
+  EXPECT_EQ(a[std::make_pair(1, 1)], 2);  // the switch + one polish chunk of <= 6
+  EXPECT_EQ(a[std::make_pair(0, 1)], 2);
+  auto b = counts(2, 2);
+  EXPECT_EQ(b[std::make_pair(1, 0)], 2);
+  EXPECT_EQ(b[std::make_pair(0, 0)], 0);
+  EXPECT_GT(b[std::make_pair(0, 1)], a[std::make_pair(0, 1)]);  // chunks of 2: more polish checkpoints (unless it stops early)
 }
 
 TEST(Admm, StopsWhenTheObjectiveStalls) {
