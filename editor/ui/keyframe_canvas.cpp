@@ -94,15 +94,18 @@ int canvas_current_frame(App& app) {
   return app.canvas.edit_frame;
 }
 
-void refresh_canvas_cache(App& app) {
-  KeyframeCanvasState& s = app.canvas;
-  const json& scene = app.doc.scene();
-  // A slot that no longer exists (undo of an add, a delete) falls back.
+void keep_canvas_slot_valid(KeyframeCanvasState& s, const json& scene) {
   if (s.slot != kInitialDensitySlot) {
     bool found = false;
     for (const auto& k : list_keyframes(scene)) found |= k.index == s.slot;
     if (!found) s.slot = kInitialDensitySlot;
   }
+}
+
+void refresh_canvas_cache(App& app) {
+  KeyframeCanvasState& s = app.canvas;
+  const json& scene = app.doc.scene();
+  keep_canvas_slot_valid(s, scene);
   if (s.cached_revision == app.doc.revision() && s.cached_slot == s.slot) return;
   s.cached_revision = app.doc.revision();
   s.cached_slot = s.slot;

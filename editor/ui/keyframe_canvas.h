@@ -67,6 +67,9 @@ struct KeyframeCanvasState {
 void draw_keyframe_canvas(App& app);
 // Refreshes the cached rasters when the document or the slot changed.
 void refresh_canvas_cache(App& app);
+// A selected slot that no longer exists (undo of an add, a delete) falls back to
+// the initial density.
+void keep_canvas_slot_valid(KeyframeCanvasState& s, const nlohmann::json& scene);
 // Writes a grid into the selected slot: one undo step labelled `what`.
 void commit_canvas(App& app, const geom::PaintedGrid& g, const std::string& what);
 // Text stamped at cell (x, y) with the canvas's text settings into g; false + log on failure.

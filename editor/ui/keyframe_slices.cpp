@@ -44,11 +44,7 @@ std::string slot_label(const json& scene, int slot) {
 void refresh_volume(App& app) {
   KeyframeCanvasState& s = app.canvas;
   const json& scene = app.doc.scene();
-  if (s.slot != kInitialDensitySlot) {
-    bool found = false;
-    for (const auto& k : list_keyframes(scene)) found |= k.index == s.slot;
-    if (!found) s.slot = kInitialDensitySlot;
-  }
+  keep_canvas_slot_valid(s, scene);
   if (s.volume_revision == app.doc.revision() && s.volume_slot == s.slot) return;
   if (s.volume_slot != s.slot && is_mesh_slot(scene, s.slot)) s.tool = CanvasTool::Gizmo;  // opens with its gizmo
   s.volume_revision = app.doc.revision();
