@@ -144,3 +144,27 @@ TEST(SoftJob, SceneSelectsRotationStrainBasisAndCourseTerm) {
   EXPECT_EQ(lin.character.rotation_strain, nullptr);
   EXPECT_DOUBLE_EQ(lin.problem.obj.w_course, 0.0);
 }
+
+// The optimizer keys of the fifth session reach OptimizerSettings; out of range is
+// an InputError at its pointer.
+TEST(SoftJob, SceneSetsLmDampingBroydenReuseAndLbfgsFirstStep) {
+  std::string t = kScene;
+  t.replace(t.find("ITER"), 4, "0, \"lm_lambda_initial\": 0.5, \"broyden_reuse\": 0, \"lbfgs_initial_step\": 0.01");
+  const soft::SoftModel m =
+      soft::soft_compile(parse_scene(t, "opt.json", std::string(PLIANT_ASSETS_DIR) + "/characters"));
+  EXPECT_DOUBLE_EQ(m.optimizer.lambda_initial, 0.5);
+  EXPECT_EQ(m.optimizer.broyden_reuse, 0);
+  EXPECT_DOUBLE_EQ(m.optimizer.lbfgs_initial_step, 0.01);
+  const soft::SoftModel d = soft::soft_compile(scene_with(0));
+  EXPECT_DOUBLE_EQ(d.optimizer.lambda_initial, 1e-3);
+  EXPECT_EQ(d.optimizer.broyden_reuse, 4);
+  EXPECT_DOUBLE_EQ(d.optimizer.lbfgs_initial_step, 1.0);
+  std::string bad = kScene;
+  bad.replace(bad.find("ITER"), 4, "0, \"broyden_reuse\": -1");
+  try {
+    soft::soft_compile(parse_scene(bad, "opt.json", std::string(PLIANT_ASSETS_DIR) + "/characters"));
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.pointer(), "/optimizer/broyden_reuse");
+  }
+}
