@@ -17,7 +17,11 @@
 // body, the integral is exact with mass, centre and second moment (12 numbers of
 // pose per body). Solver: Levenberg-Marquardt; its Gauss-Newton matrix is
 // (2w/dt^2) M(q) plus the contact terms, solved in O(N) by the articulated-body
-// recursion (tree_solve), so one iteration costs O(N + contacts).
+// recursion (tree_solve), so one iteration costs O(N + contacts). A step starts from
+// the quadratic predictor, or from q_i when its energy is lower (unresolved whips).
+// The state's velocity after a PBAD step is the mass-weighted fit of the joint
+// velocities to the body points' (3 X_{i+1} - 4 X_i + X_{i-1}) / (2 dt), one more tree
+// solve: independent of the joint parametrisation (hinge pairs near gimbal lock).
 // Euler: semi-implicit (symplectic) Euler on M qacc = tau - bias; RK4: classic.
 #pragma once
 #include <string>
