@@ -155,7 +155,7 @@ int main(int argc, char** argv) {
   bool coarse_to_fine = false, converged = false, merge = false;
   int nso_vcycles = -1, ao_iterations = 0;  // ADMM setting overrides (A/B experiments)
   double nso_skip_gap = -1;
-  int lbfgs_chunk = 0, coarse_iterations = -2;  // -2: the scene's
+  int lbfgs_chunk = 0, coarse_iterations = -2, coarse_admm_levels = -2;  // -2: the scene's
   pliant::smoke::bench::ConvergedOptions conv;
   double r_override = 0;
   std::string out = "bench/results/smoke.json";
@@ -176,6 +176,7 @@ int main(int argc, char** argv) {
     else if (a == "--ao-iterations" && i + 1 < argc) ao_iterations = std::stoi(argv[++i]);
     else if (a == "--nso-skip-gap" && i + 1 < argc) nso_skip_gap = std::stod(argv[++i]);
     else if (a == "--lbfgs-chunk" && i + 1 < argc) lbfgs_chunk = std::stoi(argv[++i]);
+    else if (a == "--coarse-admm-levels" && i + 1 < argc) coarse_admm_levels = std::stoi(argv[++i]);
     else if (a == "--coarse-iterations" && i + 1 < argc) coarse_iterations = std::stoi(argv[++i]);
     else if (a == "--budget" && i + 1 < argc) conv.budget_factor = std::stod(argv[++i]);
     else if (a == "--deadline-unix" && i + 1 < argc) conv.deadline_unix = std::stod(argv[++i]);
@@ -225,6 +226,7 @@ int main(int argc, char** argv) {
     if (ao_iterations > 0) m.ao_iterations = ao_iterations;
     if (nso_skip_gap >= 0) m.nso_skip_gap = nso_skip_gap;
     if (lbfgs_chunk > 0) m.lbfgs_chunk = lbfgs_chunk;
+    if (coarse_admm_levels >= -1) m.coarse_admm_levels = coarse_admm_levels;
     if (coarse_iterations >= -1) m.coarse_iterations = coarse_iterations;
     if (converged) {  // issue 3's converged comparison (converged_comparison.h)
       std::string name = path.substr(path.find_last_of('/') + 1);
@@ -237,6 +239,7 @@ int main(int argc, char** argv) {
       if (nso_skip_gap >= 0) name += " nso_skip_gap=" + nlohmann::json(nso_skip_gap).dump();
       if (ao_iterations > 0) name += " ao_iterations=" + std::to_string(ao_iterations);
       if (lbfgs_chunk > 0) name += " lbfgs_chunk=" + std::to_string(lbfgs_chunk);
+      if (coarse_admm_levels >= -1) name += " coarse_admm_levels=" + std::to_string(coarse_admm_levels);
       pliant::smoke::bench::converged_comparison(name, m, conv, [&](nlohmann::json j) {
         j["machine"] = pliant::bench::machine_description();
         j["omp_threads"] = omp_get_max_threads();
@@ -253,6 +256,7 @@ int main(int argc, char** argv) {
     lm.max_iterations = lbfgs_iterations > 0 ? lbfgs_iterations : m.max_iterations + m.polish_iterations;
     // Coarse levels: L-BFGS gets ADMM's iterations plus its polish there too.
     lm.coarse_iterations = (m.coarse_iterations >= 0 ? m.coarse_iterations : m.max_iterations) + m.polish_iterations;
+    lm.coarse_admm_levels = -1;
     std::vector<AdmmIterationStats> st;
     const Run a = run(m, true, &st);
     const Run l = run(lm, false, nullptr);

@@ -303,6 +303,7 @@ void converged_comparison(const std::string& name, const ControlModel& m, const 
     const double l0 = process_cpu_s();
     ControlModel lm = m;
     lm.coarse_iterations = (m.coarse_iterations >= 0 ? m.coarse_iterations : m.max_iterations) + m.polish_iterations;
+    lm.coarse_admm_levels = -1;  // every coarse level gets its L-BFGS iterations
     ControlState ls = control_init(lm);
     control_coarse_to_fine(lm, ls, kCoarseToFineLevels, {},
                            [&](const ControlModel& cm, ControlState& cs, const ControlCallbacks& lcb) {

@@ -33,6 +33,15 @@ TEST(ControlLbfgsChunk, SceneKeyIsParsedAndRangeChecked) {
   EXPECT_THROW(control_compile(scene_with(R"(, "lbfgs_chunk": 2.5)")), InputError);
 }
 
+// The ADMM schedule key of the same group (control_coarse_to_fine.cpp; its effect on the
+// iteration counts: smoke_admm.Admm.CoarseOnlyScheduleRunsAdmmOnTheCoarseLevelsOnly).
+TEST(ControlLbfgsChunk, CoarseAdmmLevelsKeyIsParsedAndRangeChecked) {
+  EXPECT_EQ(control_compile(scene_with("")).coarse_admm_levels, -1);  // every coarse level
+  EXPECT_EQ(control_compile(scene_with(R"(, "coarse_admm_levels": 1)")).coarse_admm_levels, 1);
+  EXPECT_THROW(control_compile(scene_with(R"(, "coarse_admm_levels": -2)")), InputError);
+  EXPECT_THROW(control_compile(scene_with(R"(, "coarse_admm_levels": true)")), InputError);
+}
+
 // Checkpoints (on_iteration) come once per chunk: never more than `chunk` iterations apart
 // (a chunk ends early, counted as 1 iteration, when its first line search fails: the start
 // from rest here), and 12 iterations in chunks of 4 checkpoint more often than in one chunk.

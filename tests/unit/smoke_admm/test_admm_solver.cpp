@@ -239,7 +239,8 @@ TEST(Admm, CoarseLevelCheckpointsResumeToTheUninterruptedResult) {
 // The shipped FLUID / letter schedule: ADMM on the coarse level only (max_iterations 0,
 // coarse_iterations N), the L-BFGS polish on every level in chunks of lbfgs_chunk. The
 // callbacks count N ADMM iterations on the 32^2 level, none on 64^2, and one polish
-// checkpoint per chunk; changing coarse_iterations or lbfgs_chunk changes those counts.
+// checkpoint per chunk; changing coarse_iterations, lbfgs_chunk or coarse_admm_levels
+// changes those counts.
 TEST(Admm, CoarseOnlyScheduleRunsAdmmOnTheCoarseLevelsOnly) {
   ControlModel m = circle_to_square_variant(
       {{"[32, 32]", "[64, 64]"}, {"0.03125", "0.015625"}, {"\"frames\": 20", "\"frames\": 6"}, {"\"frame\": 20", "\"frame\": 6"}});
@@ -268,6 +269,13 @@ TEST(Admm, CoarseOnlyScheduleRunsAdmmOnTheCoarseLevelsOnly) {
   EXPECT_EQ(b[std::make_pair(1, 0)], 2);
   EXPECT_EQ(b[std::make_pair(0, 0)], 0);
   EXPECT_GT(b[std::make_pair(0, 1)], a[std::make_pair(0, 1)]);  // chunks of 2: more polish checkpoints (unless it stops early)
+  // coarse_admm_levels 0: no level runs ADMM (1 would be the 32^2 level, as above).
+  m.coarse_admm_levels = 0;
+  auto c = counts(3, 100);
+  EXPECT_EQ(c[std::make_pair(1, 0)], 0);
+  EXPECT_EQ(c[std::make_pair(1, 1)], 2);  // the switch + the polish
+  m.coarse_admm_levels = 1;
+  EXPECT_EQ(counts(3, 100)[std::make_pair(1, 0)], 3);
 }
 
 TEST(Admm, StopsWhenTheObjectiveStalls) {

@@ -73,6 +73,10 @@ bool control_coarse_to_fine(const ControlModel& m, ControlState& s, int levels, 
     ControlModel cm = chain[l];
     cm.progressive_preview = false;
     if (m.coarse_iterations >= 0) cm.max_iterations = m.coarse_iterations;
+    // ADMM only on the coarsest coarse_admm_levels levels (it finds the transport path
+    // there cheaply); the finer coarse levels start from the prolonged forces and polish.
+    if (m.method == ControlMethod::Admm && m.coarse_admm_levels >= 0 && l < int(chain.size()) - m.coarse_admm_levels)
+      cm.max_iterations = 0;
     // Each level reports its own stage ("admm 32x32"), so a progress curve can
     // tell the scales apart (objectives differ by the cell count).
     cm.stage_label = std::to_string(cm.sim.n[0]) + "x" + std::to_string(cm.sim.n[1]) +

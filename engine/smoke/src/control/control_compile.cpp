@@ -6,7 +6,8 @@
 //     "admm": {"penalty", "ao_iterations", "nso_vcycles", "nso_skip_gap" (0..1), "polish_iterations"}, "progressive_preview",
 //     "coarse_iterations" (outer iterations per coarse level of the progressive preview,
 //     default max_iterations), "lbfgs_chunk" (L-BFGS iterations between checkpoints; the
-//     quasi-Newton memory is kept within a chunk, default 20),
+//     quasi-Newton memory is kept within a chunk, default 20), "coarse_admm_levels" (ADMM:
+//     only the coarsest N levels run ADMM, the finer coarse levels polish; -1 all, default),
 //     "initial_density": [TARGET], "obstacles": [TARGET],
 //     "keyframes": [{"frame": 1..T (one keyframe per frame), "weight": >0,
 //                    "target": TARGET or "targets": [TARGET] (their union)}],
@@ -273,6 +274,7 @@ ControlModel control_compile(const Scene& scene) {
   m.progressive_preview = c.boolean("progressive_preview", m.progressive_preview);
   m.coarse_iterations = int(c.integer("coarse_iterations", m.coarse_iterations, -1, 1000000));
   m.lbfgs_chunk = int(c.integer("lbfgs_chunk", m.lbfgs_chunk, 1, 1000000));
+  m.coarse_admm_levels = int(c.integer("coarse_admm_levels", m.coarse_admm_levels, -1, 16));
   if (m.max_iterations == 0 && !(m.method == ControlMethod::Admm && m.polish_iterations > 0))
     c.fail("max_iterations", "expected >= 1 (0 only for ADMM with admm.polish_iterations > 0)");
 

@@ -75,6 +75,9 @@ struct ControlModel {
   int lbfgs_chunk = 20;
   bool progressive_preview = true;     // write coarse-level previews first
   int coarse_iterations = -1;          // outer iterations per coarse level (-1: max_iterations)
+  // ADMM: how many of the coarsest levels run ADMM (coarse_iterations each); the finer
+  // coarse levels only polish (-1: every coarse level runs ADMM).
+  int coarse_admm_levels = -1;
   std::string stage_label;             // progress stage suffix ("32x32" on coarse levels)
 };
 
