@@ -77,32 +77,21 @@ std::vector<Eigen::VectorXd> training_poses(const Character& ch, int count, doub
 
 Eigen::VectorXd reduced_force(const Character& ch, const Eigen::VectorXd& q, const CellWeights& w) {
   Eigen::VectorXd g;
+  if (ch.rotation_strain) {
+    Eigen::VectorXd x;
+    Eigen::MatrixXd J;
+    local_shape(ch, q, x, &J);
+    elastic_energy(ch.lattice, ch.lame, x, w, &g, nullptr);
+    return -(J.transpose() * g);
+  }
   const Eigen::VectorXd x = ch.rest + ch.basis.U * q;
   elastic_energy(ch.lattice, ch.lame, x, w, &g, nullptr);
   return -(ch.basis.U.transpose() * g);
 }
 
-CellWeights fit_cubature(const Character& ch, const std::vector<Eigen::VectorXd>& poses, double tolerance,
-                         int max_cells, CubatureReport* report) {
-  const int r = ch.basis.r(), P = int(poses.size()), E = int(ch.lattice.cells.size());
-  Eigen::VectorXd b(P * r);
-  Eigen::MatrixXd A(P * r, E);
-  for (int p = 0; p < P; ++p) {
-    const Eigen::VectorXd x = ch.rest + ch.basis.U * poses[p];
-    const Eigen::VectorXd bp = reduced_force(ch, poses[p], CellWeights{});
-    const double scale = 1.0 / std::max(bp.norm(), 1e-300);  // every pose counts equally
-    b.segment(p * r, r) = bp * scale;
-#pragma omp parallel for
-    for (int e = 0; e < E; ++e) {
-      double f[24];
-      cell_force(ch.lattice, ch.lame, x, e, f);
-      Eigen::VectorXd col = Eigen::VectorXd::Zero(r);
-      for (int a = 0; a < 8; ++a)
-        col += ch.basis.U.middleRows(3 * ch.lattice.cells[e][a], 3).transpose() *
-               Eigen::Vector3d(f[3 * a], f[3 * a + 1], f[3 * a + 2]);
-      A.block(p * r, e, r, 1) = col * scale;
-    }
-  }
+CellWeights greedy_cubature(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, double tolerance, int max_cells,
+                            double* fit_error) {
+  const int E = int(A.cols());
   const Eigen::VectorXd norms = A.colwise().norm().transpose().cwiseMax(1e-300);
   std::vector<int> S;
   Eigen::VectorXd w, res = b;
@@ -125,10 +114,50 @@ CellWeights fit_cubature(const Character& ch, const std::vector<Eigen::VectorXd>
   CellWeights cw;
   for (size_t k = 0; k < S.size(); ++k)
     if (w[k] > 0) cw.cells.push_back(S[k]), cw.weights.push_back(w[k]);
+  if (fit_error) *fit_error = res.norm() / std::max(b.norm(), 1e-300);
+  return cw;
+}
+
+CellWeights fit_cubature(const Character& ch, const std::vector<Eigen::VectorXd>& given_poses, double tolerance,
+                         int max_cells, CubatureReport* report) {
+  std::vector<Eigen::VectorXd> poses = given_poses;
+  if (ch.rotation_strain) {
+    // Rotation-strain coordinates rotate at large amplitude: train there too.
+    const auto big = training_poses(ch, std::max<int>(24, 2 * int(given_poses.size())), rotation_strain_training_amplitude, 23);
+    poses.insert(poses.end(), big.begin(), big.end());
+  }
+  const int r = ch.basis.r(), P = int(poses.size()), E = int(ch.lattice.cells.size());
+  Eigen::VectorXd b(P * r);
+  Eigen::MatrixXd A(P * r, E);
+  Eigen::VectorXd x;
+  Eigen::MatrixXd J;
+  for (int p = 0; p < P; ++p) {
+    if (ch.rotation_strain) {
+      local_shape(ch, poses[p], x, &J);
+    } else {
+      x = ch.rest + ch.basis.U * poses[p];
+    }
+    const Eigen::MatrixXd& Jq = ch.rotation_strain ? J : ch.basis.U;
+    const Eigen::VectorXd bp = reduced_force(ch, poses[p], CellWeights{});
+    const double scale = 1.0 / std::max(bp.norm(), 1e-300);  // every pose counts equally
+    b.segment(p * r, r) = bp * scale;
+#pragma omp parallel for
+    for (int e = 0; e < E; ++e) {
+      double f[24];
+      cell_force(ch.lattice, ch.lame, x, e, f);
+      Eigen::VectorXd col = Eigen::VectorXd::Zero(r);
+      for (int a = 0; a < 8; ++a)
+        col += Jq.middleRows(3 * ch.lattice.cells[e][a], 3).transpose() *
+               Eigen::Vector3d(f[3 * a], f[3 * a + 1], f[3 * a + 2]);
+      A.block(p * r, e, r, 1) = col * scale;
+    }
+  }
+  double err = 0;
+  CellWeights cw = greedy_cubature(A, b, tolerance, max_cells, &err);
   if (report) {
     report->cells = int(cw.cells.size());
     report->kept_fraction = double(cw.cells.size()) / E;
-    report->training_error = res.norm() / b.norm();
+    report->training_error = err;
   }
   return cw;
 }

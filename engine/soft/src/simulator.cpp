@@ -1,6 +1,8 @@
 // Reduced and full implicit Euler steps (see simulator.h).
 #include "pliant/soft/simulator.h"
 
+#include "pliant/soft/cubature.h"
+
 #include <Eigen/CholmodSupport>
 #include <Eigen/Dense>
 #include <Eigen/Geometry>
@@ -188,13 +190,21 @@ Matrix3d rotation_exp(const Vector3d& w) {
   return Eigen::AngleAxisd(a, w / a).toRotationMatrix();
 }
 
-void enable_rotation_strain(Character& ch) {
-  ch.rotation_strain = std::make_shared<const RotationStrain>(rotation_strain_build(ch.lattice, ch.basis.U));
+void enable_rotation_strain(Character& ch, bool reduced, const RsReductionSettings& settings, int reduction_poses) {
+  auto rs = std::make_shared<RotationStrain>(rotation_strain_build(ch.lattice, ch.basis.U));
+  if (reduced && ch.basis.r() > 0) {
+    const auto poses = training_poses(ch, reduction_poses, rotation_strain_training_amplitude, 5);
+    rs->reduced = rotation_strain_reduce(ch.lattice, *rs, ch.basis.U, ch.rest_local, poses, settings);
+  }
+  ch.rotation_strain = rs;
 }
 
 void local_shape(const Character& ch, const VectorXd& q, VectorXd& local, MatrixXd* jacobian) {
   if (ch.rotation_strain) {
-    rotation_strain_positions(ch.lattice, *ch.rotation_strain, q, local, jacobian);
+    if (ch.rotation_strain->reduced)
+      rotation_strain_reduced_positions(*ch.rotation_strain->reduced, q, local, jacobian);
+    else
+      rotation_strain_positions(ch.lattice, *ch.rotation_strain, q, local, jacobian);
     return;
   }
   local = ch.rest_local;
@@ -269,6 +279,10 @@ void reduced_step(const Character& ch, const Environment& env, const SimParams& 
   VectorXd& local = w.local;
 
   bool curvature_on = false;
+  // The curvature term is computed once per step (where it turns on) and then kept:
+  // it only shapes the Newton direction (the gradient is exact), and z moves little
+  // within a step; recomputing it every iteration was half of the playback time.
+  bool curvature_fresh = false;
   // Total energy at (q, R, c); with g/H also the gradient and Gauss-Newton Hessian in
   // (dq, dc, dw). Jq = dlocal/dq: U, or the rotation-strain Jacobian.
   auto energy = [&](const VectorXd& q_, const Matrix3d& R_, const Vector3d& c_, VectorXd* g, MatrixXd* H) {
@@ -333,7 +347,7 @@ void reduced_step(const Character& ch, const Environment& env, const SimParams& 
       g->segment<3>(r) = gc;
       g->segment<3>(r + 3) = gw;
     }
-    if (H && rs && r > 0 && curvature_on) {
+    if (H && rs && r > 0 && curvature_on && !curvature_fresh) {
       // Exact Hessian: add sum_j (dE/dl_j) . d2l_j/dq2 (the map's curvature), which
       // Gauss-Newton drops; it matters when the elastic force is large (the linear
       // convergence of plain Gauss-Newton then needs hundreds of iterations). Costs
@@ -341,9 +355,13 @@ void reduced_step(const Character& ch, const Environment& env, const SimParams& 
       // eight iterations turn it on.
       elastic_energy(lat, ch.lame, local, ch.cubature, &w.gl, nullptr);
       w.gl += w.b;
-      rotation_strain_curvature(lat, *ch.rotation_strain, q_, w.gl, w.Tc);
-      H->topLeftCorner(r, r) += w.Tc;
+      if (ch.rotation_strain->reduced)
+        rotation_strain_reduced_curvature(*ch.rotation_strain->reduced, q_, w.gl, w.Tc);
+      else
+        rotation_strain_curvature(lat, *ch.rotation_strain, q_, w.gl, w.Tc);
+      curvature_fresh = true;
     }
+    if (H && rs && r > 0 && curvature_fresh) H->topLeftCorner(r, r) += w.Tc;
     if (H) {
       if (r > 0) {
         w.ULm.noalias() = Jq.transpose() * w.Lm;
@@ -368,7 +386,7 @@ void reduced_step(const Character& ch, const Environment& env, const SimParams& 
     w.ldlt.compute(H);
     d = w.ldlt.solve(g);
     d = -d;
-    if (curvature_on && r > 0 && (!d.allFinite() || g.dot(d) >= 0 || w.ldlt.vectorD().minCoeff() <= 0)) {
+    if (curvature_fresh && r > 0 && (!d.allFinite() || g.dot(d) >= 0 || w.ldlt.vectorD().minCoeff() <= 0)) {
       // The curvature term made H indefinite: Gauss-Newton step instead.
       w.Hgn = H;
       w.Hgn.topLeftCorner(r, r) -= w.Tc;

@@ -46,3 +46,31 @@ TEST(Cubature, ReproducesReducedForceOnTestPoses) {
   std::printf("cubature: %d of %zu cells (%.1f%%), test error %.4f\n", rep.cells, ch.lattice.cells.size(),
               100 * rep.kept_fraction, worst);
 }
+
+// Rotation-strain coordinates: weights trained on rotation-strain poses (the map's
+// shapes, J^T f) reproduce the full reduced force on unseen large poses; weights
+// trained on linear poses (the same basis, x = X + U q) do worse there.
+TEST(Cubature, RotationStrainForceOnUnseenLargePoses) {
+  auto cube = pliant::geom::unit_cube_mesh();
+  for (auto& v : cube.vertices) v[0] *= 3;
+  SurfaceMesh s = repair_mesh(cube);
+  Lattice lat = build_lattice(s, 9, 1000);
+  const Character lin = make_character(std::move(s), std::move(lat), Material{}, 8);
+  Character rs = lin;
+  enable_rotation_strain(rs);
+  CubatureReport rep, rep_lin;
+  const auto poses = training_poses(rs, 12, 0.05, 1);
+  const CellWeights w = fit_cubature(rs, poses, 0.01, 400, &rep);
+  const CellWeights w_lin = fit_cubature(lin, poses, 0.01, 400, &rep_lin);
+  double worst = 0, worst_lin = 0;
+  for (const auto& q : training_poses(rs, 6, rotation_strain_training_amplitude, 99)) {
+    const Eigen::VectorXd full = reduced_force(rs, q, CellWeights{});
+    worst = std::max(worst, (reduced_force(rs, q, w) - full).norm() / full.norm());
+    worst_lin = std::max(worst_lin, (reduced_force(rs, q, w_lin) - full).norm() / full.norm());
+  }
+  std::printf("rotation-strain cubature: %d cells (linear-trained %d) of %zu; unseen large poses: force error %.4f "
+              "(linear-trained weights %.4f)\n", rep.cells, rep_lin.cells, rs.lattice.cells.size(), worst, worst_lin);
+  EXPECT_LT(worst, 0.03);
+  EXPECT_LT(worst, worst_lin);
+  EXPECT_LT(rep.kept_fraction, 0.8);
+}

@@ -31,6 +31,8 @@
 namespace pliant::soft {
 
 struct RsFactor;  // CHOLMOD factor of L (opaque; rotation_strain.cpp)
+struct RsReduced;
+
 
 struct RotationStrain {
   int nodes = 0, r = 0, samples = 0;   // samples = 8 Gauss points x cells
@@ -39,7 +41,59 @@ struct RotationStrain {
   Eigen::MatrixXd strain;              // 9 samples x r: symmetric strains s_ik (column-major 3x3)
   Eigen::VectorXd mass_fraction;       // N: node mass / total mass (centroid)
   std::shared_ptr<const RsFactor> factor;
+  // Set by rotation_strain_reduce: the step then uses the reduced reconstruction
+  // (below) instead of the full solve.
+  std::shared_ptr<const RsReduced> reduced;
 };
+
+// Reduced reconstruction (playback cost scales with a cubature set, not the lattice).
+// The map is linear in the per-sample targets F_i, and x(z) = Xbar + U z exactly to
+// first order, so only the nonlinear remainder N_i(z) = F_i(z) - I - grad(U z)_i is
+// approximated, in two ways:
+//  * projection: x(z) = Xbar + U z + W c(z), W = [U V] (M-orthonormal, centred), V the
+//    M-weighted POD of what exact reconstructions of training poses hold beyond U;
+//  * cubature over cells: c(z) = W^T M L^-1 sum_i vol G_i^T N_i(z) = sum_i C_i N_i(z)
+//    (C_i = vol W_s^T M L^-1 G_i per coordinate s, precomputed: one solve with
+//    3 (r + m) columns at build) is replaced by sum over a few cells e with weights
+//    w_e >= 0, fitted by greedy NNLS (cubature.h) to c and dc/dz on the poses.
+// Per evaluation: the cubature samples' exp and 3x3 products, one gemv/gemm with C,
+// and x = Xbar + W (z; 0) + W c over the nodes (dense, no solve).
+struct RsReduced {
+  int r = 0, m = 0;               // modes, POD vectors beyond U
+  Eigen::VectorXd rest;           // 3N, Xbar (centred rest shape)
+  Eigen::MatrixXd W;              // 3N x (r + m): [U V]
+  std::vector<int> cells;         // cubature cells of the remainder
+  std::vector<double> weights;
+  Eigen::MatrixXd C;              // (r + m) x 9 S' (S' = 8 cells.size()), weights folded in
+  Eigen::MatrixXd rot, strain;    // 3 S' x r, 9 S' x r: w_ik, s_ik at the cubature samples
+  Eigen::VectorXd hstep;          // r: curvature difference step per coordinate
+  double basis_error = 0;         // training poses: |P_W dx - dx|_M / |dx|_M (worst)
+  double cubature_error = 0;      // training: relative fit error of (c, dc/dz)
+};
+
+struct RsReductionSettings {
+  double basis_tolerance = 0.01;    // POD: relative M-norm energy left out <= tol^2
+  int max_basis = 30;               // m at most
+  double cubature_tolerance = 0.01; // relative fit error of (c, dc/dz) on the poses
+  int max_cells = 400;
+};
+
+// Builds the reduced reconstruction of rs for the basis U (the one rs was built
+// from), rest_local (Xbar, centred), lumped node masses and training coordinates.
+std::shared_ptr<const RsReduced> rotation_strain_reduce(const Lattice& lat, const RotationStrain& rs,
+                                                        const Eigen::MatrixXd& U, const Eigen::VectorXd& rest_local,
+                                                        const std::vector<Eigen::VectorXd>& poses,
+                                                        const RsReductionSettings& settings);
+
+// Reduced map: x = Xbar + U z + W c(z) (3N) and optionally dx/dz = U + W dc/dz.
+// Allocates nothing once x/jacobian have their sizes.
+void rotation_strain_reduced_positions(const RsReduced& red, const Eigen::VectorXd& z, Eigen::VectorXd& x,
+                                       Eigen::MatrixXd* jacobian = nullptr);
+
+// Curvature term (as rotation_strain_curvature) of the reduced map: the adjoint is
+// W^T g, then central differences over the cubature samples only.
+void rotation_strain_reduced_curvature(const RsReduced& red, const Eigen::VectorXd& z, const Eigen::VectorXd& g,
+                                       Eigen::MatrixXd& curvature);
 
 // Splits the gradients of the columns of U (3N x r, local displacements) at every
 // Gauss point and factors L. Throws std::runtime_error when CHOLMOD fails.

@@ -66,7 +66,13 @@ Character make_character(SurfaceMesh surface, Lattice lattice, const Material& m
 
 // Switches the character to rotation-strain coordinates over its current basis
 // (character.basis "rotation_strain"): factors the lattice Laplacian once (CHOLMOD).
-void enable_rotation_strain(Character& ch);
+// With reduced, also builds the reduced reconstruction (rotation_strain.h: POD of the
+// remainder + cell cubature, trained on `reduction_poses` random poses up to
+// rotation_strain_training_amplitude x the lattice size) that the step, positions and
+// frames then use. Off by default: 2.2x faster spider playback, but not accurate
+// enough on the large T bend (engine/soft/README.md).
+void enable_rotation_strain(Character& ch, bool reduced = false, const RsReductionSettings& settings = {},
+                            int reduction_poses = 24);
 
 // Local shape (3N, centre of mass at 0, before R and c) for modal coordinates q:
 // Xbar + U q, or the rotation-strain reconstruction; jacobian (optional) dlocal/dq.
