@@ -147,6 +147,25 @@ TEST(RotationStrain, ConcurrentReconstructionsMatchSerial) {
     });
   for (auto& th : threads) th.join();
   for (int t = 0; t < 4; ++t) EXPECT_EQ((parallel[t] - serial[t]).cwiseAbs().maxCoeff(), 0.0) << "thread " << t;
+  // The reduced reconstruction (thread-local buffers, shared operators) likewise.
+  RotationStrain rr = rs;
+  std::vector<Eigen::VectorXd> train;
+  for (int p = 0; p < 6; ++p) train.push_back(Eigen::VectorXd::Constant(4, s * (p + 1) / 6) + 0.3 * s * Eigen::VectorXd::Unit(4, p % 4));
+  rr.reduced = rotation_strain_reduce(lat, rr, b.U, centred_rest(lat), train, RsReductionSettings{});
+  std::vector<Eigen::MatrixXd> Js(4), Jp(4);
+  for (int t = 0; t < 4; ++t)
+    rotation_strain_reduced_positions(*rr.reduced, Eigen::VectorXd::Constant(4, s * (t + 1) / 4), serial[t], &Js[t]);
+  threads.clear();
+  for (int t = 0; t < 4; ++t)
+    threads.emplace_back([&, t] {
+      for (int rep = 0; rep < 20; ++rep)
+        rotation_strain_reduced_positions(*rr.reduced, Eigen::VectorXd::Constant(4, s * (t + 1) / 4), parallel[t], &Jp[t]);
+    });
+  for (auto& th : threads) th.join();
+  for (int t = 0; t < 4; ++t) {
+    EXPECT_EQ((parallel[t] - serial[t]).cwiseAbs().maxCoeff(), 0.0) << "reduced, thread " << t;
+    EXPECT_EQ((Jp[t] - Js[t]).cwiseAbs().maxCoeff(), 0.0) << "reduced, thread " << t;
+  }
 }
 
 // Reduced reconstruction (POD of the remainder + cell cubature): on poses it was not

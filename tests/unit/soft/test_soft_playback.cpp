@@ -11,9 +11,10 @@
 using namespace pliant;
 
 namespace {
-soft::SoftModel worm_model() {
-  const char* text = R"({"pliant": 1, "kind": "soft",
-    "character": {"mesh": "worm.obj", "resolution": 6, "modes": 4},
+soft::SoftModel worm_model(int resolution = 6, int modes = 4) {
+  const std::string text = R"({"pliant": 1, "kind": "soft",
+    "character": {"mesh": "worm.obj", "resolution": )" + std::to_string(resolution) + R"(, "modes": )" +
+                           std::to_string(modes) + R"(},
     "environment": {"type": "ground", "friction": 0.6},
     "simulation": {"dt_s": 0.04, "frames": 8},
     "controller": {"modes": 2, "kernels": 2, "period_s": 0.4},
@@ -116,6 +117,47 @@ TEST(SoftPlayback, RotationStrainPlaybackFollowsLinearModesAtSmallDeformation) {
   std::vector<Eigen::Vector3d> surf;
   soft::soft_state_surface(rs, b.state, surf);
   EXPECT_EQ(surf.size(), rs.character.surface.vertices.size());
+}
+
+// Rotation-strain playback with the elastic cubature trained on rotation-strain poses
+// follows the full-lattice rotation-strain playback (every cell); the opt-in reduced
+// reconstruction (POD + cubature) too, within a looser bound. Worm on the ground,
+// DMP gait large enough to bend it (theta 0.3).
+TEST(SoftPlayback, RotationStrainCubaturePlaybackFollowsTheFullLattice) {
+  soft::SoftModel full = worm_model(14, 6);
+  soft::enable_rotation_strain(full.character);
+  soft::soft_bind(full);
+  soft::SoftModel cub = full;
+  cub.character.cubature = soft::fit_cubature(cub.character, soft::training_poses(cub.character, 16, 0.05, 11), 0.02,
+                                              400, &cub.cubature);
+  soft::soft_bind(cub);
+  soft::SoftModel red = worm_model(14, 6);
+  soft::enable_rotation_strain(red.character, true);
+  red.character.cubature = soft::fit_cubature(red.character, soft::training_poses(red.character, 16, 0.05, 11), 0.02,
+                                              400, &red.cubature);
+  soft::soft_bind(red);
+  const Eigen::VectorXd theta = Eigen::VectorXd::Constant(full.problem.dmp.parameters(), 0.3);
+  soft::SoftPlayback a = soft::soft_playback_start(full, theta), b = soft::soft_playback_start(cub, theta),
+                     c = soft::soft_playback_start(red, theta);
+  Eigen::VectorXd xa, xb, xc;
+  double eb = 0, ec = 0, amp = 0;
+  for (int f = 0; f < 12; ++f) {
+    soft::soft_playback_step(full, a), soft::soft_playback_step(cub, b), soft::soft_playback_step(red, c);
+    soft::node_positions(full.character, a.state, xa);
+    soft::node_positions(cub.character, b.state, xb);
+    soft::node_positions(red.character, c.state, xc);
+    eb = std::max(eb, (xb - xa).cwiseAbs().maxCoeff());
+    ec = std::max(ec, (xc - xa).cwiseAbs().maxCoeff());
+    Eigen::VectorXd local;
+    soft::local_shape(full.character, a.state.q, local);
+    amp = std::max(amp, (local - full.character.rest_local).cwiseAbs().maxCoeff());
+  }
+  std::printf("rotation-strain playback, worst node offset from the full lattice over 12 frames: cubature %.3g m "
+              "(%d of %zu cells), reduced reconstruction %.3g m; deformation %.3g m\n",
+              eb, cub.cubature.cells, cub.character.lattice.cells.size(), ec, amp);
+  EXPECT_GT(amp, 0.01);        // the worm bends (1.6 cm measured)
+  EXPECT_LT(eb, 0.03 * amp);   // 0.7% measured (16 of 56 cells)
+  EXPECT_LT(ec, 0.05 * amp);   // 1.3% measured
 }
 
 // Allocation counting: malloc/calloc/realloc of the whole binary are interposed
