@@ -52,6 +52,7 @@ struct SimOptions {
   // LM matrix: exact Hessian (Newton; converges in a few iterations at large dt,
   // where the chain's tension makes the geometric term comparable to M/dt^2) or the
   // Gauss-Newton matrix (2w/dt^2) M(q) + contact terms (PD, linear convergence).
+  // Where the exact Hessian is indefinite LM takes the Gauss-Newton step there.
   bool exact_hessian = true;
   // Stop when max |dq| of a step is below this (rad or m), or when max |gradient| is
   // below it times the model's weight (N) times 1 m.
