@@ -117,9 +117,9 @@ Eigen::Vector3d centre_of_mass(const Character& ch, const SoftState& s);
 // Buffers live in a thread-local workspace: after the first step of a character
 // (per thread) a step allocates nothing (linear and POD bases; the rotation-strain
 // solve uses CHOLMOD's preallocated dense buffers). With rotation-strain
-// coordinates the Hessian is Gauss-Newton (J^T M J / dt^2 + J^T K J); steps not
-// converged after eight iterations add the map's curvature term
-// (rotation_strain_curvature), Gauss-Newton again where that makes it indefinite.
+// coordinates the Hessian is Gauss-Newton (J^T M J / dt^2 + J^T K J); from a step's
+// second iteration on it adds the map's curvature term (rotation_strain_curvature,
+// evaluated once per step), Gauss-Newton again where that makes it indefinite.
 // nodal_force (3N, optional): external forces on the lattice nodes (N).
 void reduced_step(const Character& ch, const Environment& env, const SimParams& sp, const Eigen::VectorXd& u,
                   SoftState& s, StepStats* stats = nullptr, const Eigen::VectorXd* nodal_force = nullptr);
