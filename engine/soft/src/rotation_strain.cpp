@@ -216,6 +216,49 @@ void rotation_strain_positions(const Lattice& lat, const RotationStrain& rs, con
   }
 }
 
+void rotation_strain_vjp(const Lattice& lat, const RotationStrain& rs, const Eigen::VectorXd& z,
+                         const Eigen::VectorXd& g, Eigen::VectorXd& out) {
+  if (!rs.factor || z.size() != rs.r || lat.nodes() != rs.nodes || g.size() != 3 * rs.nodes)
+    throw std::invalid_argument("rotation_strain_vjp: sizes do not match");
+  RsWork& w = work();
+  const int n = rs.nodes, r = rs.r, ncell = int(lat.cells.size());
+  const auto& G = gauss_shape_gradients(lat.cell_size_m);
+  const double vol = rs.sample_volume;
+  w.ensure(w.B, n, 3);
+  double* b = static_cast<double*>(w.B->x);
+  for (int s = 0; s < 3; ++s) {
+    double sum = 0;
+    for (int j = 0; j < n; ++j) sum += g[3 * j + s];
+    for (int j = 0; j < n; ++j) b[size_t(s) * size_t(n) + size_t(j)] = g[3 * j + s] - rs.mass_fraction[j] * sum;
+  }
+  solve(w, *rs.factor, w.B, &w.X, &w.Y, &w.E);
+  const double* lam = static_cast<const double*>(w.X->x);
+  w.v.resize(3 * rs.samples);
+  w.sv.resize(9 * rs.samples);
+  w.v.noalias() = rs.rot * z;
+  w.sv.noalias() = rs.strain * z;
+  if (out.size() != r) out.resize(r);
+  out.setZero();
+  for (int e = 0; e < ncell; ++e) {
+    const auto& ids = lat.cells[e];
+    for (int q = 0; q < 8; ++q) {
+      const int i = 8 * e + q;
+      Matrix3d Lam = Matrix3d::Zero();
+      for (int k = 0; k < 8; ++k)
+        for (int s = 0; s < 3; ++s) Lam.row(s) += lam[size_t(s) * size_t(n) + size_t(ids[k])] * G[q].row(k);
+      Matrix3d E, J;
+      exp_and_jacobian(w.v.segment<3>(3 * i), &E, &J);
+      const Matrix3d S = Matrix3d::Identity() + Eigen::Map<const Matrix3d>(w.sv.data() + 9 * i);
+      // <dF_k, Lam> = (J w_k) . axial(Lam (ES)^T) + <s_k, E^T Lam>, as in the curvature.
+      const Matrix3d A1 = Lam * (E * S).transpose(), A2 = vol * (E.transpose() * Lam);
+      const Vector3d ax = vol * (J.transpose() * Vector3d(A1(2, 1) - A1(1, 2), A1(0, 2) - A1(2, 0), A1(1, 0) - A1(0, 1)));
+      for (int k = 0; k < r; ++k)
+        out[k] += ax.dot(rs.rot.block<3, 1>(3 * i, k)) +
+                  (Eigen::Map<const Matrix3d>(rs.strain.col(k).data() + 9 * i).array() * A2.array()).sum();
+    }
+  }
+}
+
 void rotation_strain_curvature(const Lattice& lat, const RotationStrain& rs, const Eigen::VectorXd& z,
                                const Eigen::VectorXd& g, Eigen::MatrixXd& curvature) {
   if (!rs.factor || z.size() != rs.r || lat.nodes() != rs.nodes || g.size() != 3 * rs.nodes)

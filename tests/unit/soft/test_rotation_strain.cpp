@@ -105,6 +105,21 @@ TEST(RotationStrain, JacobianMatchesFiniteDifferences) {
   }
 }
 
+TEST(RotationStrain, AdjointProductMatchesTheJacobian) {
+  const Lattice lat = beam_lattice();
+  const ModalBasis b = linear_modes(lat, lame_from(Material{1000, 1e5, 0.3}), 5);
+  const RotationStrain rs = rotation_strain_build(lat, b.U);
+  Eigen::VectorXd z(5), x, out;
+  z << 0.7, -0.4, 0.5, 0.3, -0.6;
+  z *= 0.2 / b.U.cwiseAbs().maxCoeff();
+  Eigen::MatrixXd J;
+  rotation_strain_positions(lat, rs, z, x, &J);
+  const Eigen::VectorXd g = Eigen::VectorXd::Random(x.size());
+  rotation_strain_vjp(lat, rs, z, g, out);
+  const Eigen::VectorXd ref = J.transpose() * g;
+  EXPECT_LT((out - ref).norm(), 1e-10 * ref.norm());
+}
+
 TEST(RotationStrain, CurvatureMatchesDifferencesOfTheJacobian) {
   const Lattice lat = beam_lattice();
   const ModalBasis b = linear_modes(lat, lame_from(Material{1000, 1e5, 0.3}), 4);

@@ -105,6 +105,12 @@ RotationStrain rotation_strain_build(const Lattice& lat, const Eigen::MatrixXd& 
 void rotation_strain_positions(const Lattice& lat, const RotationStrain& rs, const Eigen::VectorXd& z,
                                Eigen::VectorXd& x, Eigen::MatrixXd* jacobian = nullptr);
 
+// Vector-Jacobian product (dx/dz)^T g for a nodal vector g (3N) by the adjoint: one
+// 3-column solve L lambda = P^T g, then sum_i vol <dF_i/dz_k, grad lambda_i> per
+// sample (no 3r-column solve, no per-mode scatter). out: r values.
+void rotation_strain_vjp(const Lattice& lat, const RotationStrain& rs, const Eigen::VectorXd& z,
+                         const Eigen::VectorXd& g, Eigen::VectorXd& out);
+
 // Second-order term of the map for a fixed nodal vector g (3N, e.g. dE/dx):
 //   curvature(a, b) = sum_j g_j . d2x_j / dz_a dz_b   (r x r, symmetric),
 // the part of the exact Hessian that Gauss-Newton (J^T K J) drops. Adjoint form:
