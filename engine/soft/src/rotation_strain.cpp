@@ -216,14 +216,14 @@ void rotation_strain_positions(const Lattice& lat, const RotationStrain& rs, con
   }
 }
 
-void rotation_strain_vjp(const Lattice& lat, const RotationStrain& rs, const Eigen::VectorXd& z,
-                         const Eigen::VectorXd& g, Eigen::VectorXd& out) {
-  if (!rs.factor || z.size() != rs.r || lat.nodes() != rs.nodes || g.size() != 3 * rs.nodes)
-    throw std::invalid_argument("rotation_strain_vjp: sizes do not match");
-  RsWork& w = work();
-  const int n = rs.nodes, r = rs.r, ncell = int(lat.cells.size());
-  const auto& G = gauss_shape_gradients(lat.cell_size_m);
-  const double vol = rs.sample_volume;
+namespace {
+
+// The reconstruction's adjoint: lambda = L^-1 P^T g (3 columns of n, in w.X), with
+// P^T g = g - mass_fraction (sum_j g_j) per coordinate; also each sample's rotation
+// vector w.v = rot z and strain w.sv = strain z. Shared by the vjp and the curvature.
+const double* adjoint_multipliers(RsWork& w, const RotationStrain& rs, const Eigen::VectorXd& z,
+                                  const Eigen::VectorXd& g) {
+  const int n = rs.nodes;
   w.ensure(w.B, n, 3);
   double* b = static_cast<double*>(w.B->x);
   for (int s = 0; s < 3; ++s) {
@@ -232,11 +232,24 @@ void rotation_strain_vjp(const Lattice& lat, const RotationStrain& rs, const Eig
     for (int j = 0; j < n; ++j) b[size_t(s) * size_t(n) + size_t(j)] = g[3 * j + s] - rs.mass_fraction[j] * sum;
   }
   solve(w, *rs.factor, w.B, &w.X, &w.Y, &w.E);
-  const double* lam = static_cast<const double*>(w.X->x);
   w.v.resize(3 * rs.samples);
   w.sv.resize(9 * rs.samples);
   w.v.noalias() = rs.rot * z;
   w.sv.noalias() = rs.strain * z;
+  return static_cast<const double*>(w.X->x);
+}
+
+}  // namespace
+
+void rotation_strain_vjp(const Lattice& lat, const RotationStrain& rs, const Eigen::VectorXd& z,
+                         const Eigen::VectorXd& g, Eigen::VectorXd& out) {
+  if (!rs.factor || z.size() != rs.r || lat.nodes() != rs.nodes || g.size() != 3 * rs.nodes)
+    throw std::invalid_argument("rotation_strain_vjp: sizes do not match");
+  RsWork& w = work();
+  const int n = rs.nodes, r = rs.r, ncell = int(lat.cells.size());
+  const auto& G = gauss_shape_gradients(lat.cell_size_m);
+  const double vol = rs.sample_volume;
+  const double* lam = adjoint_multipliers(w, rs, z, g);
   if (out.size() != r) out.resize(r);
   out.setZero();
   for (int e = 0; e < ncell; ++e) {
@@ -267,20 +280,7 @@ void rotation_strain_curvature(const Lattice& lat, const RotationStrain& rs, con
   const int n = rs.nodes, r = rs.r, ncell = int(lat.cells.size());
   const auto& G = gauss_shape_gradients(lat.cell_size_m);
   const double vol = rs.sample_volume;
-  // lambda = L^-1 P^T g: P^T g = g - mass_fraction (sum_j g_j) per coordinate.
-  w.ensure(w.B, n, 3);
-  double* b = static_cast<double*>(w.B->x);
-  for (int s = 0; s < 3; ++s) {
-    double sum = 0;
-    for (int j = 0; j < n; ++j) sum += g[3 * j + s];
-    for (int j = 0; j < n; ++j) b[size_t(s) * size_t(n) + size_t(j)] = g[3 * j + s] - rs.mass_fraction[j] * sum;
-  }
-  solve(w, *rs.factor, w.B, &w.X, &w.Y, &w.E);
-  const double* lam = static_cast<const double*>(w.X->x);
-  w.v.resize(3 * rs.samples);
-  w.sv.resize(9 * rs.samples);
-  w.v.noalias() = rs.rot * z;
-  w.sv.noalias() = rs.strain * z;
+  const double* lam = adjoint_multipliers(w, rs, z, g);
   if (curvature.rows() != r || curvature.cols() != r) curvature.resize(r, r);
   curvature.setZero();
   // Step per coordinate: at most 1e-4 rad of rotation or strain anywhere.
