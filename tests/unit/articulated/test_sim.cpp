@@ -42,6 +42,14 @@ TEST(Sim, PendulumSmallAnglePeriodWithinOnePercent) {
   }
 }
 
+// Potential energy range of a chain of 0.1 m links: straight horizontal to hanging
+// (drifts are normalised by it).
+double chain_energy_range(const Model& m, int links) {
+  double mass = 0;
+  for (const Body& b : m.bodies) mass += b.mass;
+  return mass / links * 9.81 * 0.1 * links * links / 2.0;
+}
+
 // Chain hanging 30 degrees from vertical, swinging in 3D. (Released from horizontal
 // the chain whips; PBAD's numerical damping then loses much more: bench_articulated.)
 double chain_drift(int links, Integrator integ, double dt, double duration) {
@@ -54,10 +62,7 @@ double chain_drift(int links, Integrator integ, double dt, double duration) {
   s.qvel[1] = 0.3;  // root swings sideways too: a 3D motion
   SimWorkspace ws;
   const double e0 = state_energy(m, o, s, ws).total;
-  // Normalised by the potential energy range: straight horizontal to hanging.
-  double mass = 0;
-  for (const Body& b : m.bodies) mass += b.mass;
-  const double range = mass / links * 9.81 * 0.1 * links * links / 2.0;
+  const double range = chain_energy_range(m, links);
   double drift = 0;
   while (s.time < duration - 1e-9) {
     if (!sim_step(m, o, s, ws)) return 1e9;
@@ -100,6 +105,50 @@ double body_point_kinetic_energy(const Model& m, const VecX& q0, const VecX& q1,
   return e;
 }
 
+// A chain released horizontally (it whips when it swings down) until `until` s: the
+// largest energy drift, the largest gap between the state's kinetic energy and the
+// body points' own (from `mismatch_from` s on), and LM iterations per step.
+struct WhipRun {
+  double drift = 0, mismatch = 0, iterations_per_step = 0;
+  bool ok = true;
+  double failed_at = -1;
+};
+
+WhipRun run_whip(int links, Integrator integ, double dt, double until, double mismatch_from) {
+  const Model m = model_from_mjcf(chain_mjcf(links), "chain.xml");
+  SimOptions o;
+  o.integrator = integ;
+  o.dt = dt;
+  State s = state_init(m);
+  s.qvel[1] = 0.5;
+  SimWorkspace ws;
+  const double range = chain_energy_range(m, links);
+  const double e0 = state_energy(m, o, s, ws).total;
+  std::vector<VecX> frames;  // q_{i+1}, q_i, q_{i-1}
+  WhipRun r;
+  int iterations = 0, steps = 0;
+  while (s.time < until - 1e-9) {
+    StepInfo info;
+    if (!sim_step(m, o, s, ws, &info)) {
+      r.ok = false;
+      r.failed_at = s.time;
+      return r;
+    }
+    iterations += info.iterations;
+    ++steps;
+    const Energy e = state_energy(m, o, s, ws);
+    r.drift = std::max(r.drift, std::abs(e.total - e0) / range);
+    frames.insert(frames.begin(), s.qpos);
+    if (frames.size() > 3) frames.pop_back();
+    if (frames.size() == 3 && s.time >= mismatch_from)
+      r.mismatch = std::max(r.mismatch, std::abs(e.kinetic - body_point_kinetic_energy(m, frames[0], frames[1],
+                                                                                       frames[2], o.dt)) / range);
+  }
+  r.iterations_per_step = static_cast<double>(iterations) / std::max(steps, 1);
+  return r;
+}
+
+
 // The 100-link chain released horizontally cracks at t ~ 7.1 s: tip links turn by up
 // to ~1 rad per 10 ms step and a link's two hinges pass near gimbal lock. At dt 0.01
 // pbad3 used to fail there twice over: (1) the joint angles' difference quotient gave
@@ -110,64 +159,20 @@ double body_point_kinetic_energy(const Model& m, const VecX& q0, const VecX& q1,
 // minimisers and the positions' energy blew up too (7x the range at t = 7.85 s): the
 // step now starts from q_i when that is lower. Either fix alone fails this test.
 TEST(Sim, HundredLinkWhipThroughItsCrackAtSmallStep) {
-  const int links = 100;
-  const Model m = model_from_mjcf(chain_mjcf(links), "chain.xml");
-  SimOptions o;
-  o.integrator = Integrator::Pbad3;
-  o.dt = 0.01;
-  State s = state_init(m);
-  s.qvel[1] = 0.5;
-  SimWorkspace ws;
-  double mass = 0;
-  for (const Body& b : m.bodies) mass += b.mass;
-  const double range = mass / links * 9.81 * 0.1 * links * links / 2.0;
-  const double e0 = state_energy(m, o, s, ws).total;
-  std::vector<VecX> frames;  // q_{i+1}, q_i, q_{i-1}
-  double drift = 0, mismatch = 0;
-  while (s.time < 7.9) {
-    ASSERT_TRUE(sim_step(m, o, s, ws)) << s.time;
-    const Energy e = state_energy(m, o, s, ws);
-    drift = std::max(drift, std::abs(e.total - e0) / range);
-    frames.insert(frames.begin(), s.qpos);
-    if (frames.size() > 3) frames.pop_back();
-    if (frames.size() == 3 && s.time > 6.5)
-      mismatch = std::max(mismatch, std::abs(e.kinetic - body_point_kinetic_energy(m, frames[0], frames[1], frames[2],
-                                                                                    o.dt)) / range);
-  }
-  EXPECT_LT(drift, 0.3);
-  EXPECT_LT(mismatch, 0.01);
+  const WhipRun r = run_whip(100, Integrator::Pbad3, 0.01, 7.9, 6.5);
+  ASSERT_TRUE(r.ok) << r.failed_at;
+  EXPECT_LT(r.drift, 0.3);
+  EXPECT_LT(r.mismatch, 0.01);
 }
 
 // The velocity failure, cheaper (ASan pass): pbad4 in the 40-link whip at dt 0.05 was
 // "unstable" last session (energy up by the range within 3-4 steps at the crack); the
 // joint-space velocity was the cause, and the chain is bounded with the body-point one.
 TEST(Sim, Pbad4FortyLinkWhipStaysBounded) {
-  const int links = 40;
-  const Model m = model_from_mjcf(chain_mjcf(links), "chain.xml");
-  SimOptions o;
-  o.integrator = Integrator::Pbad4;
-  o.dt = 0.05;
-  State s = state_init(m);
-  s.qvel[1] = 0.5;
-  SimWorkspace ws;
-  double mass = 0;
-  for (const Body& b : m.bodies) mass += b.mass;
-  const double range = mass / links * 9.81 * 0.1 * links * links / 2.0;
-  const double e0 = state_energy(m, o, s, ws).total;
-  std::vector<VecX> frames;
-  double drift = 0, mismatch = 0;
-  while (s.time < 10.0) {
-    ASSERT_TRUE(sim_step(m, o, s, ws)) << s.time;
-    const Energy e = state_energy(m, o, s, ws);
-    drift = std::max(drift, std::abs(e.total - e0) / range);
-    frames.insert(frames.begin(), s.qpos);
-    if (frames.size() > 3) frames.pop_back();
-    if (frames.size() == 3)
-      mismatch = std::max(mismatch, std::abs(e.kinetic - body_point_kinetic_energy(m, frames[0], frames[1], frames[2],
-                                                                                    o.dt)) / range);
-  }
-  EXPECT_LT(drift, 0.6);
-  EXPECT_LT(mismatch, 0.01);
+  const WhipRun r = run_whip(40, Integrator::Pbad4, 0.05, 10.0, 0.0);
+  ASSERT_TRUE(r.ok) << r.failed_at;
+  EXPECT_LT(r.drift, 0.6);
+  EXPECT_LT(r.mismatch, 0.01);
 }
 
 // The predictor check in isolation: a link on two hinges (y, z) whose past frames
@@ -206,29 +211,10 @@ TEST(Sim, StepStartsFromTheLastFrameWhenThePredictorIsWorse) {
 // Gauss-Newton step there: 100-link whip at dt 0.05, 3.6 -> 2.5 iterations per step
 // (cost 1.84x -> 1.33x of linear from 10 links), same drift.
 TEST(Sim, IndefiniteNewtonModelTakesTheGaussNewtonStep) {
-  const int links = 100;
-  const Model m = model_from_mjcf(chain_mjcf(links), "chain.xml");
-  SimOptions o;
-  o.integrator = Integrator::Pbad3;
-  o.dt = 0.05;
-  State s = state_init(m);
-  s.qvel[1] = 0.5;
-  SimWorkspace ws;
-  double mass = 0;
-  for (const Body& b : m.bodies) mass += b.mass;
-  const double range = mass / links * 9.81 * 0.1 * links * links / 2.0;
-  const double e0 = state_energy(m, o, s, ws).total;
-  double drift = 0;
-  int iterations = 0, steps = 0;
-  while (s.time < 8.0) {
-    StepInfo info;
-    ASSERT_TRUE(sim_step(m, o, s, ws, &info)) << s.time;
-    iterations += info.iterations;
-    ++steps;
-    drift = std::max(drift, std::abs(state_energy(m, o, s, ws).total - e0) / range);
-  }
-  EXPECT_LT(static_cast<double>(iterations) / steps, 2.9);
-  EXPECT_LT(drift, 0.3);
+  const WhipRun r = run_whip(100, Integrator::Pbad3, 0.05, 8.0, 1e9);
+  ASSERT_TRUE(r.ok) << r.failed_at;
+  EXPECT_LT(r.iterations_per_step, 2.9);
+  EXPECT_LT(r.drift, 0.3);
 }
 
 // Energy of a small-angle pendulum lost in 10 s: the stencils' numerical damping per
