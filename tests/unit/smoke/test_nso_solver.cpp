@@ -12,6 +12,7 @@
 #include "control/control_forward_model.h"
 #include "control/nso_solver.h"
 #include "pliant/core/error.h"
+#include "../smoke_admm/control_test_util.h"
 #include "pliant/core/scene.h"
 
 namespace pliant::smoke {
@@ -25,20 +26,9 @@ ControlModel circle_to_square(double r) {
   return m;
 }
 
-std::vector<Vec> random_velocity(control_detail::ForwardOps& ops, int T, double scale, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::normal_distribution<double> N(0, scale);
-  std::vector<Vec> u(T, Vec(ops.faces()));
-  for (auto& v : u) {
-    for (double& x : v) x = N(rng);
-    ops.mask(v);
-  }
-  return u;
-}
-
 // A smooth swirl drifting in time plus a little noise (ADMM's d = u + lambda looks so).
 std::vector<Vec> smooth_velocity(control_detail::ForwardOps& ops, int T, unsigned seed) {
-  std::vector<Vec> d = random_velocity(ops, T, 0.01, seed);
+  std::vector<Vec> d = test::random_velocity_series(ops, T, 0.01, seed);
   const int n = ops.grid().n[0], dim = ops.grid().dim;
   for (int t = 0; t < T; ++t) {
     for (int a = 0; a < dim; ++a) {
@@ -83,7 +73,7 @@ TEST(NsoSkipGap, SkipsTheMultigridOnlyBelowTheThreshold) {
   const ControlModel m = circle_to_square(1e-6);
   control_detail::ForwardOps ops(m, 1e-10);
   const int T = m.sim.frames;
-  const auto d = random_velocity(ops, T, 0.1, 4);
+  const auto d = test::random_velocity_series(ops, T, 0.1, 4);
   std::vector<Vec> pd = d;
   for (auto& v : pd) ops.project(v);
   NsoSolver skip(m, ops), full(m, ops);

@@ -21,6 +21,7 @@
 #include "control_forward_model.h"
 #include "nso_advection_stencil.h"
 #include "nso_solver.h"
+#include "control_test_util.h"
 #include "pliant/core/scene.h"
 
 namespace pliant::smoke {
@@ -32,22 +33,10 @@ ControlModel circle_to_square() {
   return control_compile(load_scene(std::string(PLIANT_ASSETS_DIR) + "/scenes/smoke_circle_to_square.json"));
 }
 
-// A random smooth-ish velocity series (T frames) on the model's grid.
-std::vector<Vec> random_velocity(control_detail::ForwardOps& ops, int T, double scale, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::normal_distribution<double> N(0, scale);
-  std::vector<Vec> u(T, Vec(ops.faces()));
-  for (auto& v : u) {
-    for (double& x : v) x = N(rng);
-    ops.mask(v);
-  }
-  return u;
-}
-
 TEST(AdmmPieces, PicardStencilReproducesTheForwardSelfAdvection) {
   const ControlModel m = circle_to_square();
   control_detail::ForwardOps ops(m, 1e-10);
-  const auto z = random_velocity(ops, 1, 0.3, 5);
+  const auto z = test::random_velocity_series(ops, 1, 0.3, 5);
   const SpacetimeGrid sg(ops.grid(), 1);
   SlStencil s;
   build_sl_stencil(sg, z[0].data(), ops.dt(), s);
@@ -62,7 +51,7 @@ TEST(AdmmPieces, AoGradientMatchesFiniteDifferences) {
   const ControlModel m = circle_to_square();
   control_detail::ForwardOps ops(m, 1e-10);
   const int T = m.sim.frames;
-  auto u = random_velocity(ops, T, 0.05, 1), c = random_velocity(ops, T, 0.05, 2);
+  auto u = test::random_velocity_series(ops, T, 0.05, 1), c = test::random_velocity_series(ops, T, 0.05, 2);
   AoSolver ao(m, ops);
   ao.div_penalty = 0.3;  // include the optional divergence term in the check
   std::vector<Vec> g(T, Vec(ops.faces()));
@@ -88,7 +77,7 @@ TEST(AdmmPieces, NsoLevenbergMarquardtDecreasesItsEnergy) {
   m.r = 1e-2;  // strong coupling in time
   control_detail::ForwardOps ops(m, 1e-10);
   const int T = m.sim.frames;
-  auto d = random_velocity(ops, T, 0.1, 9);
+  auto d = test::random_velocity_series(ops, T, 0.1, 9);
   std::vector<Vec> z(T, Vec(ops.faces(), 0.0));
   NsoSolver nso(m, ops);
   const NsoStats st = nso.solve(z, d, 1.0, 4, 2);
