@@ -41,6 +41,15 @@ void broyden_update(Eigen::MatrixXd& J, const Eigen::VectorXd& d, const Eigen::V
   J.noalias() += ((dr - J * d) / dd) * d.transpose();
 }
 
+namespace {
+// The Levenberg-Marquardt step: (J^T J + lambda diag(J^T J)) d = -g (Marquardt's scaling).
+Eigen::VectorXd lm_step(const Eigen::MatrixXd& JtJ, const Eigen::VectorXd& g, double lambda) {
+  Eigen::MatrixXd A = JtJ;
+  A.diagonal() += lambda * (JtJ.diagonal().array() + 1e-9).matrix();
+  return A.ldlt().solve(-g);
+}
+}  // namespace
+
 void optimize(const ResidualFn& rf, const OptimizerSettings& settings, OptimizerState& st,
               const IterationFn& on_iteration) {
   const int n = int(st.theta.size());
@@ -73,10 +82,7 @@ void optimize(const ResidualFn& rf, const OptimizerSettings& settings, Optimizer
     // quarter of what the model predicts; otherwise the Jacobian is recomputed by
     // finite differences and the iteration proceeds as plain LM from there.
     if (!lbfgs && J.size() && reused < s.broyden_reuse) {
-      const Eigen::VectorXd g = J.transpose() * r;
-      Eigen::MatrixXd A = J.transpose() * J;
-      A.diagonal() += st.lambda * (A.diagonal().array() + 1e-9).matrix();
-      const Eigen::VectorXd d = A.ldlt().solve(-g);
+      const Eigen::VectorXd d = lm_step(J.transpose() * J, J.transpose() * r, st.lambda);
       const Eigen::VectorXd t = st.theta + d;
       const Eigen::VectorXd rn = rf(t);
       ++st.evaluations;
@@ -98,16 +104,13 @@ void optimize(const ResidualFn& rf, const OptimizerSettings& settings, Optimizer
       st.evaluations += n;
     }
     const Eigen::VectorXd g = accepted ? Eigen::VectorXd() : Eigen::VectorXd(J.transpose() * r);
-    if (accepted) {
-      // Broyden step taken: nothing more this iteration.
-    } else if (!lbfgs) {
+    // After an accepted Broyden step nothing more happens this iteration.
+    if (!accepted && !lbfgs) {
       kind = "lm";
       const Eigen::MatrixXd JtJ = J.transpose() * J;
       int rejected_tries = 0;
       for (int tries = 0; tries < 12 && !accepted; ++tries) {
-        Eigen::MatrixXd A = JtJ;
-        A.diagonal() += st.lambda * (JtJ.diagonal().array() + 1e-9).matrix();
-        const Eigen::VectorXd d = A.ldlt().solve(-g);
+        const Eigen::VectorXd d = lm_step(JtJ, g, st.lambda);
         const Eigen::VectorXd t = st.theta + d;
         const Eigen::VectorXd rn = rf(t);
         ++st.evaluations;
@@ -138,7 +141,7 @@ void optimize(const ResidualFn& rf, const OptimizerSettings& settings, Optimizer
         J.resize(0, 0);
       }
       theta_prev.resize(0);
-    } else {
+    } else if (!accepted) {
       kind = "lbfgs";
       if (theta_prev.size()) {
         const Eigen::VectorXd sv = st.theta - theta_prev, yv = g - g_prev;
