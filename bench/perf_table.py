@@ -6,6 +6,7 @@ Each row: the case, Pliant's figure, the baseline's figure, and their ratio,
 all measured side by side in one run of one benchmark program.
 """
 import json
+import re
 import pathlib
 import sys
 
@@ -58,7 +59,11 @@ def smoke_control_rows(cases):
                 f"Keyframe control {name} ({g} x {c['frames']}), converged: CPU s to Pliant's end objective",
                 f"Pliant: {c['pliant_s']:.1f} s (IoU min {c['iou_min']:.2f})",
                 f"{c['baseline']}: {c['lbfgs_s']:.1f} s" +
-                ("" if c.get("lbfgs_reached") else f" (stopped: {c.get('lbfgs_stop_reason')})") +
+                ("" if c.get("lbfgs_reached") else
+                 f" (stalled at E {c['lbfgs_best_objective']:.1f} > Pliant's {c['pliant_objective']:.1f}: "
+                 f"{c.get('lbfgs_stop_reason')} after {c.get('lbfgs_restarts', 0)} restarts)"
+                 if "lbfgs_best_objective" in c and "pliant_objective" in c else
+                 f" (stopped: {c.get('lbfgs_stop_reason')})") +
                 (f" (IoU min {c['lbfgs_iou_min']:.2f})" if "lbfgs_iou_min" in c else ""),
                 ratio))
             continue
@@ -70,7 +75,8 @@ def smoke_control_rows(cases):
             ratio = f"{c['speedup']:.2f}x"
         rows.append((
             f"Keyframe control {c['case'].removesuffix('.json')} ({g} x {c['frames']}): "
-            f"time to the same re-simulated objective (fixed budgets; L-BFGS in 20-iteration chunks)",
+            f"time to the same re-simulated objective (fixed budgets; L-BFGS in 20-iteration chunks; "
+            f"{re.sub(r'^[0-9-]+ ', '', str(c.get('session', 'earlier')).split(':')[0].split(' (')[0])} session's code and scenes)",
             f"ADMM: {c['pliant_s']:.1f} s (IoU min {c['iou_min']:.2f})",
             f"L-BFGS: {c['lbfgs_s']:.1f} s" + (f" (IoU min {c['lbfgs_iou_min']:.2f})" if "lbfgs_iou_min" in c else ""),
             ratio))
