@@ -1,9 +1,38 @@
 // Contact candidates and obstacle distances (see contact.h for the force laws).
 #include "pliant/articulated/contact.h"
 
+#include <algorithm>
 #include <cmath>
+#include <map>
 
 namespace pliant::articulated {
+
+std::vector<Vec3> mesh_contact_samples(const MeshShape& mesh) {
+  std::vector<Vec3> out(mesh.vertices.begin(), mesh.vertices.end());
+  if (mesh.vertices.empty()) return out;
+  Vec3 lo = mesh.vertices[0], hi = lo;
+  for (const Vec3& v : mesh.vertices) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
+  const double spacing = (hi - lo).maxCoeff() / kMeshSamplesPerExtent;
+  if (!(spacing > 0)) return out;
+  // Edges once each (shared by two faces), then each face's interior grid.
+  std::map<std::pair<int, int>, bool> edges;
+  for (const auto& t : mesh.triangles)
+    for (int e = 0; e < 3; ++e) {
+      const int a = std::min(t[e], t[(e + 1) % 3]), b = std::max(t[e], t[(e + 1) % 3]);
+      if (!edges.emplace(std::make_pair(a, b), true).second) continue;
+      const Vec3 &va = mesh.vertices[a], &vb = mesh.vertices[b];
+      const int n = static_cast<int>(std::ceil((vb - va).norm() / spacing - 1e-9));
+      for (int i = 1; i < n; ++i) out.push_back(va + (vb - va) * (double(i) / n));
+    }
+  for (const auto& t : mesh.triangles) {
+    const Vec3 &a = mesh.vertices[t[0]], &b = mesh.vertices[t[1]], &c = mesh.vertices[t[2]];
+    const double longest = std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
+    const int n = static_cast<int>(std::ceil(longest / spacing - 1e-9));
+    for (int i = 1; i < n; ++i)
+      for (int j = 1; i + j < n; ++j) out.push_back(a + (b - a) * (double(i) / n) + (c - a) * (double(j) / n));
+  }
+  return out;
+}
 
 std::vector<ContactPoint> contact_points(const Model& m) {
   std::vector<ContactPoint> pts;
@@ -22,8 +51,8 @@ std::vector<ContactPoint> contact_points(const Model& m) {
           pts.push_back({g.body, g.pos + r * corner, 0.0});
         }
         break;
-      case GeomType::Mesh:  // every vertex is a contact point
-        for (const Vec3& v : g.mesh->vertices) pts.push_back({g.body, g.pos + r * v, 0.0});
+      case GeomType::Mesh:  // vertices plus edge and face samples
+        for (const Vec3& v : mesh_contact_samples(*g.mesh)) pts.push_back({g.body, g.pos + r * v, 0.0});
         break;
       case GeomType::Plane: break;
     }

@@ -21,12 +21,14 @@ namespace pliant::articulated {
 namespace {
 
 struct Ctx {
+  explicit Ctx(const std::string& f) : file(f) {}
   const std::string& file;
   Model m;
   std::vector<bool> has_inertial{false};
   double angle_scale = M_PI / 180;  // compiler angle="degree"
   std::string eulerseq = "xyz";
   bool autolimits = false;  // MuJoCo 2.2.2's default
+  bool inertia_from_geom = false;  // compiler inertiafromgeom="true": <inertial> ignored
   std::filesystem::path mesh_dir;
   std::map<std::string, std::shared_ptr<const MeshShape>> meshes;  // <asset><mesh name=...>
 };
@@ -78,12 +80,45 @@ Vec3 vec3(const Ctx& c, const XmlElement& e, const std::string& path, const std:
   return Vec3(v[0], v[1], v[2]);
 }
 
-// Orientation from quat, axisangle (x y z angle) or euler (three angles, eulerseq).
+// MuJoCo's rotation taking local z to v (mjuu_z2quat): about z x v by the angle
+// between them; a half turn about x when v points along -z.
+Quat quat_z_to(const Vec3& v) {
+  Vec3 axis = Vec3::UnitZ().cross(v);
+  const double s = axis.norm();
+  if (s < 1e-10) axis = Vec3::UnitX();
+  else axis /= s;
+  return Quat(Eigen::AngleAxisd(std::atan2(s, v.z()), axis));
+}
+
+// Orientation from quat, axisangle (x y z angle), euler (three angles, eulerseq),
+// xyaxes (x axis, then y made orthogonal to it; z = x cross y) or zaxis (the
+// smallest rotation taking z to it), as MuJoCo's compiler reads them.
 Quat quat(const Ctx& c, const XmlElement& e, const std::string& path) {
-  const int given = (e.attr("quat") ? 1 : 0) + (e.attr("axisangle") ? 1 : 0) + (e.attr("euler") ? 1 : 0);
+  static const char* const kinds[] = {"quat", "axisangle", "euler", "xyaxes", "zaxis"};
+  int given = 0;
+  std::string last;
+  for (const char* k : kinds)
+    if (e.attr(k)) ++given, last = k;
   if (given > 1)
-    throw InputError(c.file, path + (e.attr("euler") ? "/@euler" : "/@axisangle"),
-                     "give one orientation (quat, axisangle or euler), not several");
+    throw InputError(c.file, path + "/@" + last,
+                     "give one orientation (quat, axisangle, euler, xyaxes or zaxis), not several");
+  if (e.attr("xyaxes")) {
+    const auto v = numbers(c, e, path, "xyaxes", 6, 6);
+    Vec3 x(v[0], v[1], v[2]), y(v[3], v[4], v[5]);
+    if (x.norm() < 1e-12) throw InputError(c.file, path + "/@xyaxes", "x axis is zero");
+    x.normalize();
+    y -= x * x.dot(y);
+    if (y.norm() < 1e-12) throw InputError(c.file, path + "/@xyaxes", "y axis is zero or parallel to the x axis");
+    y.normalize();
+    Mat3 r;
+    r << x, y, x.cross(y).normalized();
+    return Quat(r).normalized();
+  }
+  if (e.attr("zaxis")) {
+    const Vec3 z = vec3(c, e, path, "zaxis", Vec3::UnitZ());
+    if (z.norm() < 1e-12) throw InputError(c.file, path + "/@zaxis", "axis is zero");
+    return quat_z_to(z);
+  }
   if (e.attr("axisangle")) {
     const auto v = numbers(c, e, path, "axisangle", 4, 4);
     const Vec3 axis(v[0], v[1], v[2]);
@@ -135,15 +170,14 @@ void read_default(const Ctx& c, const XmlElement& e, const std::string& path, co
     const std::string p = child_path(path, e, k);
     if (ch.name == "default") {
       read_default(c, ch, p, cls, false, d);
-    } else if (ch.name == "joint" || ch.name == "geom" || ch.name == "motor") {
+    } else if (ch.name == "joint" || ch.name == "geom" || ch.name == "motor" || ch.name == "mesh") {
       for (const auto& [key, v] : ch.attrs)
         if (key == "class" || key == "name") throw InputError(c.file, p + "/@" + key, "not allowed in a default");
       merge_attrs((*d)[cls][ch.name], ch.attrs);
-    } else if (ch.name == "site" || ch.name == "camera" || ch.name == "light" || ch.name == "mesh" ||
-               ch.name == "material") {
+    } else if (ch.name == "site" || ch.name == "camera" || ch.name == "light" || ch.name == "material") {
       continue;  // visual only
     } else {
-      throw InputError(c.file, p, "unsupported element <" + ch.name + "> in <default> (supported: joint, geom, motor)");
+      throw InputError(c.file, p, "unsupported element <" + ch.name + "> in <default> (supported: joint, geom, motor, mesh)");
     }
   }
 }
@@ -157,7 +191,7 @@ void check_class(const Ctx& c, const std::string& name, const std::string& attr_
                    "no default class \"" + name + "\"" + (near.empty() ? "" : "; did you mean \"" + near + "\"?"));
 }
 
-// Rewrites joint/geom/motor elements with their class's attributes under their own.
+// Rewrites joint/geom/motor/mesh elements with their class's attributes under their own.
 void apply_defaults(const Ctx& c, XmlElement& e, const std::string& path, const Defaults& d,
                     const std::string& cls) {
   std::string child_cls = cls;
@@ -167,7 +201,7 @@ void apply_defaults(const Ctx& c, XmlElement& e, const std::string& path, const 
       child_cls = *n;
     }
   }
-  if (e.name == "joint" || e.name == "geom" || e.name == "motor") {
+  if (e.name == "joint" || e.name == "geom" || e.name == "motor" || e.name == "mesh") {
     std::string own = cls;
     if (const auto* n = e.attr("class")) {
       check_class(c, *n, path + "/@class", d);
@@ -203,7 +237,7 @@ double number(const Ctx& c, const XmlElement& e, const std::string& path, const 
 
 void read_geom(Ctx& c, const XmlElement& e, const std::string& path, int body) {
   check_attrs(c, e, path,
-              {"name", "type", "size", "pos", "quat", "axisangle", "euler", "fromto", "density", "mass", "rgba", "contype", "mesh",
+              {"name", "type", "size", "pos", "quat", "axisangle", "euler", "xyaxes", "zaxis", "fromto", "density", "mass", "rgba", "contype", "mesh",
                "conaffinity", "friction", "condim", "material", "group", "margin"});
   Geom g;
   g.body = body;
@@ -222,7 +256,8 @@ void read_geom(Ctx& c, const XmlElement& e, const std::string& path, int body) {
   g.quat = quat(c, e, path);
   g.density = number(c, e, path, "density", 1000, 0);
   g.mass = number(c, e, path, "mass", -1, 0);
-  const size_t need = g.type == GeomType::Box ? 3 : (g.type == GeomType::Capsule && !e.attr("fromto") ? 2 : 1);
+  // fromto gives a capsule's half-length, a box's z half size (x = y = size[0]).
+  const size_t need = e.attr("fromto") ? 1 : g.type == GeomType::Box ? 3 : g.type == GeomType::Capsule ? 2 : 1;
   if (g.type == GeomType::Mesh) {
     const auto* name = e.attr("mesh");
     if (!name) throw InputError(c.file, path + "/@mesh", "a mesh geom needs mesh=\"<asset mesh name>\"");
@@ -251,14 +286,21 @@ void read_geom(Ctx& c, const XmlElement& e, const std::string& path, int body) {
     }
   }
   if (e.attr("fromto")) {
-    if (g.type != GeomType::Capsule)
-      throw InputError(c.file, path + "/@fromto", "fromto is supported for capsules only");
+    if (g.type != GeomType::Capsule && g.type != GeomType::Box)
+      throw InputError(c.file, path + "/@fromto", "fromto is supported for capsules and boxes only");
     const auto f = numbers(c, e, path, "fromto", 6, 6);
     const Vec3 a(f[0], f[1], f[2]), b(f[3], f[4], f[5]);
     if ((b - a).norm() < 1e-12) throw InputError(c.file, path + "/@fromto", "zero length");
+    // As MuJoCo 2.2.2: fromto overrides pos and any orientation; local z points from
+    // the second point to the first (the shapes are symmetric, the frame is MuJoCo's).
     g.pos = 0.5 * (a + b);
-    g.size[1] = 0.5 * (b - a).norm();
-    g.quat = Quat::FromTwoVectors(Vec3::UnitZ(), (b - a).normalized());
+    g.quat = quat_z_to(a - b);
+    if (g.type == GeomType::Box) {
+      g.size[1] = g.size[0];
+      g.size[2] = 0.5 * (b - a).norm();
+    } else {
+      g.size[1] = 0.5 * (b - a).norm();
+    }
   }
   const double contype = number(c, e, path, "contype", 1, 0), conaff = number(c, e, path, "conaffinity", 1, 0);
   g.contact = contype != 0 || conaff != 0;
@@ -266,7 +308,7 @@ void read_geom(Ctx& c, const XmlElement& e, const std::string& path, int body) {
 }
 
 void read_body(Ctx& c, const XmlElement& e, const std::string& path, int parent) {
-  check_attrs(c, e, path, {"name", "pos", "quat", "axisangle", "euler"});
+  check_attrs(c, e, path, {"name", "pos", "quat", "axisangle", "euler", "xyaxes", "zaxis"});
   Body b;
   b.name = e.attr("name") ? *e.attr("name") : "body" + std::to_string(c.m.bodies.size());
   b.parent = parent;
@@ -326,7 +368,7 @@ void read_body(Ctx& c, const XmlElement& e, const std::string& path, int parent)
     } else if (ch.name == "geom") {
       read_geom(c, ch, p, id);
     } else if (ch.name == "inertial") {
-      check_attrs(c, ch, p, {"pos", "quat", "axisangle", "euler", "mass", "diaginertia", "fullinertia"});
+      check_attrs(c, ch, p, {"pos", "quat", "axisangle", "euler", "xyaxes", "zaxis", "mass", "diaginertia", "fullinertia"});
       if (!ch.attr("mass")) throw InputError(c.file, p + "/@mass", "inertial needs a mass");
       Body& bd = c.m.bodies[id];
       bd.mass = number(c, ch, p, "mass", 0, 0);
@@ -335,12 +377,15 @@ void read_body(Ctx& c, const XmlElement& e, const std::string& path, int parent)
         const Mat3 r = quat(c, ch, p).toRotationMatrix();
         bd.inertia = r * vec3(c, ch, p, "diaginertia", Vec3::Zero()).asDiagonal() * r.transpose();
       } else if (ch.attr("fullinertia")) {
+        for (const char* k : {"quat", "axisangle", "euler", "xyaxes", "zaxis"})
+          if (ch.attr(k))
+            throw InputError(c.file, p + "/@" + k, "fullinertia is in the body frame; it takes no orientation");
         const auto f = numbers(c, ch, p, "fullinertia", 6, 6);
         bd.inertia << f[0], f[3], f[4], f[3], f[1], f[5], f[4], f[5], f[2];
       } else {
         throw InputError(c.file, p + "/@diaginertia", "inertial needs diaginertia or fullinertia");
       }
-      c.has_inertial[id] = true;
+      c.has_inertial[id] = !c.inertia_from_geom;
     } else if (ch.name == "body") {
       read_body(c, ch, p, id);
     } else if (ch.name == "site" || ch.name == "camera" || ch.name == "light") {
@@ -402,7 +447,7 @@ void geom_set_mesh(Geom& g, const std::shared_ptr<const MeshShape>& shape) {
 Model model_from_mjcf(const std::string& text, const std::string& file, const std::filesystem::path& base_dir) {
   XmlElement root = parse_xml(text, file);
   if (root.name != "mujoco") throw InputError(file, "/" + root.name, "root element must be <mujoco>");
-  Ctx c{file};
+  Ctx c(file);
   // Compiler settings and default classes first: they apply wherever they appear.
   Defaults defaults;
   defaults["main"];
@@ -410,10 +455,20 @@ Model model_from_mjcf(const std::string& text, const std::string& file, const st
     const XmlElement& e = root.children[k];
     const std::string p = child_path("/mujoco", root, k);
     if (e.name == "compiler") {
-      check_attrs(c, e, p, {"angle", "inertiafromgeom", "coordinate", "autolimits", "eulerseq", "meshdir"});
+      check_attrs(c, e, p, {"angle", "inertiafromgeom", "coordinate", "autolimits", "eulerseq", "meshdir", "assetdir",
+                            "texturedir"});
+      if (const auto* d = e.attr("assetdir"); d && !e.attr("meshdir")) c.mesh_dir = *d;
       if (const auto* d = e.attr("meshdir")) c.mesh_dir = *d;
+      if (const auto* a = e.attr("inertiafromgeom")) {
+        if (*a == "false")
+          throw InputError(file, p + "/@inertiafromgeom",
+                           "\"false\" (bodies without <inertial> get no mass) is not supported; use auto or true");
+        if (*a != "auto" && *a != "true") throw InputError(file, p + "/@inertiafromgeom", "expected auto or true");
+        c.inertia_from_geom = *a == "true";
+      }
       if (e.attr("coordinate") && *e.attr("coordinate") != "local")
-        throw InputError(file, p + "/@coordinate", "only local coordinates are supported");
+        throw InputError(file, p + "/@coordinate",
+                         "only local coordinates are supported (coordinate=\"global\" changes every frame)");
       if (const auto* a = e.attr("angle")) {
         if (*a != "degree" && *a != "radian") throw InputError(file, p + "/@angle", "expected degree or radian");
         c.angle_scale = *a == "radian" ? 1.0 : M_PI / 180;
@@ -430,13 +485,13 @@ Model model_from_mjcf(const std::string& text, const std::string& file, const st
     }
   }
   for (size_t k = 0; k < root.children.size(); ++k) {
-    const XmlElement& e = root.children[k];
-    if (e.name == "asset") read_assets(c, e, child_path("/mujoco", root, k), base_dir);
+    XmlElement& e = root.children[k];
+    if (e.name == "worldbody" || e.name == "actuator" || e.name == "asset")
+      apply_defaults(c, e, child_path("/mujoco", root, k), defaults, "main");
   }
   for (size_t k = 0; k < root.children.size(); ++k) {
-    XmlElement& e = root.children[k];
-    if (e.name == "worldbody" || e.name == "actuator")
-      apply_defaults(c, e, child_path("/mujoco", root, k), defaults, "main");
+    const XmlElement& e = root.children[k];
+    if (e.name == "asset") read_assets(c, e, child_path("/mujoco", root, k), base_dir);
   }
   Body world;
   world.name = "world";
@@ -450,6 +505,9 @@ Model model_from_mjcf(const std::string& text, const std::string& file, const st
       continue;  // read above
     } else if (e.name == "option") {
       check_attrs(c, e, p, {"timestep", "gravity", "integrator", "iterations", "solver"});
+      if (!e.children.empty())  // <flag> can switch contact, gravity, limits... off
+        throw InputError(file, child_path(p, e, 0),
+                         "unsupported element <" + e.children[0].name + "> in <option> (it changes the dynamics)");
       c.m.timestep = number(c, e, p, "timestep", 0.002, 1e-9);
       c.m.gravity = vec3(c, e, p, "gravity", Vec3(0, 0, -9.81));
     } else if (e.name == "worldbody") {
@@ -487,8 +545,13 @@ Model model_from_mjcf(const std::string& text, const std::string& file, const st
         }
         c.m.actuators.push_back(act);
       }
-    } else if (e.name == "visual" || e.name == "asset" || e.name == "statistic" || e.name == "size") {  // asset: above
+    } else if (e.name == "visual" || e.name == "asset" || e.name == "statistic" || e.name == "size" ||
+               e.name == "sensor" || e.name == "keyframe") {  // asset: above; the rest do not change the dynamics
       continue;
+    } else if (e.name == "tendon" || e.name == "equality" || e.name == "contact" || e.name == "include" ||
+               e.name == "custom" || e.name == "extension") {
+      throw InputError(file, p, "unsupported element <" + e.name + "> in <mujoco>: it changes the model or its dynamics, and "
+                                "Pliant does not support it (remove it, or model it with joints and motors)");
     } else {
       throw InputError(file, p, "unsupported element <" + e.name + "> in <mujoco>");
     }

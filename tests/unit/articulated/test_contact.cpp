@@ -1,6 +1,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
+#include <sstream>
 
 #include "pliant/articulated/io.h"
 #include "pliant/articulated/sim.h"
@@ -67,8 +69,76 @@ TEST(Contact, SphereRestsOnAStaticMeshAndAMeshBoxRestsOnAPlane) {
   SimWorkspace ws;
   for (int i = 0; i < 150; ++i) ASSERT_TRUE(sim_step(m, o, s, ws));
   const double k = o.contact.stiffness;
-  EXPECT_NEAR(0.35 + s.qpos[0], 0.25 - 1 * 9.81 / k, 2e-4);      // sphere on the block top (z 0.2)
-  EXPECT_NEAR(0.15 + s.qpos[1], 0.1 - 2 * 9.81 / (4 * k), 2e-4);  // cube on the floor, 4 corners
+  // The cube's bottom face carries its 4 corners plus edge and face samples.
+  int bottom = 0;
+  for (const ContactPoint& p : contact_points(m))
+    if (p.body == 2 && std::abs(p.local.z() + 0.1) < 1e-6) ++bottom;
+  EXPECT_GT(bottom, 4);
+  EXPECT_NEAR(0.35 + s.qpos[0], 0.25 - 1 * 9.81 / k, 2e-4);           // sphere on the block top (z 0.2)
+  EXPECT_NEAR(0.15 + s.qpos[1], 0.1 - 2 * 9.81 / (bottom * k), 2e-4);  // cube on the floor
+}
+
+TEST(Contact, MeshSamplesCoverEdgesAndFacesAtTheirSpacing) {
+  const std::string obj = test::write_box_obj("pliant_mesh_samples", 0.3, 0.1, 0.02);
+  const Model m = model_from_mjcf("<mujoco><asset><mesh name=\"t\" file=\"" + obj +
+                                      "\"/></asset><worldbody><body><freejoint/><geom type=\"mesh\" mesh=\"t\"/>"
+                                      "</body></worldbody></mujoco>",
+                                  "m.xml");
+  std::filesystem::remove(obj);
+  const std::vector<Vec3> pts = mesh_contact_samples(*m.geoms[0].mesh);
+  const double spacing = 0.6 / kMeshSamplesPerExtent;
+  // Every point of the surface has a sample within one spacing (checked on a fine
+  // grid of the top face), and every sample lies on the surface.
+  for (double x = -0.3; x <= 0.3; x += 0.01)
+    for (double y = -0.1; y <= 0.1; y += 0.01) {
+      double best = 1e9;
+      for (const Vec3& p : pts) best = std::min(best, (p - Vec3(x, y, 0.02)).norm());
+      EXPECT_LT(best, spacing) << x << " " << y;
+    }
+  for (const Vec3& p : pts) {
+    const Vec3 q = p.cwiseAbs() - Vec3(0.3, 0.1, 0.02);
+    EXPECT_NEAR(q.maxCoeff(), 0, 1e-6);
+  }
+  // No duplicates (shared edges sampled once).
+  for (size_t i = 0; i < pts.size(); ++i)
+    for (size_t j = i + 1; j < pts.size(); ++j) ASSERT_GT((pts[i] - pts[j]).norm(), 1e-9);
+}
+
+TEST(Contact, MeshTileIsHeldBySphereAndBoxCorner) {
+  // A 20 x 20 x 2 cm mesh tile on a vertical slide, dropped onto a small sphere
+  // (r 3 cm) and onto a box standing on its corner, both far from the tile's
+  // vertices: with vertex contacts only, both tiles fell through.
+  const std::string obj = test::write_box_obj("pliant_mesh_tile", 0.1, 0.1, 0.01);
+  const Quat corner_up = Quat::FromTwoVectors(Vec3(1, 1, 1), Vec3::UnitZ());
+  std::ostringstream box_quat;
+  box_quat.precision(17);
+  box_quat << corner_up.w() << " " << corner_up.x() << " " << corner_up.y() << " " << corner_up.z();
+  const double tip = 0.04 * std::sqrt(3.0);
+  const Model m = model_from_mjcf(
+      "<mujoco><asset><mesh name=\"tile\" file=\"" + obj + "\"/></asset><worldbody>"
+      "<geom type=\"sphere\" size=\"0.03\"/><geom type=\"box\" size=\"0.04 0.04 0.04\" pos=\"1 0 0\" quat=\"" +
+          box_quat.str() + "\"/>"
+      "<body pos=\"0 0 0.08\"><joint type=\"slide\" axis=\"0 0 1\"/><geom type=\"mesh\" mesh=\"tile\" mass=\"0.5\"/></body>"
+      "<body pos=\"1 0 0.12\"><joint type=\"slide\" axis=\"0 0 1\"/><geom type=\"mesh\" mesh=\"tile\" mass=\"0.5\"/></body>"
+      "</worldbody></mujoco>",
+      "m.xml");
+  std::filesystem::remove(obj);
+  SimOptions o;
+  o.dt = 0.01;
+  o.contact.friction = FrictionModel::None;
+  State s = state_init(m);
+  SimWorkspace ws;
+  for (int i = 0; i < 60; ++i) ASSERT_TRUE(sim_step(m, o, s, ws));
+  const double bottom_sphere = 0.08 + s.qpos[0] - 0.01, bottom_box = 0.12 + s.qpos[1] - 0.01;
+  // Held within the sample spacing's sag (sphere) or the corner's reach between samples.
+  EXPECT_GT(bottom_sphere, 0.03 - 0.008);
+  EXPECT_LT(bottom_sphere, 0.03);
+  EXPECT_GT(bottom_box, tip - 0.015);
+  EXPECT_LT(bottom_box, tip);
+  EXPECT_NEAR(s.qvel[0], 0, 0.05);
+  EXPECT_NEAR(s.qvel[1], 0, 0.05);
+  std::printf("tile bottom below the sphere top %.4f m, below the box tip %.4f m\n", 0.03 - bottom_sphere,
+              tip - bottom_box);
 }
 
 TEST(Contact, ObstacleDistances) {

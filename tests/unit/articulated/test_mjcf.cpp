@@ -154,5 +154,81 @@ TEST(Mjcf, ActuatorsFollowJointReordering) {
   EXPECT_EQ(m.actuators[0].ctrl_max, 2);
 }
 
+// Features that would change the physics exit 2 naming the element; harmless ones
+// (sensors, keyframes, sites, cameras, lights, visual attributes) are ignored.
+TEST(Mjcf, UnsupportedPhysicsNamesTheElementAndHarmlessPartsAreIgnored) {
+  const std::string b = "<mujoco><worldbody><body name=\"a\"><joint name=\"j\"/><geom size=\"0.1\"/></body></worldbody>";
+  EXPECT_NE(error_of(b + "<tendon><fixed/></tendon></mujoco>").find("/mujoco/tendon[0] | unsupported element <tendon>"),
+            std::string::npos);
+  EXPECT_NE(error_of(b + "<equality><weld body1=\"a\"/></equality></mujoco>").find("/mujoco/equality[0] | unsupported element <equality>"),
+            std::string::npos);
+  EXPECT_NE(error_of(b + "<contact><exclude body1=\"a\" body2=\"a\"/></contact></mujoco>").find("/mujoco/contact[0]"),
+            std::string::npos);
+  EXPECT_NE(error_of("<mujoco><option><flag gravity=\"disable\"/></option></mujoco>").find("/mujoco/option[0]/flag[0] | unsupported element <flag>"),
+            std::string::npos);
+  EXPECT_NE(error_of("<mujoco><compiler coordinate=\"global\"/></mujoco>").find("/mujoco/compiler[0]/@coordinate"),
+            std::string::npos);
+  EXPECT_NE(error_of("<mujoco><compiler inertiafromgeom=\"false\"/></mujoco>").find("/mujoco/compiler[0]/@inertiafromgeom"),
+            std::string::npos);
+  EXPECT_NE(error_of("<mujoco><include file=\"x.xml\"/></mujoco>").find("/mujoco/include[0] | unsupported element"),
+            std::string::npos);
+  EXPECT_NE(error_of("<mujoco><worldbody><body><joint stiffness=\"3\"/><geom size=\"0.1\"/></body></worldbody></mujoco>")
+                .find("joint[0]/@stiffness | unsupported attribute"),
+            std::string::npos);
+  EXPECT_NE(error_of("<mujoco><worldbody><body><geom type=\"cylinder\" size=\"0.1 0.1\"/></body></worldbody></mujoco>")
+                .find("geom[0]/@type"),
+            std::string::npos);
+  EXPECT_NE(error_of("<mujoco><default><tendon/></default></mujoco>").find("/mujoco/default[0]/tendon[0]"), std::string::npos);
+  // Harmless: compiles to the same model as without them.
+  const Model plain = model_from_mjcf(b + "</mujoco>", "a.xml");
+  const Model extra = model_from_mjcf(
+      "<mujoco><compiler texturedir=\"tex\"/><visual/><statistic/><worldbody><light/><camera/><body name=\"a\">"
+      "<site name=\"s\"/><camera/><joint name=\"j\"/><geom size=\"0.1\" rgba=\"1 0 0 1\" group=\"2\"/></body></worldbody>"
+      "<sensor><jointpos joint=\"j\"/></sensor><keyframe><key qpos=\"0.3\"/></keyframe></mujoco>",
+      "a.xml");
+  EXPECT_EQ(extra.bodies.size(), plain.bodies.size());
+  EXPECT_EQ(extra.bodies[1].mass, plain.bodies[1].mass);
+  EXPECT_EQ(extra.nq, plain.nq);
+}
+
+TEST(Mjcf, MalformedOrientationsAndFromtoNameTheField) {
+  const std::string w = "<mujoco><worldbody><body ";
+  const std::string e = "><geom size=\"0.1\"/></body></worldbody></mujoco>";
+  EXPECT_NE(error_of(w + "xyaxes=\"1 0 0 2 0 0\"" + e).find("body[0]/@xyaxes | y axis is zero or parallel"), std::string::npos);
+  EXPECT_NE(error_of(w + "xyaxes=\"0 0 0 0 1 0\"" + e).find("body[0]/@xyaxes | x axis is zero"), std::string::npos);
+  EXPECT_NE(error_of(w + "xyaxes=\"1 0 0 0 1\"" + e).find("body[0]/@xyaxes | expected 6 numbers"), std::string::npos);
+  EXPECT_NE(error_of(w + "zaxis=\"0 0 0\"" + e).find("body[0]/@zaxis | axis is zero"), std::string::npos);
+  EXPECT_NE(error_of(w + "zaxis=\"0 0 1\" euler=\"0 0 1\"" + e).find("body[0]/@zaxis | give one orientation"),
+            std::string::npos);
+  EXPECT_NE(error_of("<mujoco><worldbody><body><geom size=\"0.1\" fromto=\"0 0 0 1 0 0\"/></body></worldbody></mujoco>")
+                .find("geom[0]/@fromto | fromto is supported for capsules and boxes only"),
+            std::string::npos);
+  EXPECT_NE(error_of("<mujoco><worldbody><body><geom type=\"box\" size=\"0.1\" fromto=\"0 0 0 0 0 0\"/></body></worldbody></mujoco>")
+                .find("geom[0]/@fromto | zero length"),
+            std::string::npos);
+  EXPECT_NE(error_of("<mujoco><worldbody><body><inertial mass=\"1\" fullinertia=\"1 1 1 0 0 0\" zaxis=\"1 0 0\"/>"
+                     "</body></worldbody></mujoco>")
+                .find("inertial[0]/@zaxis | fullinertia is in the body frame"),
+            std::string::npos);
+}
+
+TEST(Mjcf, MeshDefaultClassesApplyTheirScale) {
+  const std::string obj = test::write_box_obj("pliant_mesh_default", 0.1, 0.1, 0.1);
+  const std::string body = "<worldbody><body><freejoint/><geom type=\"mesh\" mesh=\"m\"/></body></worldbody></mujoco>";
+  const Model explicit_scale = model_from_mjcf(
+      "<mujoco><asset><mesh name=\"m\" file=\"" + obj + "\" scale=\"2 1 0.5\"/></asset>" + body, "m.xml");
+  const Model by_class = model_from_mjcf("<mujoco><default><default class=\"big\"><mesh scale=\"2 1 0.5\"/></default></default>"
+                                         "<asset><mesh name=\"m\" class=\"big\" file=\"" + obj + "\"/></asset>" + body,
+                                         "m.xml");
+  const Model by_main = model_from_mjcf("<mujoco><default><mesh scale=\"2 1 0.5\"/></default>"
+                                        "<asset><mesh name=\"m\" file=\"" + obj + "\"/></asset>" + body,
+                                        "m.xml");
+  std::filesystem::remove(obj);
+  EXPECT_NEAR(explicit_scale.bodies[1].mass, 1000 * 0.4 * 0.2 * 0.1, 1e-5);  // (assimp: single precision)
+  EXPECT_EQ(by_class.bodies[1].mass, explicit_scale.bodies[1].mass);
+  EXPECT_EQ(by_main.bodies[1].mass, explicit_scale.bodies[1].mass);
+  EXPECT_EQ((by_class.bodies[1].inertia - explicit_scale.bodies[1].inertia).norm(), 0);
+}
+
 }  // namespace
 }  // namespace pliant::articulated

@@ -112,6 +112,43 @@ void expect_same_poses_and_ranges(const std::string& xml) {
       EXPECT_NEAR(k.xpos[b][a], d->xpos[3 * b + a], 1e-9) << "body " << b;
       for (int c = 0; c < 3; ++c) EXPECT_NEAR(k.xmat[b](a, c), d->xmat[9 * b + 3 * a + c], 1e-9) << "body " << b;
     }
+  // Compiled frames: body pose in its parent, inertia (full matrix about the centre,
+  // body frame), joint axes and anchors, primitive geoms' pose and size in the body.
+  const auto expect_same_quat = [](const Quat& q, const mjtNum* mq, const std::string& what) {
+    const double sign = q.w() * mq[0] + q.x() * mq[1] + q.y() * mq[2] + q.z() * mq[3] < 0 ? -1 : 1;
+    const double diff = (Eigen::Vector4d(q.w(), q.x(), q.y(), q.z()) - sign * Eigen::Vector4d(mq[0], mq[1], mq[2], mq[3])).norm();
+    EXPECT_NEAR(diff, 0, 1e-9) << what;
+  };
+  for (int b = 1; b < mj->nbody; ++b) {
+    const Body& body = ours.bodies[b];
+    for (int a = 0; a < 3; ++a) EXPECT_NEAR(body.pos[a], mj->body_pos[3 * b + a], 1e-9) << "body " << b;
+    expect_same_quat(body.quat, mj->body_quat + 4 * b, "body " + std::to_string(b));
+    mjtNum rm[9];
+    mju_quat2Mat(rm, mj->body_iquat + 4 * b);
+    const Mat3 r = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(rm);
+    const Mat3 mj_inertia = r * Vec3(mj->body_inertia[3 * b], mj->body_inertia[3 * b + 1], mj->body_inertia[3 * b + 2]).asDiagonal() * r.transpose();
+    // (MuJoCo stores principal axes from its iterative eigen-solver: ~1e-7 relative)
+    EXPECT_NEAR((body.inertia - mj_inertia).norm(), 0, 1e-9) << "body " << b;
+  }
+  for (int j = 0; j < mj->njnt; ++j)
+    if (mj->jnt_type[j] == mjJNT_HINGE || mj->jnt_type[j] == mjJNT_SLIDE)
+      for (int a = 0; a < 3; ++a) {
+        EXPECT_NEAR(ours.joints[j].axis[a], mj->jnt_axis[3 * j + a], 1e-9) << "joint " << j;
+        EXPECT_NEAR(ours.joints[j].pos[a], mj->jnt_pos[3 * j + a], 1e-9) << "joint " << j;
+      }
+  std::vector<Geom> geoms = ours.geoms;  // MuJoCo lists geoms body by body
+  std::stable_sort(geoms.begin(), geoms.end(), [](const Geom& x, const Geom& y) { return x.body < y.body; });
+  ASSERT_EQ(static_cast<int>(geoms.size()), mj->ngeom);
+  for (int g = 0; g < mj->ngeom; ++g) {
+    if (geoms[g].type == GeomType::Mesh) continue;
+    EXPECT_EQ(geoms[g].body, mj->geom_bodyid[g]);
+    for (int a = 0; a < 3; ++a) EXPECT_NEAR(geoms[g].pos[a], mj->geom_pos[3 * g + a], 1e-9) << "geom " << g;
+    expect_same_quat(geoms[g].quat, mj->geom_quat + 4 * g, "geom " + std::to_string(g));
+    const int nsize = geoms[g].type == GeomType::Box ? 3 : geoms[g].type == GeomType::Capsule ? 2 : 1;
+    if (geoms[g].type != GeomType::Plane) {
+      for (int a = 0; a < nsize; ++a) EXPECT_NEAR(geoms[g].size[a], mj->geom_size[3 * g + a], 1e-12) << "geom " << g;
+    }
+  }
   for (int j = 0; j < mj->njnt; ++j) {
     EXPECT_EQ(ours.joints[j].limited, mj->jnt_limited[j] != 0) << "joint " << j;
     EXPECT_NEAR(ours.joints[j].damping, mj->dof_damping[mj->jnt_dofadr[j]], 1e-12) << "joint " << j;
@@ -148,6 +185,50 @@ TEST(MujocoReference, DefaultsEulerAxisangleAndRangesMatch) {
   expect_same_poses_and_ranges("<mujoco>" + body);
   expect_same_poses_and_ranges("<mujoco><compiler eulerseq=\"ZYX\"/>" + body);
   expect_same_poses_and_ranges("<mujoco><compiler eulerseq=\"xZy\"/>" + body);
+}
+
+// xyaxes and zaxis (bodies, geoms, inertials; unnormalised, non-orthogonal and
+// antiparallel inputs), fromto on boxes and capsules, joint axes, radians and an
+// extrinsic eulerseq, nested defaults with childclass for joints, geoms and motors,
+// and compiler inertiafromgeom: same compiled frames, inertias and axes as MuJoCo's.
+TEST(MujocoReference, AllOrientationFormsAndFromtoMatch) {
+  const std::string body = R"(
+    <default>
+      <joint axis="0 1 1" damping="0.2"/>
+      <geom type="box" size="0.05 0.04 0.03" density="900"/>
+      <motor gear="7"/>
+      <default class="arm"><joint axis="1 0 0.5"/><geom type="capsule" size="0.02"/>
+        <default class="tip"><geom type="sphere" size="0.03" density="3000"/><motor gear="2"/></default>
+      </default>
+    </default>
+    <worldbody>
+      <geom type="plane" size="1 1 0.1" zaxis="0.1 0.2 1"/>
+      <body pos="0.1 -0.2 1" xyaxes="1 1 0 -2 1 0.3"><freejoint/>
+        <geom xyaxes="0 1 0 -1 0 0" pos="0.01 0 0"/>
+        <geom zaxis="0 0 -1" pos="0 0.1 0"/>
+        <geom fromto="-0.1 0 0 0.1 0.05 0.02" size="0.03"/>
+        <body pos="0 0.2 0" zaxis="1 -1 0.2" childclass="arm"><joint name="j1"/>
+          <geom fromto="0 0 0 0 0 -0.25"/>
+          <geom fromto="0 0 0 0.1 0.1 0.1" type="box" size="0.01"/>
+          <body pos="0 0 -0.25" euler="0.3 -0.4 1.2"><joint name="j2" axis="0 -2 0" pos="0 0 0.01"/>
+            <joint name="j3" type="slide" axis="1 1 1"/>
+            <geom class="tip" zaxis="0 1 0"/>
+            <inertial pos="0.01 0.02 -0.03" mass="0.7" diaginertia="0.01 0.02 0.03" xyaxes="0 0 1 1 1 0"/>
+          </body>
+          <body pos="0.1 0 0" axisangle="1 2 3 0.7"><joint name="j4" type="ball"/>
+            <geom class="tip"/>
+            <inertial pos="0 0 0.01" mass="0.4" diaginertia="0.004 0.005 0.006" zaxis="0 0 -1"/>
+          </body>
+        </body>
+      </body>
+    </worldbody>
+    <actuator><motor joint="j1"/><motor joint="j2" class="tip"/></actuator></mujoco>)";
+  expect_same_poses_and_ranges("<mujoco><compiler angle=\"radian\" eulerseq=\"XZY\"/>" + body);
+  expect_same_poses_and_ranges("<mujoco><compiler angle=\"radian\" eulerseq=\"zyx\" inertiafromgeom=\"true\"/>" + body);
+  const Model m = model_from_mjcf("<mujoco><compiler angle=\"radian\"/>" + body, "m.xml");
+  ASSERT_EQ(m.actuators.size(), 2u);
+  EXPECT_EQ(m.actuators[0].gear, 7);
+  EXPECT_EQ(m.actuators[1].gear, 2);
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
 // Contact: penalty normal force on the penetration depth of body points (sphere
-// centres with radius, capsule end spheres, box corners) against static obstacles
+// centres with radius, capsule end spheres, box corners, mesh vertices and edge/face
+// samples) against static obstacles
 // (planes, spheres, boxes of the world body); every point is tested against every
 // obstacle, so the cost is linear in the number of contacts.
 // Normal: E = k/2 d^2 (d = penetration), force k d along the obstacle normal.
@@ -48,6 +49,12 @@ struct Contact {
 };
 
 std::vector<ContactPoint> contact_points(const Model& m);
+// A moving mesh's contact points (geom frame): its vertices, plus points along its
+// edges and inside its faces at a spacing of 1/kMeshSamplesPerExtent of the mesh's
+// largest bounding-box extent (none where the mesh is already that fine), so that
+// obstacle corners and small spheres cannot pass between the vertices of large faces.
+constexpr double kMeshSamplesPerExtent = 6;
+std::vector<Vec3> mesh_contact_samples(const MeshShape& mesh);
 std::vector<int> contact_obstacles(const Model& m);
 // Signed distance (positive outside) of a world point from obstacle geom g, and
 // its outward normal.
