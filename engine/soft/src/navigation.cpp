@@ -31,6 +31,14 @@ double wrap(double a) { return std::remainder(a, 2 * M_PI); }
 // Progress speed of the turning gaits relative to the forward gait's.
 constexpr double kTurnSpeedFraction = 0.3;
 
+// The executor aims for (the cost to go's goal cells) and stops in a disc of this
+// fraction of the goal tolerance, so a run ends well inside the tolerance rather
+// than where the COM first grazes its edge (0.198 m of 0.2 before). Once inside the
+// tolerance disc it plays only gaits that keep the COM inside, for at most
+// kApproachPeriods periods.
+constexpr double kArriveFraction = 0.5;
+constexpr int kApproachPeriods = 8;
+
 double clearance(const NavSettings& nav, const Eigen::Vector2d& p) {
   double best = std::numeric_limits<double>::infinity();
   for (const auto& o : nav.obstacles) best = std::min(best, (p - o.center_m).norm() - o.radius_m);
@@ -148,11 +156,11 @@ class PrimitiveCostToGo {
     cost_.assign(size_t(n), kUnreached);
     std::vector<int> queue;
     queue.reserve(size_t(n));
-    // Goal cells: centre well inside the disc (the re-simulated motion differs from
-    // the primitives by a few centimetres per period).
+    // Goal cells: centre inside the arrival disc (half the tolerance; the
+    // re-simulated motion differs from the primitives by a few centimetres per period).
     for (int c = 0; c < n; ++c) {
       const Eigen::Vector2d x(lo_[0] + (c % nx_) * h_, lo_[1] + ((c / nx_) % nz_) * h_);
-      if ((x - nav.goal_m).norm() <= 0.7 * nav.goal_tolerance_m) cost_[size_t(c)] = 0, queue.push_back(c);
+      if ((x - nav.goal_m).norm() <= kArriveFraction * nav.goal_tolerance_m) cost_[size_t(c)] = 0, queue.push_back(c);
     }
     for (size_t q = 0; q < queue.size(); ++q) {
       const int j = queue[q];
@@ -437,7 +445,8 @@ struct SearchNode {
   int first = 0, gait = 0, layer = 0;  // layer of the cost to go (PrimitiveCostToGo)
   std::vector<SoftState> states;  // frames of the first period (depth-1 nodes only)
   double min_clearance = std::numeric_limits<double>::infinity();
-  int goal_frame = -1;  // frame of the search (from 0) at which the goal disc was entered
+  int goal_frame = -1;  // frame of the search (from 0) at which the arrival disc was entered
+  double max_goal_distance = 0;  // largest COM-to-goal distance over `states`
   double score = std::numeric_limits<double>::infinity();
 };
 
@@ -492,6 +501,14 @@ NavResult navigate(const Problem& p, const std::vector<Gait>& gaits, const NavSe
   const double a_max = max_activation_m(ch, p.dmp);
   const Eigen::Vector2d goal = nav.goal_m;
   auto planar = [](const SoftState& x) { return Eigen::Vector2d(x.c[0], x.c[2]); };
+  // Final approach: entering the tolerance disc does not end the run (the COM
+  // may graze its edge, and a different compiler's rounding would move it just
+  // outside); execution goes on, with only gaits whose whole period stays inside
+  // the disc, until the COM is within `arrive`, no gait stays inside, or
+  // kApproachPeriods periods have been played inside the disc. So once inside,
+  // the run ends inside.
+  const double arrive = kArriveFraction * nav.goal_tolerance_m;
+  int approach_periods = 0;
   res.com.push_back(s.c);
   res.min_clearance_m = clearance(nav, planar(s));
   int frame = 0;
@@ -503,12 +520,15 @@ NavResult navigate(const Problem& p, const std::vector<Gait>& gaits, const NavSe
     to.min_clearance = from.min_clearance;
     to.goal_frame = from.goal_frame;
     to.states.clear();
+    to.max_goal_distance = 0;
     for (int f = 0; f < std::min(P, frames_left) && to.goal_frame < 0; ++f) {
       const Eigen::VectorXd& y = dmp_step(p.dmp, gaits[size_t(g)].theta, p.sim.dt_s, to.dmp);
       reduced_step(ch, p.env, p.sim, control_force(ch, y, a_max), to.s);
       if (keep) to.states.push_back(to.s);
       to.min_clearance = std::min(to.min_clearance, clearance(nav, planar(to.s)));
-      if ((planar(to.s) - goal).norm() <= nav.goal_tolerance_m) to.goal_frame = frames_before + f;
+      const double dist = (planar(to.s) - goal).norm();
+      if (!(dist <= to.max_goal_distance)) to.max_goal_distance = dist;  // NaN propagates
+      if (dist <= arrive) to.goal_frame = frames_before + f;
     }
   };
   // Score of a leaf: periods to go (plus the distance to the goal in steps / 10 to
@@ -529,7 +549,9 @@ NavResult navigate(const Problem& p, const std::vector<Gait>& gaits, const NavSe
   SearchNode root;
   int last = -1;           // gait of the previous period (-1: at rest)
   bool last_fresh = false;  // it was a switch
-  while (frame < nav.max_frames && (planar(s) - goal).norm() > nav.goal_tolerance_m) {
+  while (frame < nav.max_frames && (planar(s) - goal).norm() > arrive) {
+    const bool inside = (planar(s) - goal).norm() <= nav.goal_tolerance_m;
+    if (inside && approach_periods++ >= kApproachPeriods) break;
     // Every allowed gait is re-simulated for a period from the current state (the
     // DMP keeps its phase and activations across switches); the one whose end pose
     // has the smallest cost to go is played. A switch is held for at least two
@@ -545,8 +567,9 @@ NavResult navigate(const Problem& p, const std::vector<Gait>& gaits, const NavSe
       n.first = g;
       n.states.clear();
       n.score = std::numeric_limits<double>::infinity();
-      if (last_fresh && g != last) continue;
+      if (last_fresh && g != last && !inside) continue;
       expand(root, g, frames_left, 0, true, n);
+      if (inside && !(n.max_goal_distance <= nav.goal_tolerance_m)) continue;  // would leave the disc
       n.layer = g == last ? PrimitiveCostToGo::settled(g) : cost_to_go.fresh(g);
       n.score = score(n);
     }
@@ -554,6 +577,7 @@ NavResult navigate(const Problem& p, const std::vector<Gait>& gaits, const NavSe
     for (int g = 1; g < G; ++g)
       if (level1[size_t(g)].score < level1[size_t(choice)].score) choice = g;
     const SearchNode& c = level1[size_t(choice)];
+    if (inside && !std::isfinite(c.score)) break;  // every gait would leave the disc: stay
     if (c.states.empty() || !std::isfinite(c.states.back().c.sum()))
       throw std::runtime_error("navigation: the reduced simulation diverged at frame " + std::to_string(frame));
     res.gait_sequence.push_back(choice);

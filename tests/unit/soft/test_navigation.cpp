@@ -52,7 +52,7 @@ TEST(Navigation, SceneWithoutOmplIsInputErrorAndBadGaitsAreRejected) {
 }
 
 // Re-simulates the whole plan (about 23 s of spider walking): label slow. The
-// spider reaches the goal disc and its COM never enters an obstacle.
+// spider ends well inside the goal disc and its COM never enters an obstacle.
 TEST(NavigationSlow, CachedGaitsPlanAroundTheObstacle) {
   if (!navigation_available()) GTEST_SKIP() << "built without OMPL";
   SoftModel m = soft_compile(load_scene(std::string(PLIANT_ASSETS_DIR) + "/scenes/soft_navigate.json"));
@@ -81,9 +81,11 @@ TEST(NavigationSlow, CachedGaitsPlanAroundTheObstacle) {
   ASSERT_FALSE(r.planned.empty());
   EXPECT_LE((r.planned.back().head<2>() - nav.goal_m).norm(), nav.goal_tolerance_m);
   EXPECT_GT(r.min_clearance_m, 0.0);  // the COM never entered an obstacle's footprint
-  // Closed loop on the re-simulated body: the COM ends within the goal tolerance.
+  // Closed loop on the re-simulated body: the COM ends well inside the goal
+  // tolerance (the executor aims for half of it; 0.100 m measured for 0.2, where
+  // stopping at the disc's edge gave 0.198 m), not just at its edge.
   EXPECT_TRUE(r.reached) << "ended " << r.final_distance_m << " m from the goal after " << r.com.size() << " frames";
-  EXPECT_LE(r.final_distance_m, nav.goal_tolerance_m);
+  EXPECT_LE(r.final_distance_m, 0.75 * nav.goal_tolerance_m);
   for (const Eigen::Vector3d& c : r.com)
     for (const NavObstacle& o : nav.obstacles) ASSERT_GT((Eigen::Vector2d(c[0], c[2]) - o.center_m).norm(), o.radius_m);
   std::printf("navigation: final distance %.3f m, %zu frames, min clearance %.3f m, %d primitive updates\n",

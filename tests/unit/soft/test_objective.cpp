@@ -9,26 +9,21 @@
 
 #include "pliant/core/scene.h"
 #include "pliant/soft/soft.h"
+#include "soft_test_scenes.h"
 
 using namespace pliant;
 using namespace pliant::soft;
 
 namespace {
+using pliant::soft::test::t_shape_jump_objectives;
 Scene t_scene(const std::string& objectives, const std::string& optimizer) {
-  const std::string text = R"({"pliant": 1, "kind": "soft",
-    "character": {"mesh": "t_shape.obj", "resolution": 4, "modes": 6},
-    "material": {"density_kg_per_m3": 1000, "young_pa": 1e5, "poisson": 0.3},
-    "environment": {"type": "ground", "friction": 0.8},
-    "simulation": {"dt_s": 0.025, "frames": 30},
-    "controller": {"modes": 6, "kernels": 3, "period_s": 0.6, "max_activation_rel": 1.0},
-    "objectives": )" + objectives + R"(, "optimizer": )" + optimizer + "}";
-  return parse_scene(text, "t.json", std::string(PLIANT_ASSETS_DIR) + "/characters");
+  return pliant::soft::test::t_shape_scene(objectives, optimizer);
 }
 }  // namespace
 
 TEST(Objective, TShapeReachesNinetyPercentOfTargetJump) {
   const double target = 0.03;
-  SoftModel m = soft_compile(t_scene(R"({"jump": {"height_m": 0.03, "weight": 100}, "effort": {"weight": 1e-4}})",
+  SoftModel m = soft_compile(t_scene(t_shape_jump_objectives(),
                                      R"({"method": "hybrid", "iterations": 8, "horizon_frames": 24})"));
   soft_bind(m);
   // Stop once the smooth max is within 5% of the target (objective 100/2 (0.05 h)^2):

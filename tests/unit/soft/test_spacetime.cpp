@@ -12,6 +12,7 @@
 
 #include "pliant/core/scene.h"
 #include "pliant/soft/soft.h"
+#include "soft_test_scenes.h"
 
 using namespace pliant;
 using namespace pliant::soft;
@@ -118,15 +119,8 @@ TEST(Spacetime, MeritMonotoneAtFixedWeightAndResimulatedObjectiveIsTheta) {
 // spacetime's re-simulated objective is within 2x of the hybrid shooting optimizer's
 // (measured: 4.3e-6 vs 3.9e-5, see README) and far below the start.
 TEST(Spacetime, TShapeJumpWithinTwiceShootingAfterFourIterations) {
-  const std::string text = R"({"pliant": 1, "kind": "soft",
-    "character": {"mesh": "t_shape.obj", "resolution": 4, "modes": 6},
-    "material": {"density_kg_per_m3": 1000, "young_pa": 1e5, "poisson": 0.3},
-    "environment": {"type": "ground", "friction": 0.8},
-    "simulation": {"dt_s": 0.025, "frames": 30},
-    "controller": {"modes": 6, "kernels": 3, "period_s": 0.6, "max_activation_rel": 1.0},
-    "objectives": {"jump": {"height_m": 0.03, "weight": 100}, "effort": {"weight": 1e-4}},
-    "optimizer": {"method": "spacetime", "iterations": 4, "horizon_frames": 24}})";
-  SoftModel m = soft_compile(parse_scene(text, "t.json", std::string(PLIANT_ASSETS_DIR) + "/characters"));
+  SoftModel m = soft_compile(pliant::soft::test::t_shape_scene(
+      pliant::soft::test::t_shape_jump_objectives(), R"({"method": "spacetime", "iterations": 4, "horizon_frames": 24})"));
   soft_bind(m);
   const Problem& p = m.problem;
   OptimizerState shoot;
