@@ -61,6 +61,34 @@ ArticulatedScene articulated_compile(const Scene& scene) {
     o.contact.limit_stiffness = c->number("limit_stiffness", o.contact.limit_stiffness, 0);
     c->finish();
   }
+  if (auto jl = r.object("joint_limits")) {
+    // Pliant extension, by joint name: a ball joint's swing cone and twist range about
+    // its axis (radians), penalties with contact.limit_stiffness (joint_limits.cpp).
+    std::vector<std::string> keys, balls;
+    for (const auto& item : jl->value().items()) keys.push_back(item.key());
+    for (const Joint& j : m.joints)
+      if (j.type == JointType::Ball && !j.name.empty()) balls.push_back(j.name);
+    for (const std::string& key : keys) {
+      Joint* joint = nullptr;
+      for (Joint& j : a.model.joints)
+        if (j.name == key && j.type == JointType::Ball) joint = &j;
+      if (!joint) {
+        const std::string near = nearest_name(key, balls);
+        jl->fail(key, "no ball joint named \"" + key + "\"" + (near.empty() ? "" : "; did you mean \"" + near + "\"?"));
+      }
+      auto jr = jl->object(key);
+      if (jr->has("swing")) joint->swing_max = jr->required_number("swing", 0, M_PI);
+      if (jr->has("twist")) {
+        const auto t = jr->numbers("twist", {}, 2, 2, -M_PI, M_PI);
+        if (!(t[0] < t[1])) jr->fail("twist", "lower bound must be below the upper bound");
+        joint->twist_limited = true;
+        joint->twist_min = t[0];
+        joint->twist_max = t[1];
+      }
+      jr->finish();
+    }
+    jl->finish();
+  }
   if (auto s = r.object("solver")) {
     o.solver = s->choice("method", "lm", {"lm", "lbfgs"}) == "lbfgs" ? Solver::Lbfgs : Solver::Lm;
     o.lm_max_iterations = static_cast<int>(s->integer("max_iterations", o.lm_max_iterations, 1, 10000));

@@ -30,6 +30,14 @@ double limit_terms(const Model& m, const SimOptions& o, const VecX& q, VecX* for
   if (hdiag) hdiag->setZero(m.nv);
   double e = 0;
   for (const Joint& j : m.joints) {
+    if (j.type == JointType::Ball && (j.swing_max >= 0 || j.twist_limited)) {
+      Vec3 g;
+      Mat3 h;
+      const Eigen::Vector4d qb(q[j.qadr], q[j.qadr + 1], q[j.qadr + 2], q[j.qadr + 3]);
+      e += ball_swing_twist_penalty(j, k, qb, force ? &g : nullptr, hdiag ? &h : nullptr);
+      if (force) force->segment<3>(j.vadr) += g;
+      if (hdiag) hdiag->segment<3>(j.vadr) += hessian_diagonal_bound(h);
+    }
     if (!j.limited) continue;
     if (j.type == JointType::Ball) {
       // Cone: rotation angle theta = |log q| <= range_max. With the local velocity
@@ -45,8 +53,8 @@ double limit_terms(const Model& m, const SimOptions& o, const VecX& q, VecX* for
       const double d = theta - j.range_max;
       if (d <= 0 || sv < 1e-300) continue;
       e += 0.5 * k * d * d;
-      if (force) force->segment<3>(j.vadr) = k * d * v / sv;
-      if (hdiag) hdiag->segment<3>(j.vadr).setConstant(k);
+      if (force) force->segment<3>(j.vadr) += k * d * v / sv;
+      if (hdiag) hdiag->segment<3>(j.vadr).array() += k;
       continue;
     }
     const double x = q[j.qadr];
@@ -61,7 +69,7 @@ double limit_terms(const Model& m, const SimOptions& o, const VecX& q, VecX* for
 
 bool any_limits(const Model& m) {
   for (const Joint& j : m.joints)
-    if (j.limited) return true;
+    if (j.limited || j.swing_max >= 0 || j.twist_limited) return true;
   return false;
 }
 

@@ -41,6 +41,12 @@ struct Joint {
   // have no limits.
   bool limited = false;
   double range_min = 0, range_max = 0;
+  // Ball joints only, a Pliant extension (scene "joint_limits"): swing cone (angle
+  // between `axis` and its image <= swing_max; < 0: none) and twist range about
+  // `axis`, each a penalty 1/2 k (excess)^2 with the same k.
+  double swing_max = -1;
+  bool twist_limited = false;
+  double twist_min = 0, twist_max = 0;
 };
 
 enum class GeomType { Plane, Sphere, Capsule, Box, Mesh };

@@ -118,6 +118,14 @@ struct SimWorkspace {
 // Caches the model's contact points and obstacles in ws (cheap when already done).
 void sim_prepare(const Model& m, SimWorkspace& ws);
 
+// Swing-cone / twist-range penalty of ball joint j (joint_limits.cpp) at quaternion
+// qb (w x y z): energy, gradient and exact Hessian in the joint's local rotation
+// vector (q exp(dv) at dv = 0). The LM model takes hessian_diagonal_bound(H), a
+// diagonal D with D - H positive semi-definite (Gershgorin), because the tree solve
+// takes joint-space terms as a diagonal.
+double ball_swing_twist_penalty(const Joint& j, double k, Eigen::Vector4d qb, Vec3* grad, Mat3* hess);
+Vec3 hessian_diagonal_bound(const Mat3& h);
+
 State state_init(const Model& m);
 // One step of the chosen integrator; returns false if the state became non-finite.
 bool sim_step(const Model& m, const SimOptions& o, State& s, SimWorkspace& ws, StepInfo* info = nullptr);

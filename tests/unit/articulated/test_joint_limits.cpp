@@ -1,0 +1,152 @@
+// Ball joints' swing cone and twist range (joint_limits.cpp): exact derivatives by
+// finite differences, the LM diagonal bound, the limits holding in a simulation, and
+// the scene's "joint_limits" keys.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "pliant/articulated/articulated.h"
+#include "pliant/articulated/io.h"
+#include "pliant/articulated/sim.h"
+#include "pliant/core/error.h"
+
+namespace pliant::articulated {
+namespace {
+
+Eigen::Vector4d times_exp(const Eigen::Vector4d& q, const Vec3& dv) {
+  const double a = dv.norm();
+  const Quat e = a > 0 ? Quat(Eigen::AngleAxisd(a, dv / a)) : Quat::Identity();
+  const Quat r = Quat(q[0], q[1], q[2], q[3]) * e;
+  return Eigen::Vector4d(r.w(), r.x(), r.y(), r.z());
+}
+
+Eigen::Vector4d quat_of(const Vec3& rotvec) {
+  const Eigen::Vector4d id(1, 0, 0, 0);
+  return times_exp(id, rotvec);
+}
+
+TEST(JointLimits, SwingAndTwistDerivativesMatchFiniteDifferences) {
+  Joint j;
+  j.type = JointType::Ball;
+  j.axis = Vec3(0.2, -0.3, 1).normalized();
+  const double k = 7;
+  struct Case {
+    double swing;
+    bool twist;
+    Vec3 rot;
+  };
+  const Case cases[] = {{0.3, false, Vec3(0.5, 0.2, 0.1)},   // swing only
+                        {-1, true, Vec3(0.1, -0.2, 0.9)},    // twist beyond the upper bound
+                        {-1, true, Vec3(0.3, 0.1, -1.1)},    // below the lower bound
+                        {0.2, true, Vec3(-0.6, 0.4, 1.0)},   // both
+                        {0.2, true, Vec3(1.4, -1.0, -2.0)}}; // large rotation, both
+  for (const Case& c : cases) {
+    j.swing_max = c.swing;
+    j.twist_limited = c.twist;
+    j.twist_min = -0.4;
+    j.twist_max = 0.5;
+    const Eigen::Vector4d q = quat_of(c.rot);
+    Vec3 g;
+    Mat3 h;
+    const double e0 = ball_swing_twist_penalty(j, k, q, &g, &h);
+    ASSERT_GT(e0, 0) << c.rot.transpose();
+    const auto f = [&](const Vec3& dv) { return ball_swing_twist_penalty(j, k, times_exp(q, dv), nullptr, nullptr); };
+    const double hg = 1e-6, hh = 1e-4;
+    for (int a = 0; a < 3; ++a) {
+      const Vec3 ea = Vec3::Unit(a);
+      EXPECT_NEAR(g[a], (f(hg * ea) - f(-hg * ea)) / (2 * hg), 1e-7 * (1 + g.norm())) << c.rot.transpose();
+      for (int b = 0; b < 3; ++b) {
+        const Vec3 eb = Vec3::Unit(b);
+        const double fd = (f(hh * (ea + eb)) - f(hh * (ea - eb)) - f(hh * (eb - ea)) + f(-hh * (ea + eb))) / (4 * hh * hh);
+        EXPECT_NEAR(h(a, b), fd, 1e-5 * (1 + h.norm())) << c.rot.transpose() << " (" << a << "," << b << ")";
+      }
+    }
+    // The LM diagonal dominates the exact Hessian.
+    const Vec3 d = hessian_diagonal_bound(h);
+    const Mat3 gap = Mat3(d.asDiagonal()) - h;
+    EXPECT_GT(Eigen::SelfAdjointEigenSolver<Mat3>(gap).eigenvalues().minCoeff(), -1e-12);
+    EXPECT_GE(d.minCoeff(), 0);
+  }
+  // Inside both ranges: nothing.
+  j.swing_max = 0.5;
+  Vec3 g;
+  EXPECT_EQ(ball_swing_twist_penalty(j, k, quat_of(Vec3(0.1, 0, 0.2)), &g, nullptr), 0);
+  EXPECT_EQ(g.norm(), 0);
+}
+
+TEST(JointLimits, SwingConeAndTwistRangeHoldInASimulation) {
+  // A ball pendulum hanging along -z (axis z): thrown sideways (swing) or spun about
+  // its axis (twist); the free joint reaches ~1.4 rad / 1.5 rad, the limited one stops
+  // near its bound (stiff penalty).
+  Model m = model_from_mjcf(
+      "<mujoco><worldbody><body><joint name=\"b\" type=\"ball\"/><inertial pos=\"0 0 -1\" mass=\"1\" "
+      "diaginertia=\"0.01 0.01 0.01\"/></body></worldbody></mujoco>",
+      "ball.xml");
+  SimOptions o;
+  o.dt = 0.005;
+  o.contact.limit_stiffness = 1e4;
+  const auto run = [&](const Model& model, const Vec3& w0, double* swing, double* twist) {
+    State s = state_init(model);
+    s.qvel = w0;
+    SimWorkspace ws;
+    *swing = 0, *twist = 0;
+    while (s.time < 0.5) {
+      ASSERT_TRUE(sim_step(model, o, s, ws));
+      Eigen::Vector4d q = s.qpos.head<4>().normalized();
+      if (q[0] < 0) q = -q;
+      const Mat3 r = Quat(q[0], q[1], q[2], q[3]).toRotationMatrix();
+      *swing = std::max(*swing, std::acos(std::clamp(r(2, 2), -1.0, 1.0)));
+      *twist = std::max(*twist, std::abs(2 * std::atan2(q[3], q[0])));
+    }
+  };
+  double swing, twist;
+  run(m, Vec3(3.2, 2.4, 0), &swing, &twist);
+  EXPECT_GT(swing, 1.2);
+  run(m, Vec3(0, 0, 3), &swing, &twist);
+  EXPECT_GT(twist, 1.4);
+  m.joints[0].swing_max = 0.5;
+  m.joints[0].twist_limited = true;
+  m.joints[0].twist_min = -0.3;
+  m.joints[0].twist_max = 0.3;
+  run(m, Vec3(3.2, 2.4, 0), &swing, &twist);
+  EXPECT_LT(swing, 0.6);
+  EXPECT_GT(swing, 0.45);
+  run(m, Vec3(0, 0, 3), &swing, &twist);
+  EXPECT_LT(twist, 0.36);
+  EXPECT_GT(twist, 0.28);
+}
+
+Scene scene_of(const nlohmann::json& limits) {
+  const nlohmann::json j = {{"pliant", 1}, {"kind", "articulated"},
+                            {"model", {{"bodies", {{{"name", "p"}, {"pos", {0, 0, 0}},
+                                                    {"joints", {{{"type", "ball"}, {"name", "shoulder"}, {"axis", {0, 1, 0}}}}},
+                                                    {"geoms", {{{"type", "sphere"}, {"size", {0.1}}, {"mass", 1}}}}}}}}},
+                            {"joint_limits", limits}};
+  return parse_scene(j.dump(), "s.json", PLIANT_ASSETS_DIR "/scenes");
+}
+
+std::string error_of(const nlohmann::json& limits) {
+  try {
+    articulated_compile(scene_of(limits));
+  } catch (const InputError& e) {
+    return e.pointer() + " | " + e.problem();
+  }
+  return "no error";
+}
+
+TEST(JointLimits, SceneKeysSetTheLimitsAndBadOnesNameTheirPointer) {
+  const ArticulatedScene a = articulated_compile(scene_of({{"shoulder", {{"swing", 0.7}, {"twist", {-0.2, 0.4}}}}}));
+  EXPECT_EQ(a.model.joints[0].swing_max, 0.7);
+  EXPECT_TRUE(a.model.joints[0].twist_limited);
+  EXPECT_EQ(a.model.joints[0].twist_min, -0.2);
+  EXPECT_EQ(a.model.joints[0].twist_max, 0.4);
+  EXPECT_NE(error_of({{"shouldr", {{"swing", 0.7}}}}).find("/joint_limits/shouldr | no ball joint named \"shouldr\"; did you mean \"shoulder\""),
+            std::string::npos);
+  EXPECT_NE(error_of({{"shoulder", {{"swing", -1}}}}).find("/joint_limits/shoulder/swing"), std::string::npos);
+  EXPECT_NE(error_of({{"shoulder", {{"twist", {0.4, -0.2}}}}}).find("/joint_limits/shoulder/twist | lower bound"),
+            std::string::npos);
+  EXPECT_NE(error_of({{"shoulder", {{"swng", 0.3}}}}).find("/joint_limits/shoulder/swng"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace pliant::articulated
