@@ -13,6 +13,8 @@
 //                       [--nso-vcycles N] [--ao-iterations N] [scene.json ...]
 //   bench_smoke_control --converged [--budget X] [--baseline plain|c2f|both] [--deadline-unix S]
 //                       [--pliant-given E CPU_S IOU] [--grid N] [--merge] [--out FILE] scene.json ...
+//   bench_smoke_control --evaluations N [--grid N] [--frames T] scene.json ...
+//     per-evaluation profile (objective + gradient of the polish); prints JSON only.
 // --converged: issue 3's converged comparison (converged_comparison.h): Pliant as users
 // run it to its end, then L-BFGS with X (20) times Pliant's CPU time to reach its error.
 // --merge keeps the output file's other rows (a row replaces the row of the same case).
@@ -35,6 +37,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
+#include <cstdint>
 #include <chrono>
 #include <cstdio>
 #include <fstream>
@@ -44,6 +48,7 @@
 #include <vector>
 
 #include "admm_solver.h"
+#include "control_forward_model.h"
 #include "converged_comparison.h"
 #include "pliant/core/scene.h"
 #include "pliant/smoke/control.h"
@@ -147,11 +152,67 @@ void rescale_scene(Scene& scene, int n, int frames) {
 }
 
 
+// --evaluations N: issue 3's per-evaluation profile. Wall and process CPU seconds of N
+// objective + gradient evaluations (forward sweep + discrete adjoint: what one polish
+// L-BFGS iteration costs) on one ForwardOps, as the polish does. Forces: a smooth
+// descent direction f = -c dE/df(0) with max |dt f| = half a cell per frame. The
+// first evaluation (buffers sized) is reported apart; "bits" hashes E and the
+// gradient, to check that thread counts give the same bits.
+nlohmann::json time_evaluations(const ControlModel& m, int n) {
+  using control_detail::Vec;
+  control_detail::ForwardOps ops(m, control_detail::kControlPressureTolerance);
+  const size_t nf = ops.faces();
+  std::vector<Vec> f(m.sim.frames, Vec(nf, 0.0)), g;
+  control_detail::objective_d(m, ops, f, &g);
+  double gmax = 0;
+  for (const Vec& gi : g)
+    for (double x : gi) gmax = std::max(gmax, std::abs(x));
+  const double c = gmax > 0 ? 0.5 * m.sim.cell_size_m / (m.sim.dt_s * m.sim.dt_s * gmax) : 0.0;
+  for (int i = 0; i < m.sim.frames; ++i)
+    for (size_t e = 0; e < nf; ++e) f[i][e] = -c * g[i][e];
+  double first_s = 0, first_cpu = 0, rest_s = 0, rest_cpu = 0, E = 0;
+  for (int k = 0; k < n; ++k) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const double c0 = cpu_s();
+    E = control_detail::objective_d(m, ops, f, &g);
+    const double w = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const double cpu = cpu_s() - c0;
+    if (k == 0) first_s = w, first_cpu = cpu;
+    else rest_s += w, rest_cpu += cpu;
+  }
+  uint64_t h = 1469598103934665603ull;  // FNV-1a over the bytes of E and the gradient
+  auto mix = [&h](double x) {
+    unsigned char b[sizeof x];
+    std::memcpy(b, &x, sizeof x);
+    for (unsigned char v : b) h = (h ^ v) * 1099511628211ull;
+  };
+  mix(E);
+  for (const Vec& gi : g)
+    for (double x : gi) mix(x);
+  char bits[17];
+  std::snprintf(bits, sizeof bits, "%016llx", static_cast<unsigned long long>(h));
+  const int rest = std::max(1, n - 1);
+  return {{"mode", "evaluations"},
+          {"omp_threads", omp_get_max_threads()},
+          {"load_average_1min", load_average()},
+          {"grid", m.sim.n},
+          {"frames", m.sim.frames},
+          {"evaluations", n},
+          {"objective", E},
+          {"bits", bits},
+          {"first_evaluation_wall_s", first_s},
+          {"first_evaluation_cpu_s", first_cpu},
+          {"evaluation_wall_s", n > 1 ? rest_s / rest : first_s},
+          {"evaluation_cpu_s", n > 1 ? rest_cpu / rest : first_cpu},
+          {"pressure_iterations_per_projection", ops.projections ? double(ops.pressure_iterations) / ops.projections : 0.0},
+          {"peak_mb", peak_mb()}};
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   bool quick = false;
-  int iterations = 0, lbfgs_iterations = 0, polish = -1, grid = 0, frames = 0;
+  int iterations = 0, lbfgs_iterations = 0, polish = -1, grid = 0, frames = 0, evaluations = 0;
   bool coarse_to_fine = false, converged = false, merge = false;
   int nso_vcycles = -1, ao_iterations = 0;  // ADMM setting overrides (A/B experiments)
   double nso_skip_gap = -1;
@@ -172,6 +233,7 @@ int main(int argc, char** argv) {
     else if (a == "--coarse-to-fine") coarse_to_fine = true;
     else if (a == "--r" && i + 1 < argc) r_override = std::stod(argv[++i]);
     else if (a == "--converged") converged = true;
+    else if (a == "--evaluations" && i + 1 < argc) evaluations = std::stoi(argv[++i]);
     else if (a == "--nso-vcycles" && i + 1 < argc) nso_vcycles = std::stoi(argv[++i]);
     else if (a == "--ao-iterations" && i + 1 < argc) ao_iterations = std::stoi(argv[++i]);
     else if (a == "--nso-skip-gap" && i + 1 < argc) nso_skip_gap = std::stod(argv[++i]);
@@ -228,6 +290,16 @@ int main(int argc, char** argv) {
     if (lbfgs_chunk > 0) m.lbfgs_chunk = lbfgs_chunk;
     if (coarse_admm_levels >= -1) m.coarse_admm_levels = coarse_admm_levels;
     if (coarse_iterations >= -1) m.coarse_iterations = coarse_iterations;
+    if (evaluations > 0) {  // per-evaluation profile (no results file row unless --out)
+      nlohmann::json j = time_evaluations(m, evaluations);
+      std::string name = path.substr(path.find_last_of('/') + 1);
+      name += " " + std::to_string(m.sim.n[0]) + "^" + std::to_string(m.sim.dim) + "x" + std::to_string(m.sim.frames);
+      j["case"] = name + " evaluation omp" + std::to_string(omp_get_max_threads());
+      j["machine"] = pliant::bench::machine_description();
+      std::printf("%s\n", j.dump().c_str());
+      std::fflush(stdout);
+      continue;
+    }
     if (converged) {  // issue 3's converged comparison (converged_comparison.h)
       std::string name = path.substr(path.find_last_of('/') + 1);
       if (grid > 0 || frames > 0)

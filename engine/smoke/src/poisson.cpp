@@ -84,16 +84,17 @@ void poisson_apply(const PoissonLevel& L, const double* x, double* y) {
 }
 
 double poisson_residual(const PoissonLevel& L, const double* b, const double* x, double* r) {
-  const int ny = L.n[1], nz = L.n[2];
-  double rr = 0;
-#pragma omp parallel for collapse(2) schedule(static) reduction(+ : rr) if (L.cells() >= kOmpMinCells)
-  for (int k = 0; k < nz; ++k)
-    for (int j = 0; j < ny; ++j)
-      for_row(L, x, j, k, 0, 1, [&](size_t c, double sum, int count) {
+  const int ny = L.n[1];
+  const size_t rows = size_t(ny) * L.n[2];
+  return fixed_order_block_sum(rows, L.cells() >= kOmpMinCells, [&](size_t r0, size_t r1) {
+    double rr = 0;
+    for (size_t row = r0; row < r1; ++row)
+      for_row(L, x, int(row % ny), int(row / ny), 0, 1, [&](size_t c, double sum, int count) {
         r[c] = b[c] - (count * x[c] - sum);
         rr += r[c] * r[c];
       });
-  return rr;
+    return rr;
+  });
 }
 
 void poisson_diagonal(const PoissonLevel& L, double* diag) {
@@ -162,9 +163,11 @@ void poisson_prolong_add(const PoissonLevel& fine, const PoissonLevel& coarse, c
 }
 
 void remove_mean(double* x, size_t n) {
-  double s = 0;
-#pragma omp parallel for schedule(static) reduction(+ : s) if (n >= kOmpMinCells)
-  for (size_t c = 0; c < n; ++c) s += x[c];
+  const double s = fixed_order_block_sum(n, n >= kOmpMinCells, [x](size_t i0, size_t i1) {
+    double t = 0;
+    for (size_t c = i0; c < i1; ++c) t += x[c];
+    return t;
+  });
   const double m = s / double(n);
 #pragma omp parallel for schedule(static) if (n >= kOmpMinCells)
   for (size_t c = 0; c < n; ++c) x[c] -= m;

@@ -19,6 +19,30 @@ namespace pliant::smoke {
 // the work on coarse multigrid levels (and much more on a loaded machine).
 inline constexpr size_t kOmpMinCells = 4096;
 
+// Sums over [0, n) in a fixed partition into kSumBlocks blocks: block(i0, i1) sums its
+// range in index order, then the block sums are added in block order. The same bits
+// for any thread count (an OpenMP reduction's order depends on it), so the control
+// solvers give identical results on 1 and 2 threads.
+inline constexpr int kSumBlocks = 64;
+template <class Block>
+double fixed_order_block_sum(size_t n, bool parallel, const Block& block) {
+  double part[kSumBlocks];
+#pragma omp parallel for schedule(static) if (parallel)
+  for (int b = 0; b < kSumBlocks; ++b) part[b] = block(n * size_t(b) / kSumBlocks, n * size_t(b + 1) / kSumBlocks);
+  double s = 0;
+  for (int b = 0; b < kSumBlocks; ++b) s += part[b];
+  return s;
+}
+// sum of term(i), i in [0, n), in the same fixed order.
+template <class Term>
+double fixed_order_sum(size_t n, const Term& term) {
+  return fixed_order_block_sum(n, n >= 16 * kOmpMinCells, [&](size_t i0, size_t i1) {
+    double s = 0;
+    for (size_t i = i0; i < i1; ++i) s += term(i);
+    return s;
+  });
+}
+
 struct PoissonLevel {
   int dim = 2;
   std::array<int, 3> n{1, 1, 1};

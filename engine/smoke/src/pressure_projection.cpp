@@ -6,11 +6,13 @@
 namespace pliant::smoke {
 namespace {
 
+// Fixed summation order (poisson.h): the same bits on any number of threads.
 double dot(const double* a, const double* b, size_t n) {
-  double s = 0;
-#pragma omp parallel for schedule(static) reduction(+ : s)
-  for (size_t i = 0; i < n; ++i) s += a[i] * b[i];
-  return s;
+  return fixed_order_block_sum(n, n >= kOmpMinCells, [a, b](size_t i0, size_t i1) {
+    double s = 0;
+    for (size_t i = i0; i < i1; ++i) s += a[i] * b[i];
+    return s;
+  });
 }
 
 }  // namespace
@@ -115,13 +117,15 @@ PoissonStats PoissonSolver::solve(PoissonMethod method, double* b, double* x, do
   for (int it = 1; it <= max_iterations; ++it) {
     poisson_apply(shape, d, q);
     const double alpha = rz / dot(d, q, n);
-    rr = 0;
-#pragma omp parallel for schedule(static) reduction(+ : rr)
-    for (size_t c = 0; c < n; ++c) {
-      x[c] += alpha * d[c];
-      r[c] -= alpha * q[c];
-      rr += r[c] * r[c];
-    }
+    rr = fixed_order_block_sum(n, n >= kOmpMinCells, [&](size_t i0, size_t i1) {
+      double t = 0;
+      for (size_t c = i0; c < i1; ++c) {
+        x[c] += alpha * d[c];
+        r[c] -= alpha * q[c];
+        t += r[c] * r[c];
+      }
+      return t;
+    });
     st.iterations = it;
     st.relative_residual = std::sqrt(rr) / bnorm;
     if (st.relative_residual <= tolerance || !std::isfinite(st.relative_residual)) break;

@@ -2,6 +2,11 @@
 // the same double-precision forward model (issue 3: relative error < 1e-5).
 #include <gtest/gtest.h>
 
+#include <omp.h>
+
+#include <atomic>
+#include <cstddef>
+#include <cstring>
 #include <random>
 
 #include "control/control_forward_model.h"
@@ -95,6 +100,139 @@ TEST(ControlAdjoint, ComponentsMatchFiniteDifferences) {
       ++checked;
     }
   EXPECT_GE(checked, 5);
+}
+
+
+}  // namespace
+
+// Allocation counting: malloc/calloc/realloc of the whole binary are interposed
+// (glibc's __libc_* do the work) and counted while g_count is set (operator new and
+// Eigen allocate through malloc). Not under a sanitizer (it owns malloc): there the
+// counts read -1 and only the other checks run.
+#if defined(__SANITIZE_ADDRESS__)
+#define PLIANT_SMOKE_NO_MALLOC_COUNT 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer) || __has_feature(memory_sanitizer) || __has_feature(thread_sanitizer)
+#define PLIANT_SMOKE_NO_MALLOC_COUNT 1
+#endif
+#endif
+#if !defined(PLIANT_SMOKE_NO_MALLOC_COUNT) && defined(__GLIBC__)
+#define PLIANT_SMOKE_MALLOC_COUNT 1
+namespace {
+std::atomic<bool> g_count{false};
+std::atomic<long> g_allocations{0};
+}  // namespace
+extern "C" {
+void* __libc_malloc(std::size_t);
+void* __libc_calloc(std::size_t, std::size_t);
+void* __libc_realloc(void*, std::size_t);
+void* malloc(std::size_t n) {
+  if (g_count.load(std::memory_order_relaxed)) g_allocations.fetch_add(1, std::memory_order_relaxed);
+  return __libc_malloc(n);
+}
+void* calloc(std::size_t a, std::size_t b) {
+  if (g_count.load(std::memory_order_relaxed)) g_allocations.fetch_add(1, std::memory_order_relaxed);
+  return __libc_calloc(a, b);
+}
+void* realloc(void* p, std::size_t n) {
+  if (g_count.load(std::memory_order_relaxed)) g_allocations.fetch_add(1, std::memory_order_relaxed);
+  return __libc_realloc(p, n);
+}
+}
+#endif
+
+namespace {
+
+// Allocations made by fn(), or -1 where they cannot be counted.
+template <class Fn>
+long count_allocations(const Fn& fn) {
+#ifdef PLIANT_SMOKE_MALLOC_COUNT
+  // The counter sees this allocation (a check that counting works at all).
+  g_allocations = 0;
+  g_count = true;
+  std::vector<double>* probe = new std::vector<double>(100);
+  g_count = false;
+  delete probe;
+  EXPECT_GE(g_allocations.load(), 1);
+  g_allocations = 0;
+  g_count = true;
+  fn();
+  g_count = false;
+  return g_allocations.exchange(0);
+#else
+  fn();
+  return -1;
+#endif
+}
+
+// Evaluations 2 and 3 of objective + gradient on one ForwardOps (as the L-BFGS polish
+// calls it) allocate nothing: trajectory, adjoint vectors, sub-step states and the
+// scatter chunks live in ForwardOps. The first evaluation runs at larger forces so it
+// sees at least as many density sub-steps as the later ones (that pool only grows).
+long allocations_of_evaluations_2_and_3(const ControlModel& m) {
+  control_detail::ForwardOps ops(m, control_detail::kControlPressureTolerance);
+  const std::vector<Vec> f = random_forces(m, ops.faces(), 8.0, 31);
+  std::vector<Vec> big = f, small = f, g;
+  for (size_t i = 0; i < f.size(); ++i)
+    for (size_t e = 0; e < f[i].size(); ++e) big[i][e] *= 2.0, small[i][e] *= 0.5;
+  control_detail::objective_d(m, ops, big, &g);
+  double e2 = 0, e3 = 0;
+  const long n = count_allocations([&] {
+    e2 = control_detail::objective_d(m, ops, f, &g);
+    e3 = control_detail::objective_d(m, ops, small, &g);
+  });
+  EXPECT_NE(e2, e3);
+  return n;
+}
+
+TEST(ControlAdjoint, SecondAndThirdEvaluationsAllocateNothing) {
+  const long n2 = allocations_of_evaluations_2_and_3(test::tiny_model(16, 12, 5));
+  ControlModel m = test::tiny_model(6, 6, 3);  // 3D, with an obstacle
+  m.sim.dim = 3;
+  m.sim.n = {6, 6, 5};
+  m.initial_density.assign(180, 0.0f);
+  m.initial_density[2 + 6 * (2 + 6 * 2)] = 1.0f;
+  m.keyframes[0].density.assign(180, 0.0f);
+  m.keyframes[0].density[3 + 6 * (3 + 6 * 2)] = 1.0f;
+  m.solid.assign(180, 0);
+  m.solid[4 + 6 * (1 + 6 * 1)] = 1;
+  const long n3 = allocations_of_evaluations_2_and_3(m);
+#ifdef PLIANT_SMOKE_MALLOC_COUNT
+  EXPECT_EQ(n2, 0);
+  EXPECT_EQ(n3, 0);
+#else
+  (void)n2, (void)n3;
+#endif
+}
+
+// The parts of an evaluation that run in parallel give the same bits on 1 and 2
+// threads: the self-advection adjoint scatters into fixed chunks (no float atomics)
+// and the projection's CG sums in a fixed order (no OpenMP reductions). 256^2 cells:
+// above the 16384-face thresholds of their loops. (Whole evaluations of 48^3 x 40:
+// bench_smoke_control --evaluations prints "bits" per thread count.)
+TEST(ControlAdjoint, ParallelPartsGiveTheSameBitsOnOneAndTwoThreads) {
+  const ControlModel m = test::tiny_model(256, 256, 2);
+  control_detail::ForwardOps ops(m, 1e-4);  // the tolerance does not matter here; time does
+  const size_t nf = ops.faces();
+  const std::vector<Vec> r = random_forces(m, nf, 1.0, 21);  // two random face fields
+  const int before = omp_get_max_threads();
+  std::vector<Vec> adjoint(2, Vec(nf, 0.0)), projected(2, r[1]);
+  for (int t : {1, 2}) {
+    omp_set_num_threads(t);
+    ops.advect_velocity_adjoint(r[0], r[1], adjoint[size_t(t - 1)]);
+    ops.project(projected[size_t(t - 1)]);
+  }
+  omp_set_num_threads(before);
+  size_t differ = 0;
+  double amax = 0;
+  for (size_t e = 0; e < nf; ++e) {
+    differ += std::memcmp(&adjoint[0][e], &adjoint[1][e], sizeof(double)) != 0;
+    differ += std::memcmp(&projected[0][e], &projected[1][e], sizeof(double)) != 0;
+    amax = std::max(amax, std::abs(adjoint[0][e]));
+  }
+  EXPECT_EQ(differ, 0u);
+  EXPECT_GT(amax, 0.0);
+  EXPECT_LT(ops.max_divergence(projected[0]), 0.01 * ops.max_divergence(r[1]));
 }
 
 }  // namespace

@@ -225,26 +225,31 @@ void forward_d(const ControlModel& m, ForwardOps& ops, const std::vector<Vec>& f
   const SerialBelow serial(ops.cells());
   const int T = m.sim.frames;
   const size_t nf = ops.faces(), nc = ops.cells();
+  // Sizes only: every entry below is written (no allocation when `out` is reused).
   out.rho.resize(T + 1);
   out.u.resize(T + 1);
   out.substeps.assign(T, 1);
   out.rho[0].assign(m.initial_density.begin(), m.initial_density.end());
   out.rho[0].resize(nc, 0.0);
   out.u[0].assign(nf, 0.0);
-  Vec tmp(nc);
+  Vec& tmp = ops.scratch.rho_tmp;
+  tmp.resize(nc);
   const double dt = ops.dt();
   for (int i = 0; i < T; ++i) {
     Vec& w = out.u[i + 1];
     w.resize(nf);
     ops.advect_velocity(out.u[i], w);
-    const Vec& fi = f[i];
-    for (size_t e = 0; e < nf; ++e) w[e] += dt * fi[e];
+    const double* fi = f[i].data();
+    double* wp = w.data();
+#pragma omp parallel for schedule(static) if (nf > 16384)
+    for (size_t e = 0; e < nf; ++e) wp[e] += dt * fi[e];
     ops.project(w);
     const int S = ops.density_substeps(w);
     out.substeps[i] = S;
     Vec& r = out.rho[i + 1];
-    r = out.rho[i];
-    for (int s = 0; s < S; ++s) {
+    r.resize(nc);
+    ops.upwind_step(w, dt / S, out.rho[i], r);
+    for (int s = 1; s < S; ++s) {
       ops.upwind_step(w, dt / S, r, tmp);
       r.swap(tmp);
     }
@@ -254,12 +259,12 @@ void forward_d(const ControlModel& m, ForwardOps& ops, const std::vector<Vec>& f
 double keyframe_error_d(const ControlModel& m, const TrajectoryD& t) {
   double e = 0;
   for (const Keyframe& k : m.keyframes) {
-    const Vec& r = t.rho[k.frame];
-    double s = 0;
-    for (size_t c = 0; c < r.size(); ++c) {
-      const double d = r[c] - k.density[c];
-      s += d * d;
-    }
+    const double* r = t.rho[k.frame].data();
+    const float* target = k.density.data();
+    const double s = fixed_order_sum(t.rho[k.frame].size(), [&](size_t c) {
+      const double d = r[c] - target[c];
+      return d * d;
+    });
     e += k.weight * s;
   }
   return e;

@@ -27,6 +27,11 @@ namespace pliant::smoke::control_detail {
 
 using Vec = std::vector<double>;
 
+struct TrajectoryD {
+  std::vector<Vec> rho, u;     // T+1 frames
+  std::vector<int> substeps;   // density sub-steps of step i (T entries)
+};
+
 class ForwardOps {
  public:
   ForwardOps(const ControlModel& m, double pressure_tolerance);
@@ -58,6 +63,17 @@ class ForwardOps {
   long projections = 0, pressure_iterations = 0;
   double worst_pressure_residual = 0;
 
+  // Buffers of forward_d / objective_d that live across evaluations, so an L-BFGS
+  // evaluation allocates nothing once they have their sizes (the per-evaluation
+  // trajectory was 7-15% of the polish's samples in malloc/free/page faults).
+  struct Scratch {
+    TrajectoryD trajectory;                 // objective_d's forward trajectory
+    Vec rho_tmp;                            // upwind ping-pong buffer
+    Vec ubar, ubar_prev, wbar, rhobar, qbar;
+    std::vector<Vec> substep_states;        // grows to the most density sub-steps seen
+  };
+  Scratch scratch;
+
  private:
   // Cell on the low / high side of face `local` of component `axis` (-1 at a closed
   // wall), from tables built once (the index arithmetic was half the run time).
@@ -68,6 +84,13 @@ class ForwardOps {
   std::vector<int32_t> lo_, hi_;
   std::vector<int32_t> cell_faces_;   // per cell: global lo and hi face per axis (2*dim)
   mutable std::vector<double> flux_;  // per face scratch of the upwind step and its adjoint
+  // advect_velocity_adjoint scatters: one buffer per fixed chunk of faces (not per
+  // thread), summed in chunk order, so the result has the same bits on any number of
+  // threads (atomics on doubles did not). touched_ = per chunk and component the
+  // [first, last) local index written, so zeroing and summing stay near one pass.
+  static constexpr int kAdjointChunks = 8;
+  mutable std::vector<Vec> chunk_bar_;
+  mutable std::array<std::array<std::array<long, 2>, 3>, kAdjointChunks> touched_{};
 
   MacGrid g_;
   double dt_;
@@ -97,11 +120,6 @@ class SerialBelow {
 
  private:
   int previous_ = 0;
-};
-
-struct TrajectoryD {
-  std::vector<Vec> rho, u;     // T+1 frames
-  std::vector<int> substeps;   // density sub-steps of step i (T entries)
 };
 
 // Forward simulation from rest with rho_0 = m.initial_density.
