@@ -5,6 +5,8 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <atomic>
+#include <cstdint>
 #include <cmath>
 #include <stdexcept>
 
@@ -48,13 +50,46 @@ void exp_and_jacobian(const Vector3d& v, Matrix3d* E, Matrix3d* J) {
   if (J) *J = Matrix3d::Identity() + a * V + b * V2;
 }
 
-// Per-thread reconstruction buffers (sized on first use).
+// Scalars of the left Jacobian J(v) = I + a [v]x + b [v]x^2 and of its derivative
+// along d: dJ[d] = al (v.d) [v]x + a [d]x + be (v.d) [v]x^2 + b ([d]x [v]x + [v]x [d]x),
+// al = a'(t)/t, be = b'(t)/t (series below t = 0.1: the closed forms cancel).
+struct JacobianScalars {
+  double a, b, al, be;
+};
+
+JacobianScalars jacobian_scalars(double t2) {
+  JacobianScalars k;
+  if (t2 < 1e-2) {
+    const double t4 = t2 * t2, t6 = t4 * t2;
+    k.a = 0.5 - t2 / 24 + t4 / 720 - t6 / 40320;
+    k.b = 1.0 / 6 - t2 / 120 + t4 / 5040 - t6 / 362880;
+    k.al = -1.0 / 12 + t2 / 180 - t4 / 6720 + t6 / 453600;
+    k.be = -1.0 / 60 + t2 / 1260 - t4 / 60480 + t6 / 4989600;
+  } else {
+    const double t = std::sqrt(t2), s = std::sin(t), c = std::cos(t);
+    k.a = (1 - c) / t2;
+    k.b = (t - s) / (t2 * t);
+    k.al = (t * s - 2 * (1 - c)) / (t2 * t2);
+    k.be = ((1 - c) / (t2 * t) - 3 * (t - s) / (t2 * t2)) / t;
+  }
+  return k;
+}
+
+// Per-thread reconstruction buffers (sized on first use) and the last evaluation's
+// per-sample rotation E, left Jacobian J and F = E S: the step evaluates the map,
+// its adjoint and its Jacobian at the same z, so exp runs once per z.
 struct RsWork {
   cholmod_common cc;
   cholmod_dense *B = nullptr, *X = nullptr, *Y = nullptr, *E = nullptr;      // positions: N x 3
   cholmod_dense *BJ = nullptr, *XJ = nullptr, *YJ = nullptr, *EJ = nullptr;  // Jacobian: N x 3r
-  Eigen::VectorXd hstep;  // curvature: difference step per coordinate
   Eigen::VectorXd v, sv;  // per-sample rotation vectors (3 S) and strains (9 S)
+  std::uint64_t key = 0;  // RotationStrain::id of the cached evaluation (0: none)
+  Eigen::VectorXd key_z;  // its coordinates
+  Eigen::VectorXd xc;     // its centred positions (3N)
+  std::vector<Matrix3d> Es, Js, Fs;  // per sample at key_z
+  Eigen::VectorXd ax, a2;            // vjp: per-sample weights of w_k (3 S) and s_k (9 S)
+  Eigen::MatrixXd Yc, Bc;            // curvature: the same per direction (3 S x r, 9 S x r)
+  std::vector<Eigen::Matrix<double, 8, 3>> Pk;  // Jacobian: one cell's right-hand side per mode
   RsWork() { cholmod_start(&cc); }
   ~RsWork() {
     for (cholmod_dense** d : {&B, &X, &Y, &E, &BJ, &XJ, &YJ, &EJ})
@@ -72,6 +107,11 @@ struct RsWork {
 RsWork& work() {
   thread_local RsWork w;
   return w;
+}
+
+std::uint64_t next_rs_id() {
+  static std::atomic<std::uint64_t> counter{0};
+  return ++counter;
 }
 
 void solve(RsWork& w, const RsFactor& f, cholmod_dense* B, cholmod_dense** X, cholmod_dense** Y,
@@ -96,10 +136,53 @@ void gather_centred(const RsWork& w, const cholmod_dense* X, const Eigen::Vector
   (void)w;
 }
 
+// Evaluates the map at z into the workspace (per-sample E, J, F and the centred
+// positions w.xc), unless it already holds z for this basis.
+void evaluate(RsWork& w, const Lattice& lat, const RotationStrain& rs, const Eigen::VectorXd& z) {
+  if (w.key == rs.id && rs.id != 0 && w.key_z.size() == z.size() && w.key_z == z) return;
+  w.key = 0;
+  const int n = rs.nodes, ncell = int(lat.cells.size());
+  const auto& G = gauss_shape_gradients(lat.cell_size_m);
+  const double vol = rs.sample_volume;
+  w.v.resize(3 * rs.samples);
+  w.sv.resize(9 * rs.samples);
+  w.v.noalias() = rs.rot * z;
+  w.sv.noalias() = rs.strain * z;
+  w.Es.resize(size_t(rs.samples));
+  w.Js.resize(size_t(rs.samples));
+  w.Fs.resize(size_t(rs.samples));
+  w.ensure(w.B, n, 3);
+  double* b = static_cast<double*>(w.B->x);
+  std::fill(b, b + 3 * size_t(n), 0.0);
+  // Right-hand side vol sum_i G_i^T F_i: b(node a, s) += vol sum_c F(s, c) G(a, c),
+  // summed per cell before the scatter.
+  for (int e = 0; e < ncell; ++e) {
+    const auto& ids = lat.cells[e];
+    Eigen::Matrix<double, 8, 3> P = Eigen::Matrix<double, 8, 3>::Zero();
+    for (int q = 0; q < 8; ++q) {
+      const int i = 8 * e + q;
+      exp_and_jacobian(w.v.segment<3>(3 * i), &w.Es[i], &w.Js[i]);
+      w.Fs[i].noalias() = w.Es[i] * (Matrix3d::Identity() + Eigen::Map<const Matrix3d>(w.sv.data() + 9 * i));
+      P.noalias() += G[q] * w.Fs[i].transpose();
+    }
+    for (int s = 0; s < 3; ++s) {
+      double* c = b + size_t(s) * size_t(n);
+      for (int a = 0; a < 8; ++a) c[ids[a]] += vol * P(a, s);
+    }
+  }
+  solve(w, *rs.factor, w.B, &w.X, &w.Y, &w.E);
+  if (w.xc.size() != 3 * n) w.xc.resize(3 * n);
+  Eigen::Map<Eigen::MatrixXd> xm(w.xc.data(), 3 * n, 1);
+  gather_centred(w, w.X, rs.mass_fraction, xm);
+  w.key_z = z;
+  w.key = rs.id;
+}
+
 }  // namespace
 
 RotationStrain rotation_strain_build(const Lattice& lat, const Eigen::MatrixXd& U) {
   RotationStrain rs;
+  rs.id = next_rs_id();
   const int n = lat.nodes(), r = int(U.cols()), ncell = int(lat.cells.size());
   const double h = lat.cell_size_m, vol = h * h * h / 8;
   rs.nodes = n, rs.r = r, rs.samples = 8 * ncell, rs.sample_volume = vol;
@@ -165,64 +248,53 @@ void rotation_strain_positions(const Lattice& lat, const RotationStrain& rs, con
   if (!rs.factor || z.size() != rs.r || lat.nodes() != rs.nodes)
     throw std::invalid_argument("rotation_strain_positions: basis and lattice do not match");
   RsWork& w = work();
+  evaluate(w, lat, rs, z);
   const int n = rs.nodes, r = rs.r, ncell = int(lat.cells.size());
+  if (x.size() != 3 * n) x.resize(3 * n);
+  x = w.xc;
+  if (!jacobian) return;
+  // dF_ik = [J_i w_ik]x F_i + E_i s_ik; right-hand side column 3k + s gets
+  // vol sum_i G_i^T dF_ik, summed per cell (w.Pk) before the scatter.
   const auto& G = gauss_shape_gradients(lat.cell_size_m);
   const double vol = rs.sample_volume;
-  w.v.resize(3 * rs.samples);
-  w.sv.resize(9 * rs.samples);
-  w.v.noalias() = rs.rot * z;
-  w.sv.noalias() = rs.strain * z;
-  w.ensure(w.B, n, 3);
-  if (jacobian) w.ensure(w.BJ, n, 3 * r);
-  double* b = static_cast<double*>(w.B->x);
-  double* bj = jacobian ? static_cast<double*>(w.BJ->x) : nullptr;
-  std::fill(b, b + 3 * size_t(n), 0.0);
-  if (bj) std::fill(bj, bj + 3 * size_t(n) * size_t(r), 0.0);
-  // Scatter vol * G_i^T F into the right-hand side: b(node a, s) += vol sum_c F(s, c) G(a, c).
-  auto scatter = [&](double* dst, int col0, const std::array<int, 8>& ids, const Eigen::Matrix<double, 8, 3>& Gq,
-                     const Matrix3d& F) {
-    const Eigen::Matrix<double, 8, 3> P = vol * Gq * F.transpose();  // P(a, s)
-    for (int s = 0; s < 3; ++s) {
-      double* c = dst + size_t(col0 + s) * size_t(n);
-      for (int a = 0; a < 8; ++a) c[ids[a]] += P(a, s);
-    }
-  };
+  w.ensure(w.BJ, n, 3 * r);
+  double* bj = static_cast<double*>(w.BJ->x);
+  std::fill(bj, bj + 3 * size_t(n) * size_t(r), 0.0);
+  w.Pk.resize(size_t(r));
+  const size_t ld_rot = size_t(rs.rot.rows()), ld_strain = size_t(rs.strain.rows());
   for (int e = 0; e < ncell; ++e) {
     const auto& ids = lat.cells[e];
+    for (int k = 0; k < r; ++k) w.Pk[k].setZero();
     for (int q = 0; q < 8; ++q) {
       const int i = 8 * e + q;
-      Matrix3d E, J;
-      exp_and_jacobian(w.v.segment<3>(3 * i), &E, bj ? &J : nullptr);
-      const Matrix3d S = Matrix3d::Identity() + Eigen::Map<const Matrix3d>(w.sv.data() + 9 * i);
-      scatter(b, 0, ids, G[q], E * S);
-      if (!bj) continue;
-      const Matrix3d ES = E * S;
+      const Matrix3d &E = w.Es[i], &J = w.Js[i], &F = w.Fs[i];
       for (int k = 0; k < r; ++k) {
-        const Vector3d dv = J * rs.rot.block<3, 1>(3 * i, k);
-        const Matrix3d dF =
-            cross_matrix(dv) * ES + E * Eigen::Map<const Matrix3d>(rs.strain.col(k).data() + 9 * i);
-        scatter(bj, 3 * k, ids, G[q], dF);
+        const Vector3d dv = J * Eigen::Map<const Vector3d>(rs.rot.data() + size_t(k) * ld_rot + 3 * size_t(i));
+        Matrix3d dF;
+        dF.noalias() = cross_matrix(dv) * F;
+        dF.noalias() += E * Eigen::Map<const Matrix3d>(rs.strain.data() + size_t(k) * ld_strain + 9 * size_t(i));
+        w.Pk[k].noalias() += G[q] * dF.transpose();
       }
     }
+    for (int k = 0; k < r; ++k)
+      for (int s = 0; s < 3; ++s) {
+        double* c = bj + size_t(3 * k + s) * size_t(n);
+        for (int a = 0; a < 8; ++a) c[ids[a]] += vol * w.Pk[k](a, s);
+      }
   }
-  solve(w, *rs.factor, w.B, &w.X, &w.Y, &w.E);
-  if (x.size() != 3 * n) x.resize(3 * n);
-  Eigen::Map<Eigen::MatrixXd> xm(x.data(), 3 * n, 1);
-  gather_centred(w, w.X, rs.mass_fraction, xm);
-  if (jacobian) {
-    solve(w, *rs.factor, w.BJ, &w.XJ, &w.YJ, &w.EJ);
-    if (jacobian->rows() != 3 * n || jacobian->cols() != r) jacobian->resize(3 * n, r);
-    gather_centred(w, w.XJ, rs.mass_fraction, *jacobian);
-  }
+  solve(w, *rs.factor, w.BJ, &w.XJ, &w.YJ, &w.EJ);
+  if (jacobian->rows() != 3 * n || jacobian->cols() != r) jacobian->resize(3 * n, r);
+  gather_centred(w, w.XJ, rs.mass_fraction, *jacobian);
 }
 
 namespace {
 
 // The reconstruction's adjoint: lambda = L^-1 P^T g (3 columns of n, in w.X), with
-// P^T g = g - mass_fraction (sum_j g_j) per coordinate; also each sample's rotation
-// vector w.v = rot z and strain w.sv = strain z. Shared by the vjp and the curvature.
-const double* adjoint_multipliers(RsWork& w, const RotationStrain& rs, const Eigen::VectorXd& z,
+// P^T g = g - mass_fraction (sum_j g_j) per coordinate; the map is evaluated at z
+// first (per-sample E, J, F). Shared by the vjp and the curvature.
+const double* adjoint_multipliers(RsWork& w, const Lattice& lat, const RotationStrain& rs, const Eigen::VectorXd& z,
                                   const Eigen::VectorXd& g) {
+  evaluate(w, lat, rs, z);
   const int n = rs.nodes;
   w.ensure(w.B, n, 3);
   double* b = static_cast<double*>(w.B->x);
@@ -232,12 +304,18 @@ const double* adjoint_multipliers(RsWork& w, const RotationStrain& rs, const Eig
     for (int j = 0; j < n; ++j) b[size_t(s) * size_t(n) + size_t(j)] = g[3 * j + s] - rs.mass_fraction[j] * sum;
   }
   solve(w, *rs.factor, w.B, &w.X, &w.Y, &w.E);
-  w.v.resize(3 * rs.samples);
-  w.sv.resize(9 * rs.samples);
-  w.v.noalias() = rs.rot * z;
-  w.sv.noalias() = rs.strain * z;
   return static_cast<const double*>(w.X->x);
 }
+
+// grad lambda at sample q of a cell: Lam(s, c) = sum_a lambda(ids[a], s) G_q(a, c).
+Matrix3d adjoint_gradient(const double* lam, int n, const std::array<int, 8>& ids, const Eigen::Matrix<double, 8, 3>& Gq) {
+  Eigen::Matrix<double, 3, 8> Lc;
+  for (int a = 0; a < 8; ++a)
+    for (int s = 0; s < 3; ++s) Lc(s, a) = lam[size_t(s) * size_t(n) + size_t(ids[a])];
+  return Lc * Gq;
+}
+
+Vector3d axial2(const Matrix3d& A) { return Vector3d(A(2, 1) - A(1, 2), A(0, 2) - A(2, 0), A(1, 0) - A(0, 1)); }
 
 }  // namespace
 
@@ -249,27 +327,23 @@ void rotation_strain_vjp(const Lattice& lat, const RotationStrain& rs, const Eig
   const int n = rs.nodes, r = rs.r, ncell = int(lat.cells.size());
   const auto& G = gauss_shape_gradients(lat.cell_size_m);
   const double vol = rs.sample_volume;
-  const double* lam = adjoint_multipliers(w, rs, z, g);
-  if (out.size() != r) out.resize(r);
-  out.setZero();
+  const double* lam = adjoint_multipliers(w, lat, rs, z, g);
+  w.ax.resize(3 * rs.samples);
+  w.a2.resize(9 * rs.samples);
   for (int e = 0; e < ncell; ++e) {
     const auto& ids = lat.cells[e];
     for (int q = 0; q < 8; ++q) {
       const int i = 8 * e + q;
-      Matrix3d Lam = Matrix3d::Zero();
-      for (int k = 0; k < 8; ++k)
-        for (int s = 0; s < 3; ++s) Lam.row(s) += lam[size_t(s) * size_t(n) + size_t(ids[k])] * G[q].row(k);
-      Matrix3d E, J;
-      exp_and_jacobian(w.v.segment<3>(3 * i), &E, &J);
-      const Matrix3d S = Matrix3d::Identity() + Eigen::Map<const Matrix3d>(w.sv.data() + 9 * i);
-      // <dF_k, Lam> = (J w_k) . axial(Lam (ES)^T) + <s_k, E^T Lam>, as in the curvature.
-      const Matrix3d A1 = Lam * (E * S).transpose(), A2 = vol * (E.transpose() * Lam);
-      const Vector3d ax = vol * (J.transpose() * Vector3d(A1(2, 1) - A1(1, 2), A1(0, 2) - A1(2, 0), A1(1, 0) - A1(0, 1)));
-      for (int k = 0; k < r; ++k)
-        out[k] += ax.dot(rs.rot.block<3, 1>(3 * i, k)) +
-                  (Eigen::Map<const Matrix3d>(rs.strain.col(k).data() + 9 * i).array() * A2.array()).sum();
+      const Matrix3d Lam = adjoint_gradient(lam, n, ids, G[q]);
+      // <dF_k, Lam> = (J w_k) . axial(Lam F^T) + <s_k, E^T Lam> ([u]x : A = u . axial).
+      const Matrix3d A1 = Lam * w.Fs[i].transpose();
+      w.ax.segment<3>(3 * i) = vol * (w.Js[i].transpose() * axial2(A1));
+      Eigen::Map<Matrix3d>(w.a2.data() + 9 * i).noalias() = vol * (w.Es[i].transpose() * Lam);
     }
   }
+  if (out.size() != r) out.resize(r);
+  out.noalias() = rs.rot.transpose() * w.ax;
+  out.noalias() += rs.strain.transpose() * w.a2;
 }
 
 void rotation_strain_curvature(const Lattice& lat, const RotationStrain& rs, const Eigen::VectorXd& z,
@@ -280,42 +354,44 @@ void rotation_strain_curvature(const Lattice& lat, const RotationStrain& rs, con
   const int n = rs.nodes, r = rs.r, ncell = int(lat.cells.size());
   const auto& G = gauss_shape_gradients(lat.cell_size_m);
   const double vol = rs.sample_volume;
-  const double* lam = adjoint_multipliers(w, rs, z, g);
-  if (curvature.rows() != r || curvature.cols() != r) curvature.resize(r, r);
-  curvature.setZero();
-  // Step per coordinate: at most 1e-4 rad of rotation or strain anywhere.
-  w.hstep.resize(r);
-  for (int a = 0; a < r; ++a) {
-    const double big = std::max(rs.rot.col(a).cwiseAbs().maxCoeff(), rs.strain.col(a).cwiseAbs().maxCoeff());
-    w.hstep[a] = 1e-4 / std::max(big, 1e-300);
-  }
+  const double* lam = adjoint_multipliers(w, lat, rs, z, g);
+  // d/dz_a of <dF_k, Lam> (Lam fixed: the solve does not depend on z), closed form:
+  //   (dJ[w_a] w_k) . ax1 + (J w_k) . axial(Lam dF_a^T) + <s_k, -E^T [J w_a]x Lam>,
+  // ax1 = axial(Lam F^T), dF_a = [J w_a]x F + E s_a; the w_k / s_k factors are
+  // collected per sample and direction (w.Yc, w.Bc) and contracted by two products.
+  if (w.Yc.rows() != 3 * rs.samples || w.Yc.cols() != r) w.Yc.resize(3 * rs.samples, r);
+  if (w.Bc.rows() != 9 * rs.samples || w.Bc.cols() != r) w.Bc.resize(9 * rs.samples, r);
+  const size_t ld_rot = size_t(rs.rot.rows()), ld_strain = size_t(rs.strain.rows());
   for (int e = 0; e < ncell; ++e) {
     const auto& ids = lat.cells[e];
     for (int q = 0; q < 8; ++q) {
       const int i = 8 * e + q;
-      Matrix3d Lam = Matrix3d::Zero();  // grad lambda at the sample: Lam(s, c) = sum_k lambda(k, s) G(k, c)
-      for (int k = 0; k < 8; ++k)
-        for (int s = 0; s < 3; ++s) Lam.row(s) += lam[size_t(s) * size_t(n) + size_t(ids[k])] * G[q].row(k);
-      const Matrix3d S0 = Matrix3d::Identity() + Eigen::Map<const Matrix3d>(w.sv.data() + 9 * i);
+      const Matrix3d Lam = adjoint_gradient(lam, n, ids, G[q]);
+      const Matrix3d &E = w.Es[i], &J = w.Js[i], &F = w.Fs[i];
+      const Vector3d v = w.v.segment<3>(3 * i);
+      const JacobianScalars c = jacobian_scalars(v.squaredNorm());
+      const Vector3d ax1 = axial2(Lam * F.transpose());
+      const Vector3d v_ax1 = v.cross(ax1), v_v_ax1 = v.cross(v_ax1);
       for (int a = 0; a < r; ++a) {
-        const double h = w.hstep[a];
-        const Vector3d wa = rs.rot.block<3, 1>(3 * i, a);
-        const Eigen::Map<const Matrix3d> sa(rs.strain.col(a).data() + 9 * i);
-        for (int sgn = -1; sgn <= 1; sgn += 2) {
-          Matrix3d E, J;
-          exp_and_jacobian(w.v.segment<3>(3 * i) + sgn * h * wa, &E, &J);
-          const Matrix3d S = S0 + sgn * h * sa;
-          // <dF_k, Lam> = (J w_k) . axial(Lam (ES)^T) + <s_k, E^T Lam> ([u]x : A = u . axial).
-          const Matrix3d A1 = Lam * (E * S).transpose(), A2 = E.transpose() * Lam;
-          const Vector3d ax = J.transpose() * Vector3d(A1(2, 1) - A1(1, 2), A1(0, 2) - A1(2, 0), A1(1, 0) - A1(0, 1));
-          const double f = sgn * vol / (2 * h);
-          for (int k = 0; k < r; ++k)
-            curvature(k, a) += f * (ax.dot(rs.rot.block<3, 1>(3 * i, k)) +
-                                    (Eigen::Map<const Matrix3d>(rs.strain.col(k).data() + 9 * i).array() * A2.array()).sum());
-        }
+        const Vector3d wa = Eigen::Map<const Vector3d>(rs.rot.data() + size_t(a) * ld_rot + 3 * size_t(i));
+        const Eigen::Map<const Matrix3d> sa(rs.strain.data() + size_t(a) * ld_strain + 9 * size_t(i));
+        const double vd = v.dot(wa);
+        // dJ[w_a]^T ax1 (dJ^T = -al (v.d) [v]x - a [d]x + be (v.d) [v]x^2 + b ([v]x [d]x + [d]x [v]x)).
+        const Vector3d y = -c.al * vd * v_ax1 - c.a * wa.cross(ax1) + c.be * vd * v_v_ax1 +
+                           c.b * (v.cross(wa.cross(ax1)) + wa.cross(v_ax1));
+        const Vector3d Jwa = J * wa;
+        Matrix3d dFa;
+        dFa.noalias() = cross_matrix(Jwa) * F;
+        dFa.noalias() += E * sa;
+        const Vector3d u = J.transpose() * axial2(Lam * dFa.transpose());
+        w.Yc.block<3, 1>(3 * i, a) = vol * (y + u);
+        Eigen::Map<Matrix3d>(w.Bc.col(a).data() + 9 * i).noalias() = (-vol) * (E.transpose() * (cross_matrix(Jwa) * Lam));
       }
     }
   }
+  if (curvature.rows() != r || curvature.cols() != r) curvature.resize(r, r);
+  curvature.noalias() = rs.rot.transpose() * w.Yc;
+  curvature.noalias() += rs.strain.transpose() * w.Bc;
   for (int a = 0; a < r; ++a)
     for (int k = a + 1; k < r; ++k) curvature(k, a) = curvature(a, k) = 0.5 * (curvature(k, a) + curvature(a, k));
 }

@@ -227,7 +227,7 @@ void positions_of(const Character& ch, const VectorXd& q, const Matrix3d& R, con
 struct StepWork {
   StepTargets T;
   VectorXd x, xp, local, q_t, q, qn, g, d, g_el, gq, b, gl;
-  MatrixXd H, H_el, Lm, ULm, Jrs, JH, MJ, Tc, Hgn;
+  MatrixXd H, H_el, Lm, ULm, Jrs, JH, MJ, Tc, Hgn, Hkin;
   Eigen::Matrix<double, 3, Eigen::Dynamic> J;
   Eigen::LDLT<MatrixXd> ldlt;
 };
@@ -283,13 +283,29 @@ void reduced_step(const Character& ch, const Environment& env, const SimParams& 
   // it only shapes the Newton direction (the gradient is exact), and z moves little
   // within a step; recomputing it every iteration was half of the playback time.
   bool curvature_fresh = false;
+  // Full rotation-strain map: its Jacobian (a 3r-column solve and a per-mode scatter
+  // over every Gauss point) is evaluated at the step's first point only and kept for
+  // the Hessian (elastic, kinetic and contact blocks); the gradient stays exact
+  // through the adjoint (rotation_strain_vjp: one 3-column solve). A line search that
+  // fails on the kept Hessian refreshes it. Reduced map and linear basis: every point.
+  const bool lag_jacobian = rs && !ch.rotation_strain->reduced && r > 0;
+  bool jacobian_stale = true, hessian_at_point = true;
   // Total energy at (q, R, c); with g/H also the gradient and Gauss-Newton Hessian in
   // (dq, dc, dw). Jq = dlocal/dq: U, or the rotation-strain Jacobian.
   auto energy = [&](const VectorXd& q_, const Matrix3d& R_, const Vector3d& c_, VectorXd* g, MatrixXd* H) {
-    local_shape(ch, q_, local, (rs && g) ? &w.Jrs : nullptr);
+    const bool fresh_jacobian = rs && g && (!lag_jacobian || jacobian_stale);
+    if (g) hessian_at_point = !lag_jacobian || fresh_jacobian;
+    const bool adjoint_gradient = lag_jacobian && g && !fresh_jacobian;
+    local_shape(ch, q_, local, fresh_jacobian ? &w.Jrs : nullptr);
     const MatrixXd& Jq = (rs && g) ? w.Jrs : U;
     // E_el is translation invariant: the local (centred) shape gives the same energy.
-    double e = elastic_reduced(lat, ch.lame, local, ch.cubature, Jq, g ? &w.g_el : nullptr, H ? &w.H_el : nullptr);
+    double e;
+    if (adjoint_gradient) {
+      e = elastic_energy(lat, ch.lame, local, ch.cubature, &w.gl, nullptr);  // nodal; H_el kept
+    } else {
+      e = elastic_reduced(lat, ch.lame, local, ch.cubature, Jq, g ? &w.g_el : nullptr, H ? &w.H_el : nullptr);
+      if (fresh_jacobian && lag_jacobian) jacobian_stale = false;
+    }
     e += 0.5 * beta * (q_ - q_t).dot(om2.cwiseProduct(q_ - q_t)) - u.dot(q_);
     Vector3d gc = Vector3d::Zero(), gw = Vector3d::Zero();
     if (g) {
@@ -299,9 +315,13 @@ void reduced_step(const Character& ch, const Environment& env, const SimParams& 
         H->topLeftCorner(r, r) = w.H_el;
         if (rs) {
           // Kinetic Gauss-Newton block Jq^T M Jq / dt^2 (U^T M U = I for the linear map).
-          if (w.MJ.rows() != 3 * n || w.MJ.cols() != r) w.MJ.resize(3 * n, r);
-          for (int j = 0; j < n; ++j) w.MJ.middleRows<3>(3 * j) = lat.node_mass_kg[j] * Jq.middleRows<3>(3 * j);
-          H->topLeftCorner(r, r).noalias() += idt2 * (Jq.transpose() * w.MJ);
+          if (!adjoint_gradient) {
+            if (w.MJ.rows() != 3 * n || w.MJ.cols() != r) w.MJ.resize(3 * n, r);
+            for (int j = 0; j < n; ++j) w.MJ.middleRows<3>(3 * j) = lat.node_mass_kg[j] * Jq.middleRows<3>(3 * j);
+            if (w.Hkin.rows() != r || w.Hkin.cols() != r) w.Hkin.resize(r, r);
+            w.Hkin.noalias() = idt2 * (Jq.transpose() * w.MJ);
+          }
+          H->topLeftCorner(r, r) += w.Hkin;
           H->topLeftCorner(r, r).diagonal() += beta * om2;
         } else {
           H->topLeftCorner(r, r).diagonal() += idt2 * VectorXd::Ones(r) + beta * om2;
@@ -340,7 +360,11 @@ void reduced_step(const Character& ch, const Environment& env, const SimParams& 
     }
     if (g) {
       g->resize(dof);
-      if (r > 0) {
+      if (r > 0 && adjoint_gradient) {
+        w.gl += w.b;  // dE/dlocal (elastic + kinetic + environment); also the curvature's g
+        rotation_strain_vjp(lat, *ch.rotation_strain, q_, w.gl, w.gq);
+        g->head(r) = w.gq + beta * om2.cwiseProduct(q_ - q_t) - u;
+      } else if (r > 0) {
         w.gq.noalias() = Jq.transpose() * w.b;
         g->head(r) = w.gq + w.g_el + beta * om2.cwiseProduct(q_ - q_t) - u;
       }
@@ -353,8 +377,10 @@ void reduced_step(const Character& ch, const Environment& env, const SimParams& 
       // convergence of plain Gauss-Newton then needs hundreds of iterations). Computed
       // once per step, from its second iteration on (closed form per sample, about one
       // Jacobian's cost): RS playback 1.2x faster than turning it on after eight.
-      elastic_energy(lat, ch.lame, local, ch.cubature, &w.gl, nullptr);
-      w.gl += w.b;
+      if (!adjoint_gradient) {
+        elastic_energy(lat, ch.lame, local, ch.cubature, &w.gl, nullptr);
+        w.gl += w.b;
+      }
       if (ch.rotation_strain->reduced)
         rotation_strain_reduced_curvature(*ch.rotation_strain->reduced, q_, w.gl, w.Tc);
       else
@@ -416,6 +442,12 @@ void reduced_step(const Character& ch, const Environment& env, const SimParams& 
     double step = alpha * (d.segment<3>(r).norm() + d.segment<3>(r + 3).norm() * radius);
     for (int k = 0; k < r; ++k) step = std::max(step, alpha * std::abs(d[k]) * ch.mode_scale[k]);
     st.final_step = step;
+    if (!accepted && !hessian_at_point) {
+      // The kept Jacobian's Hessian gave no decrease: rebuild it here and retry.
+      jacobian_stale = true;
+      e = energy(q, R, c, &g, &H);
+      continue;
+    }
     if (!accepted) {
       st.converged = std::abs(g.dot(d)) < 1e-12 * std::max(1.0, std::abs(e));
       break;

@@ -23,6 +23,7 @@
 // and concurrent threads (parallel rollouts) do not share buffers.
 #pragma once
 #include <Eigen/Core>
+#include <cstdint>
 #include <memory>
 #include <vector>
 
@@ -41,6 +42,10 @@ struct RotationStrain {
   Eigen::MatrixXd strain;              // 9 samples x r: symmetric strains s_ik (column-major 3x3)
   Eigen::VectorXd mass_fraction;       // N: node mass / total mass (centroid)
   std::shared_ptr<const RsFactor> factor;
+  // Unique per rotation_strain_build (copies share it): keys the per-thread cache of
+  // the last evaluation (per-sample exp, positions), so the positions, adjoint,
+  // Jacobian and curvature at one z share one exp pass.
+  std::uint64_t id = 0;
   // Set by rotation_strain_reduce: the step then uses the reduced reconstruction
   // (below) instead of the full solve.
   std::shared_ptr<const RsReduced> reduced;
@@ -115,8 +120,8 @@ void rotation_strain_vjp(const Lattice& lat, const RotationStrain& rs, const Eig
 //   curvature(a, b) = sum_j g_j . d2x_j / dz_a dz_b   (r x r, symmetric),
 // the part of the exact Hessian that Gauss-Newton (J^T K J) drops. Adjoint form:
 // J^T g = sum_i vol <dF_i/dz, grad lambda_i> with L lambda = P^T g (one solve, P the
-// centroid removal), differentiated in z by central differences of dF_i/dz (no more
-// solves).
+// centroid removal), differentiated in z in closed form (derivative of the left
+// Jacobian of SO(3) included; no more solves, no exp).
 void rotation_strain_curvature(const Lattice& lat, const RotationStrain& rs, const Eigen::VectorXd& z,
                                const Eigen::VectorXd& g, Eigen::MatrixXd& curvature);
 
