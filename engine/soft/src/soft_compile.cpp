@@ -162,6 +162,9 @@ SoftModel soft_compile(const Scene& scene) {
     }
     if (auto t = oj->object("course")) {
       o.course_direction = unit3(*t, "direction", Eigen::Vector3d::UnitX());
+      // The course is a line on the ground: a vertical direction has no lateral offset.
+      if (std::hypot(o.course_direction.x(), o.course_direction.z()) < 1e-6)
+        t->fail("direction", "expected a direction with a horizontal (x or z) part: the course is a line on the ground");
       o.w_course = t->number("weight", 1, 0);
       t->finish();
     }

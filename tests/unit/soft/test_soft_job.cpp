@@ -143,6 +143,24 @@ TEST(SoftJob, SceneSelectsRotationStrainBasisAndCourseTerm) {
   const soft::SoftModel lin = soft::soft_compile(scene_with(0));
   EXPECT_EQ(lin.character.rotation_strain, nullptr);
   EXPECT_DOUBLE_EQ(lin.problem.obj.w_course, 0.0);
+  // Range checks: a negative weight, a vertical direction (no lateral offset on the
+  // ground) and an unknown key are InputErrors at their pointers.
+  auto course_error = [](const std::string& course) {
+    std::string bad = kScene;
+    bad.replace(bad.find("ITER"), 4, "0");
+    bad.replace(bad.find("\"weight\": 10}}"), 14, "\"weight\": 10}, \"course\": " + course + "}");
+    try {
+      soft::soft_compile(parse_scene(bad, "course.json", std::string(PLIANT_ASSETS_DIR) + "/characters"));
+    } catch (const InputError& e) {
+      return e.pointer();
+    }
+    return std::string("no error");
+  };
+  EXPECT_EQ(course_error(R"({"weight": -1})"), "/objectives/course/weight");
+  EXPECT_EQ(course_error(R"({"direction": [0, 2, 0]})"), "/objectives/course/direction");
+  EXPECT_EQ(course_error(R"({"direction": [0, 0, 0]})"), "/objectives/course/direction");
+  EXPECT_EQ(course_error(R"({"wieght": 1})"), "/objectives/course/wieght");
+  EXPECT_EQ(course_error(R"({"direction": [1, 0.5, 0], "weight": 2})"), "no error");
 }
 
 // The optimizer keys of the fifth session reach OptimizerSettings; out of range is
