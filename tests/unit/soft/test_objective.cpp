@@ -3,6 +3,8 @@
 // partial keyframes vanish when the target is the rest pose.
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
+
 #include <cmath>
 #include <stdexcept>
 #include <vector>
@@ -119,4 +121,42 @@ TEST(Objective, CourseTermIsTheLateralOffsetAndFailsWhenThePathVeers) {
     const double fd = (trajectory_residuals(p, plus, theta)[k] - trajectory_residuals(p, minus, theta)[k]) / (2 * h);
     EXPECT_NEAR(fd, scale * normal[a], 1e-6) << "axis " << a;
   }
+}
+
+// The turn term at rate 0 (spider_walk.json holds its heading with it): zero yaw
+// residual on a translating trajectory, exactly sqrt(w) x (net yaw) / T on one
+// that turns (heading_yaw is atan2(z, x) of the body axis, so a rotation by +a about
+// +y is a yaw of -a), the speed residual is the progress along the initial heading
+// per second minus the target; a trajectory that turns back ends with zero again
+// (the net yaw, not the path length of the yaw, is penalized).
+TEST(Objective, TurnAtRateZeroIsTheNetYawOverTheHorizon) {
+  SoftModel m = soft_compile(t_scene(R"({"effort": {"weight": 0}})", R"({"method": "none", "horizon_frames": 6})"));
+  soft_bind(m);
+  Problem& p = m.problem;
+  p.obj.w_turn = 9;
+  p.obj.turn_axis = Eigen::Vector3d(1, 0, 0);
+  p.obj.turn_rate_rad_per_s = 0;
+  p.obj.turn_speed_m_per_s = 0.2;
+  const Eigen::VectorXd theta = Eigen::VectorXd::Zero(p.dmp.parameters());
+  const double T = p.frames * p.sim.dt_s;
+  const SoftState s0 = initial_state(*p.character, p.start_offset_m, Eigen::Vector3d::Zero(), p.sim.dt_s);
+  std::vector<SoftState> straight, turning, back;
+  const int N = p.frames;
+  for (int f = 1; f <= N; ++f) {
+    straight.push_back(s0), turning.push_back(s0), back.push_back(s0);
+    straight.back().c += Eigen::Vector3d(0.01 * f, 0, 0);
+    turning.back().c += Eigen::Vector3d(0.01 * f, 0, 0);
+    turning.back().R = Eigen::AngleAxisd(0.05 * f, Eigen::Vector3d::UnitY()).toRotationMatrix() * s0.R;
+    const double a = 0.05 * std::min(f, N - f);  // out and back
+    back.back().R = Eigen::AngleAxisd(a, Eigen::Vector3d::UnitY()).toRotationMatrix() * s0.R;
+  }
+  const Eigen::VectorXd rs = trajectory_residuals(p, straight, theta);
+  const Eigen::VectorXd rt = trajectory_residuals(p, turning, theta);
+  const Eigen::VectorXd rb = trajectory_residuals(p, back, theta);
+  ASSERT_EQ(rs.size(), 2 + theta.size());
+  EXPECT_NEAR(rs[0], 0.0, 1e-12);
+  EXPECT_NEAR(rs[1], 3 * (0.01 * N / T - 0.2), 1e-12);
+  EXPECT_NEAR(rt[0], 3 * (-0.05 * N) / T, 1e-12);
+  EXPECT_NEAR(rt[1], rs[1], 1e-12);  // progress is along the initial heading
+  EXPECT_NEAR(rb[0], 0.0, 1e-12);
 }
