@@ -24,12 +24,15 @@ std::vector<Vec3> mesh_contact_samples(const MeshShape& mesh) {
       const int n = static_cast<int>(std::ceil((vb - va).norm() / spacing - 1e-9));
       for (int i = 1; i < n; ++i) out.push_back(va + (vb - va) * (double(i) / n));
     }
+  // Face grid a + (i/nb)(b - a) + (j/nc)(c - a), strictly inside: cells of at most
+  // one spacing along both edges from a, so thin triangles get few points.
   for (const auto& t : mesh.triangles) {
     const Vec3 &a = mesh.vertices[t[0]], &b = mesh.vertices[t[1]], &c = mesh.vertices[t[2]];
-    const double longest = std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
-    const int n = static_cast<int>(std::ceil(longest / spacing - 1e-9));
-    for (int i = 1; i < n; ++i)
-      for (int j = 1; i + j < n; ++j) out.push_back(a + (b - a) * (double(i) / n) + (c - a) * (double(j) / n));
+    const int nb = static_cast<int>(std::ceil((b - a).norm() / spacing - 1e-9));
+    const int nc = static_cast<int>(std::ceil((c - a).norm() / spacing - 1e-9));
+    for (int i = 1; i < nb; ++i)
+      for (int j = 1; double(i) / nb + double(j) / nc < 1 - 1e-9; ++j)
+        out.push_back(a + (b - a) * (double(i) / nb) + (c - a) * (double(j) / nc));
   }
   return out;
 }
@@ -157,6 +160,35 @@ double obstacle_distance(const Geom& g, const Vec3& x, Vec3* normal) {
   return 1e300;
 }
 
+void mesh_feature_contacts(const Model& m, const Kinematics& k, const std::vector<int>& obs,
+                           std::vector<Contact>* out) {
+  for (int o : obs) {
+    const Geom& ob = m.geoms[o];
+    if (ob.type != GeomType::Box && ob.type != GeomType::Sphere) continue;
+    const int nfeat = ob.type == GeomType::Box ? 8 : 1;
+    for (const Geom& g : m.geoms) {
+      if (g.body == 0 || !g.contact || g.type != GeomType::Mesh) continue;
+      const Mat3 gr = k.xmat[g.body] * g.quat.toRotationMatrix();
+      const Vec3 gp = k.xpos[g.body] + k.xmat[g.body] * g.pos;
+      for (int f = 0; f < nfeat; ++f) {
+        const Vec3 corner((f & 1 ? 1 : -1) * ob.size[0], (f & 2 ? 1 : -1) * ob.size[1], (f & 4 ? 1 : -1) * ob.size[2]);
+        const Vec3 c = ob.type == GeomType::Box ? Vec3(ob.pos + ob.quat * corner) : ob.pos;
+        const double radius = ob.type == GeomType::Sphere ? ob.size[0] : 0.0;
+        Vec3 n;
+        const double d = mesh_distance(*g.mesh, gr.transpose() * (c - gp), &n) - radius;
+        if (d >= 0) continue;
+        Contact ct;
+        ct.slot = -1;
+        ct.body = g.body;
+        ct.normal = -(gr * n);
+        ct.point = c + radius * ct.normal;
+        ct.depth = -d;
+        out->push_back(ct);
+      }
+    }
+  }
+}
+
 void find_contacts(const Model& m, const Kinematics& k, const std::vector<ContactPoint>& pts,
                    const std::vector<int>& obs, std::vector<Contact>* out) {
   out->clear();
@@ -177,6 +209,7 @@ void find_contacts(const Model& m, const Kinematics& k, const std::vector<Contac
       out->push_back(ct);
     }
   }
+  mesh_feature_contacts(m, k, obs, out);
 }
 
 }  // namespace pliant::articulated

@@ -174,6 +174,20 @@ double pbad_energy(const Model& m, const SimOptions& o, const State& s, const Pb
       }
     }
   }
+  if (o.contact.enabled && p.any_mesh_features) {
+    // Obstacle corners against moving meshes (contact.h): normal penalty only, with
+    // its Gauss-Newton Hessian.
+    ws.feature_contacts.clear();
+    mesh_feature_contacts(m, k, ws.obstacles, &ws.feature_contacts);
+    const double kk = o.contact.stiffness;
+    for (const Contact& c : ws.feature_contacts) {
+      e += 0.5 * kk * c.depth * c.depth;
+      if (derivs) {
+        ws.w[c.body] += point_wrench(c.point, -kk * c.depth * c.normal);
+        ws.h[c.body] += point_hessian(c.point, kk * c.normal * c.normal.transpose());
+      }
+    }
+  }
   // Actuator work and joint damping (dissipation potential) in joint space.
   const bool joint_terms = !m.actuators.empty() || p.any_damping;
   if (joint_terms) {
@@ -387,7 +401,8 @@ void pbad_begin(const Model& m, const SimOptions& o, State& s, PbadStep& p, SimW
     ws.kin_at.resize(0);
     s.normal_force_prev.assign(ws.points.size() * ws.obstacles.size(), 0.0);
     find_contacts(m, ws.kin, ws.points, ws.obstacles, &ws.contacts);
-    for (const Contact& c : ws.contacts) s.normal_force_prev[c.slot] = o.contact.stiffness * c.depth;
+    for (const Contact& c : ws.contacts)
+      if (c.slot >= 0) s.normal_force_prev[c.slot] = o.contact.stiffness * c.depth;
   }
   // Past frames; before the first step they come from a Taylor expansion with the
   // initial acceleration (a constant-velocity past would make the start first-order).
@@ -423,6 +438,12 @@ void pbad_begin(const Model& m, const SimOptions& o, State& s, PbadStep& p, SimW
   p.any_damping = false;
   for (const Joint& j : m.joints) p.any_damping = p.any_damping || j.damping > 0;
   p.any_limits = any_limits(m);
+  bool moving_mesh = false, box_or_sphere = false;
+  for (const Geom& g : m.geoms) {
+    moving_mesh = moving_mesh || (g.body != 0 && g.contact && g.type == GeomType::Mesh);
+    box_or_sphere = box_or_sphere || (g.body == 0 && g.contact && (g.type == GeomType::Box || g.type == GeomType::Sphere));
+  }
+  p.any_mesh_features = moving_mesh && box_or_sphere;
   p.q = s.qpos;
   qpos_integrate(m, p.q, 2 * qpos_difference(m, s.qpos, q1) - qpos_difference(m, q1, s.past[1]), 1.0);
   p.q_pred = p.q;
@@ -679,7 +700,8 @@ void pbad_finish(const Model& m, const SimOptions& o, State& s, const PbadStep& 
   projected_velocity(m, o, s, ws);
   s.normal_force_prev.assign(ws.points.size() * ws.obstacles.size(), 0.0);
   find_contacts(m, ws.kin, ws.points, ws.obstacles, &ws.contacts);
-  for (const Contact& c : ws.contacts) s.normal_force_prev[c.slot] = o.contact.stiffness * c.depth;
+  for (const Contact& c : ws.contacts)
+    if (c.slot >= 0) s.normal_force_prev[c.slot] = o.contact.stiffness * c.depth;
   frame_store(s.qpos, ws);  // next step's q_i
   s.time += o.dt;
   ++s.step;

@@ -107,7 +107,9 @@ TEST(Contact, MeshSamplesCoverEdgesAndFacesAtTheirSpacing) {
 TEST(Contact, MeshTileIsHeldBySphereAndBoxCorner) {
   // A 20 x 20 x 2 cm mesh tile on a vertical slide, dropped onto a small sphere
   // (r 3 cm) and onto a box standing on its corner, both far from the tile's
-  // vertices: with vertex contacts only, both tiles fell through.
+  // vertices: with vertex contacts only, both tiles fell through. Held at the
+  // penalty depth m g / k = 4.9e-5 m: the box's corners and the sphere are tested
+  // against the mesh's faces (mesh_feature_contacts), the mesh's samples against them.
   const std::string obj = test::write_box_obj("pliant_mesh_tile", 0.1, 0.1, 0.01);
   const Quat corner_up = Quat::FromTwoVectors(Vec3(1, 1, 1), Vec3::UnitZ());
   std::ostringstream box_quat;
@@ -130,15 +132,60 @@ TEST(Contact, MeshTileIsHeldBySphereAndBoxCorner) {
   SimWorkspace ws;
   for (int i = 0; i < 60; ++i) ASSERT_TRUE(sim_step(m, o, s, ws));
   const double bottom_sphere = 0.08 + s.qpos[0] - 0.01, bottom_box = 0.12 + s.qpos[1] - 0.01;
-  // Held within the sample spacing's sag (sphere) or the corner's reach between samples.
-  EXPECT_GT(bottom_sphere, 0.03 - 0.008);
+  EXPECT_GT(bottom_sphere, 0.03 - 1e-4);
   EXPECT_LT(bottom_sphere, 0.03);
-  EXPECT_GT(bottom_box, tip - 0.015);
+  EXPECT_GT(bottom_box, tip - 1e-4);
   EXPECT_LT(bottom_box, tip);
   EXPECT_NEAR(s.qvel[0], 0, 0.05);
   EXPECT_NEAR(s.qvel[1], 0, 0.05);
-  std::printf("tile bottom below the sphere top %.4f m, below the box tip %.4f m\n", 0.03 - bottom_sphere,
+  std::printf("tile bottom below the sphere top %.3e m, below the box tip %.3e m\n", 0.03 - bottom_sphere,
               tip - bottom_box);
+}
+
+TEST(Contact, MeshFeatureContactGradientMatchesFiniteDifferences) {
+  // A tiled mesh on slide z + two hinges pressed 5 mm onto an upturned box corner and a
+  // sphere (feature contacts and samples both active): PBAD's gradient against central
+  // differences of its energy.
+  const std::string obj = test::write_box_obj("pliant_mesh_grad", 0.1, 0.1, 0.01);
+  const Quat up = Quat::FromTwoVectors(Vec3(1, 1, 1), Vec3::UnitZ());
+  std::ostringstream bq;
+  bq.precision(17);
+  bq << up.w() << " " << up.x() << " " << up.y() << " " << up.z();
+  const double tip = 0.04 * std::sqrt(3.0);
+  const Model m = model_from_mjcf(
+      "<mujoco><asset><mesh name=\"tile\" file=\"" + obj + "\"/></asset><worldbody>"
+      "<geom type=\"box\" size=\"0.04 0.04 0.04\" pos=\"0.03 0.02 0\" quat=\"" + bq.str() + "\"/>"
+      "<geom type=\"sphere\" size=\"0.02\" pos=\"-0.05 -0.04 " + std::to_string(tip - 0.02) + "\"/>"
+      "<body pos=\"0 0 " + std::to_string(tip + 0.01 - 0.005) + "\"><joint type=\"slide\" axis=\"0 0 1\"/>"
+      "<joint axis=\"1 0 0\"/><joint axis=\"0 1 0\"/><geom type=\"mesh\" mesh=\"tile\" mass=\"0.5\"/></body>"
+      "</worldbody></mujoco>",
+      "m.xml");
+  std::filesystem::remove(obj);
+  SimOptions o;
+  o.dt = 0.01;
+  o.contact.friction = FrictionModel::None;
+  State s = state_init(m);
+  SimWorkspace ws;
+  sim_prepare(m, ws);
+  PbadStep p;
+  pbad_begin(m, o, s, p, ws);
+  Kinematics k;
+  kinematics(m, s.qpos, &k);
+  std::vector<Contact> features;
+  mesh_feature_contacts(m, k, contact_obstacles(m), &features);
+  ASSERT_EQ(features.size(), 2u);  // the corner and the sphere
+  for (const Contact& c : features) EXPECT_NEAR(c.depth, 0.005, 1e-6);
+  const VecX q = s.qpos + Vec3(0.001, 0.02, -0.03);
+  pbad_evaluate(m, o, s, p, q, ws);
+  const VecX g = ws.grad;
+  const double eps = 1e-7;
+  for (int i = 0; i < m.nv; ++i) {
+    VecX qp = q, qm = q;
+    qp[i] += eps;
+    qm[i] -= eps;
+    const double fd = (pbad_evaluate(m, o, s, p, qp, ws) - pbad_evaluate(m, o, s, p, qm, ws)) / (2 * eps);
+    EXPECT_NEAR(g[i], fd, 1e-5 * (1 + g.norm())) << i;
+  }
 }
 
 TEST(Contact, ObstacleDistances) {

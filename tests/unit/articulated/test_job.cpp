@@ -1,5 +1,9 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+
 #include "pliant/articulated/articulated.h"
 #include "pliant/core/error.h"
 
@@ -59,6 +63,34 @@ TEST(Job, BadFieldsNameTheirPointer) {
   j = base;
   j["model"] = "../models/missing.xml";
   EXPECT_EQ(pointer_of(j), "/model");
+}
+
+// The example scenes of this session: mesh tiles resting on a sphere and on a box
+// corner (edge/face samples), and a ball joint's swing cone / twist range.
+TEST(Job, MeshTileAndBallLimitScenesRun) {
+  for (const std::string name : {"articulated_mesh_tile", "articulated_ball_limits"}) {
+    const Scene sc = load_scene(std::filesystem::path(PLIANT_ASSETS_DIR) / "scenes" / (name + ".json"));
+    const ArticulatedScene a = articulated_compile(sc);
+    State s = a.initial;
+    SimWorkspace ws;
+    for (int i = 0; i < a.steps; ++i) ASSERT_TRUE(sim_step(a.model, a.options, s, ws)) << name;
+    Kinematics k;
+    kinematics(a.model, s.qpos, &k);
+    if (name == "articulated_mesh_tile") {
+      // How far each obstacle reaches into its tile, in the tile's frame (its bottom
+      // face is at local z = -0.01, the top at +0.01; free tiles may tilt).
+      const double sphere_in = (k.xmat[1].transpose() * (Vec3::Zero() - k.xpos[1])).z() + 0.03 + 0.01;
+      const double corner_in = (k.xmat[2].transpose() * (Vec3(0.5, 0, 0.04 * std::sqrt(3.0)) - k.xpos[2])).z() + 0.01;
+      std::printf("free tiles after 1 s: sphere %.3e m and box corner %.3e m into the bottom face (2 cm tile)\n",
+                  sphere_in, corner_in);
+      EXPECT_LT(sphere_in, 2e-4);  // penalty depth m g / k = 4.9e-5 m
+      EXPECT_LT(corner_in, 2e-4);
+      EXPECT_GT(k.xpos[1].z(), 0.03);
+      EXPECT_GT(k.xpos[2].z(), 0.04);
+    } else {
+      EXPECT_EQ(a.model.joints[0].swing_max, 0.5);
+    }
+  }
 }
 
 }  // namespace

@@ -53,15 +53,24 @@ std::vector<ContactPoint> contact_points(const Model& m);
 // edges and inside its faces at a spacing of 1/kMeshSamplesPerExtent of the mesh's
 // largest bounding-box extent (none where the mesh is already that fine), so that
 // obstacle corners and small spheres cannot pass between the vertices of large faces.
-constexpr double kMeshSamplesPerExtent = 6;
+constexpr double kMeshSamplesPerExtent = 12;
 std::vector<Vec3> mesh_contact_samples(const MeshShape& mesh);
 std::vector<int> contact_obstacles(const Model& m);
 // Signed distance (positive outside) of a world point from obstacle geom g, and
 // its outward normal.
 double obstacle_distance(const Geom& g, const Vec3& x, Vec3* normal);
 
-// Active contacts at kinematics k.
+// Active contacts at kinematics k: body points against obstacles, then (appended,
+// slot -1) obstacle features against moving meshes (mesh_feature_contacts).
 void find_contacts(const Model& m, const Kinematics& k, const std::vector<ContactPoint>& pts,
                    const std::vector<int>& obs, std::vector<Contact>* out);
+// The reverse query for moving meshes, exact where sampling is not: every corner of a
+// static box and every static sphere (centre, radius) against every moving mesh geom
+// (signed distance to its nearest face). The contact acts on the mesh's body at the
+// corner (the deepest point of the sphere), normal = the direction the body is pushed
+// (minus the mesh's outward normal), so the penalty k/2 depth^2 has the same gradient
+// form as a body point's. Frictionless; Gauss-Newton Hessian in PBAD. Appends to out.
+void mesh_feature_contacts(const Model& m, const Kinematics& k, const std::vector<int>& obs,
+                           std::vector<Contact>* out);
 
 }  // namespace pliant::articulated

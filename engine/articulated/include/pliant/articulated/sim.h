@@ -87,6 +87,7 @@ struct PbadStep {
   bool step_ready = false;  // ws.step/diag/rhs already hold the next LM solve
   double energy = 0, lambda = 1e-6, weight = 0.5;
   bool any_damping = false, any_limits = false;
+  bool any_mesh_features = false;  // a moving mesh and a static box or sphere (contact.h)
   double grad_tol = 0;
   std::vector<VecX> s_hist, y_hist;  // L-BFGS pairs
   int iterations = 0;
@@ -110,6 +111,7 @@ struct SimWorkspace {
   VecX limit_force, limit_h;  // joint-range penalty gradient and Hessian diagonal
   VecX grad, step, q_trial, diag, arm, rhs, tau, dq;
   std::vector<Contact> contacts;
+  std::vector<Contact> feature_contacts;  // obstacle corners against moving meshes (PBAD energy)
   std::vector<ContactPoint> points;  // cached from the model on first use
   std::vector<int> obstacles;
   const Model* cached_for = nullptr;
