@@ -53,7 +53,7 @@ std::vector<ContactPoint> contact_points(const Model& m);
 // edges and inside its faces at a spacing of 1/kMeshSamplesPerExtent of the mesh's
 // largest bounding-box extent (none where the mesh is already that fine), so that
 // obstacle corners and small spheres cannot pass between the vertices of large faces.
-constexpr double kMeshSamplesPerExtent = 12;
+constexpr double kMeshSamplesPerExtent = 6;
 std::vector<Vec3> mesh_contact_samples(const MeshShape& mesh);
 std::vector<int> contact_obstacles(const Model& m);
 // Signed distance (positive outside) of a world point from obstacle geom g, and
