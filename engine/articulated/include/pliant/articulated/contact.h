@@ -52,7 +52,8 @@ std::vector<ContactPoint> contact_points(const Model& m);
 // A moving mesh's contact points (geom frame): its vertices, plus points along its
 // edges and inside its faces at a spacing of 1/kMeshSamplesPerExtent of the mesh's
 // largest bounding-box extent (none where the mesh is already that fine), so that
-// obstacle corners and small spheres cannot pass between the vertices of large faces.
+// obstacle edges cannot pass between the vertices of large faces (corners and
+// spheres are caught exactly by mesh_feature_contacts).
 constexpr double kMeshSamplesPerExtent = 6;
 std::vector<Vec3> mesh_contact_samples(const MeshShape& mesh);
 std::vector<int> contact_obstacles(const Model& m);
