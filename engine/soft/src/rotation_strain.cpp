@@ -42,12 +42,18 @@ void exp_and_jacobian(const Vector3d& v, Matrix3d* E, Matrix3d* J) {
   if (t < 1e-4) {
     s = 1 - t2 / 6, c = 0.5 - t2 / 24, b = 1.0 / 6 - t2 / 120;
   } else {
-    s = std::sin(t) / t, c = (1 - std::cos(t)) / t2, b = (t - std::sin(t)) / (t2 * t);
+    const double it = 1 / t, sn = std::sin(t);  // one division: they are most of the latency
+    s = sn * it, c = (1 - std::cos(t)) * (it * it), b = (t - sn) * (it * it * it);
   }
   a = c;
-  const Matrix3d V = cross_matrix(v), V2 = V * V;
-  *E = Matrix3d::Identity() + s * V + c * V2;
-  if (J) *J = Matrix3d::Identity() + a * V + b * V2;
+  // [v]x^2 = v v^T - t^2 I.
+  const Matrix3d V = cross_matrix(v), vv = v * v.transpose();
+  *E = s * V + c * vv;
+  E->diagonal().array() += 1 - c * t2;
+  if (J) {
+    *J = a * V + b * vv;
+    J->diagonal().array() += 1 - b * t2;
+  }
 }
 
 // Scalars of the left Jacobian J(v) = I + a [v]x + b [v]x^2 and of its derivative
@@ -83,11 +89,11 @@ struct RsWork {
   cholmod_dense *B = nullptr, *X = nullptr, *Y = nullptr, *E = nullptr;      // positions: N x 3
   cholmod_dense *BJ = nullptr, *XJ = nullptr, *YJ = nullptr, *EJ = nullptr;  // Jacobian: N x 3r
   Eigen::VectorXd v, sv;  // per-sample rotation vectors (3 S) and strains (9 S)
+  Eigen::VectorXd d, t;   // nodal U z; vjp: nodal adjoint sum (3N)
   std::uint64_t key = 0;  // RotationStrain::id of the cached evaluation (0: none)
   Eigen::VectorXd key_z;  // its coordinates
   Eigen::VectorXd xc;     // its centred positions (3N)
   std::vector<Matrix3d> Es, Js, Fs;  // per sample at key_z
-  Eigen::VectorXd ax, a2;            // vjp: per-sample weights of w_k (3 S) and s_k (9 S)
   Eigen::MatrixXd Yc, Bc;            // curvature: the same per direction (3 S x r, 9 S x r)
   std::vector<Eigen::Matrix<double, 8, 3>> Pk;  // Jacobian: one cell's right-hand side per mode
   RsWork() { cholmod_start(&cc); }
@@ -146,8 +152,8 @@ void evaluate(RsWork& w, const Lattice& lat, const RotationStrain& rs, const Eig
   const double vol = rs.sample_volume;
   w.v.resize(3 * rs.samples);
   w.sv.resize(9 * rs.samples);
-  w.v.noalias() = rs.rot * z;
-  w.sv.noalias() = rs.strain * z;
+  w.d.resize(3 * n);
+  w.d.noalias() = rs.U * z;
   w.Es.resize(size_t(rs.samples));
   w.Js.resize(size_t(rs.samples));
   w.Fs.resize(size_t(rs.samples));
@@ -159,8 +165,14 @@ void evaluate(RsWork& w, const Lattice& lat, const RotationStrain& rs, const Eig
   for (int e = 0; e < ncell; ++e) {
     const auto& ids = lat.cells[e];
     Eigen::Matrix<double, 8, 3> P = Eigen::Matrix<double, 8, 3>::Zero();
+    Eigen::Matrix<double, 3, 8> Dc;  // the cell's nodal displacements U z
+    for (int a = 0; a < 8; ++a) Dc.col(a) = w.d.segment<3>(3 * ids[a]);
     for (int q = 0; q < 8; ++q) {
       const int i = 8 * e + q;
+      // grad(U z) at the sample: its rotation vector (= rot z) and symmetric part (= strain z).
+      const Matrix3d Hq = Dc * G[q];
+      w.v.segment<3>(3 * i) = 0.5 * Vector3d(Hq(2, 1) - Hq(1, 2), Hq(0, 2) - Hq(2, 0), Hq(1, 0) - Hq(0, 1));
+      Eigen::Map<Matrix3d>(w.sv.data() + 9 * i) = 0.5 * (Hq + Hq.transpose());
       exp_and_jacobian(w.v.segment<3>(3 * i), &w.Es[i], &w.Js[i]);
       w.Fs[i].noalias() = w.Es[i] * (Matrix3d::Identity() + Eigen::Map<const Matrix3d>(w.sv.data() + 9 * i));
       P.noalias() += G[q] * w.Fs[i].transpose();
@@ -186,6 +198,7 @@ RotationStrain rotation_strain_build(const Lattice& lat, const Eigen::MatrixXd& 
   const int n = lat.nodes(), r = int(U.cols()), ncell = int(lat.cells.size());
   const double h = lat.cell_size_m, vol = h * h * h / 8;
   rs.nodes = n, rs.r = r, rs.samples = 8 * ncell, rs.sample_volume = vol;
+  rs.U = U;
   rs.rot.resize(3 * rs.samples, r);
   rs.strain.resize(9 * rs.samples, r);
   const auto& G = gauss_shape_gradients(h);
@@ -328,22 +341,26 @@ void rotation_strain_vjp(const Lattice& lat, const RotationStrain& rs, const Eig
   const auto& G = gauss_shape_gradients(lat.cell_size_m);
   const double vol = rs.sample_volume;
   const double* lam = adjoint_multipliers(w, lat, rs, z, g);
-  w.ax.resize(3 * rs.samples);
-  w.a2.resize(9 * rs.samples);
+  // <dF_k, Lam> = (J w_k) . axial(Lam F^T) + <s_k, E^T Lam> ([u]x : A = u . axial),
+  // and with w_k, s_k the skew/symmetric parts of H_k = grad U_k this is <H_k, T>,
+  // T = [J^T axial(Lam F^T)]x / 2 + sym(E^T Lam); sum_i vol <H_ik, T_i> = U_k . t with
+  // t the nodal scatter of vol T_i G_i^T (one gemv with U instead of rot, strain).
+  w.t.setZero(3 * n);
   for (int e = 0; e < ncell; ++e) {
     const auto& ids = lat.cells[e];
+    Eigen::Matrix<double, 3, 8> Tc = Eigen::Matrix<double, 3, 8>::Zero();
     for (int q = 0; q < 8; ++q) {
       const int i = 8 * e + q;
       const Matrix3d Lam = adjoint_gradient(lam, n, ids, G[q]);
-      // <dF_k, Lam> = (J w_k) . axial(Lam F^T) + <s_k, E^T Lam> ([u]x : A = u . axial).
-      const Matrix3d A1 = Lam * w.Fs[i].transpose();
-      w.ax.segment<3>(3 * i) = vol * (w.Js[i].transpose() * axial2(A1));
-      Eigen::Map<Matrix3d>(w.a2.data() + 9 * i).noalias() = vol * (w.Es[i].transpose() * Lam);
+      const Vector3d ax = w.Js[i].transpose() * axial2(Lam * w.Fs[i].transpose());
+      const Matrix3d A2 = w.Es[i].transpose() * Lam;
+      const Matrix3d T = 0.5 * (cross_matrix(ax) + A2 + A2.transpose());
+      Tc.noalias() += T * G[q].transpose();
     }
+    for (int a = 0; a < 8; ++a) w.t.segment<3>(3 * ids[a]) += vol * Tc.col(a);
   }
   if (out.size() != r) out.resize(r);
-  out.noalias() = rs.rot.transpose() * w.ax;
-  out.noalias() += rs.strain.transpose() * w.a2;
+  out.noalias() = rs.U.transpose() * w.t;
 }
 
 void rotation_strain_curvature(const Lattice& lat, const RotationStrain& rs, const Eigen::VectorXd& z,
@@ -357,11 +374,15 @@ void rotation_strain_curvature(const Lattice& lat, const RotationStrain& rs, con
   const double* lam = adjoint_multipliers(w, lat, rs, z, g);
   // d/dz_a of <dF_k, Lam> (Lam fixed: the solve does not depend on z), closed form:
   //   (dJ[w_a] w_k) . ax1 + (J w_k) . axial(Lam dF_a^T) + <s_k, -E^T [J w_a]x Lam>,
-  // ax1 = axial(Lam F^T), dF_a = [J w_a]x F + E s_a; the w_k / s_k factors are
-  // collected per sample and direction (w.Yc, w.Bc) and contracted by two products.
+  // ax1 = axial(Lam F^T), dF_a = [J w_a]x F + E s_a. Every term is linear in (w_a, s_a),
+  // so per sample three small matrices map them to the factors of w_k (w.Yc) and s_k
+  // (w.Bc), contracted by two products at the end:
+  //   dJ[d]^T ax1 = Ym d, Ym = (be v x (v x ax1) - al v x ax1) v^T + a [ax1]x - b ([v]x [ax1]x + [v x ax1]x);
+  //   axial(Lam dF_a^T) = -(tr(A1) I - A1^T) J w_a + Q s_a  (A1 = Lam F^T; M^T [u]x + [u]x M = [(tr M - M) u]x);
+  //   -E^T [J w_a]x Lam = -[E^T J w_a]x (E^T Lam)  (E a rotation).
   if (w.Yc.rows() != 3 * rs.samples || w.Yc.cols() != r) w.Yc.resize(3 * rs.samples, r);
   if (w.Bc.rows() != 9 * rs.samples || w.Bc.cols() != r) w.Bc.resize(9 * rs.samples, r);
-  const size_t ld_rot = size_t(rs.rot.rows()), ld_strain = size_t(rs.strain.rows());
+  static const int km[3] = {2, 0, 1}, jm[3] = {1, 2, 0};  // axial(X)_m = X(km, jm) - X(jm, km)
   for (int e = 0; e < ncell; ++e) {
     const auto& ids = lat.cells[e];
     for (int q = 0; q < 8; ++q) {
@@ -370,23 +391,29 @@ void rotation_strain_curvature(const Lattice& lat, const RotationStrain& rs, con
       const Matrix3d &E = w.Es[i], &J = w.Js[i], &F = w.Fs[i];
       const Vector3d v = w.v.segment<3>(3 * i);
       const JacobianScalars c = jacobian_scalars(v.squaredNorm());
-      const Vector3d ax1 = axial2(Lam * F.transpose());
+      const Matrix3d A1 = Lam * F.transpose();
+      const Vector3d ax1 = axial2(A1);
       const Vector3d v_ax1 = v.cross(ax1), v_v_ax1 = v.cross(v_ax1);
-      for (int a = 0; a < r; ++a) {
-        const Vector3d wa = Eigen::Map<const Vector3d>(rs.rot.data() + size_t(a) * ld_rot + 3 * size_t(i));
-        const Eigen::Map<const Matrix3d> sa(rs.strain.data() + size_t(a) * ld_strain + 9 * size_t(i));
-        const double vd = v.dot(wa);
-        // dJ[w_a]^T ax1 (dJ^T = -al (v.d) [v]x - a [d]x + be (v.d) [v]x^2 + b ([v]x [d]x + [d]x [v]x)).
-        const Vector3d y = -c.al * vd * v_ax1 - c.a * wa.cross(ax1) + c.be * vd * v_v_ax1 +
-                           c.b * (v.cross(wa.cross(ax1)) + wa.cross(v_ax1));
-        const Vector3d Jwa = J * wa;
-        Matrix3d dFa;
-        dFa.noalias() = cross_matrix(Jwa) * F;
-        dFa.noalias() += E * sa;
-        const Vector3d u = J.transpose() * axial2(Lam * dFa.transpose());
-        w.Yc.block<3, 1>(3 * i, a) = vol * (y + u);
-        Eigen::Map<Matrix3d>(w.Bc.col(a).data() + 9 * i).noalias() = (-vol) * (E.transpose() * (cross_matrix(Jwa) * Lam));
-      }
+      const Matrix3d Xa = cross_matrix(ax1);
+      Matrix3d Ym = (c.be * v_v_ax1 - c.al * v_ax1) * v.transpose() + c.a * Xa;
+      Ym.noalias() -= c.b * (cross_matrix(v) * Xa);
+      Ym -= c.b * cross_matrix(v_ax1);
+      Matrix3d K1 = -A1.transpose();
+      K1.diagonal().array() += A1.trace();
+      Matrix3d Y3 = Ym;
+      Y3.noalias() -= J.transpose() * (K1 * J);
+      Eigen::Matrix<double, 3, 9> Q;
+      for (int m = 0; m < 3; ++m)
+        for (int qq = 0; qq < 3; ++qq)
+          for (int pp = 0; pp < 3; ++pp)
+            Q(m, pp + 3 * qq) = Lam(km[m], pp) * E(jm[m], qq) - Lam(jm[m], pp) * E(km[m], qq);
+      const Eigen::Matrix<double, 3, 9> Y9 = J.transpose() * Q;
+      const Matrix3d M2 = E.transpose() * Lam, EJ = E.transpose() * J;
+      Eigen::Matrix<double, 9, 3> B93;
+      for (int col = 0; col < 3; ++col) B93.middleRows<3>(3 * col) = cross_matrix(M2.col(col)) * EJ;
+      w.Yc.middleRows<3>(3 * i).noalias() = vol * (Y3.lazyProduct(rs.rot.middleRows<3>(3 * i)) +
+                                                   Y9.lazyProduct(rs.strain.middleRows<9>(9 * i)));
+      w.Bc.middleRows<9>(9 * i).noalias() = vol * B93.lazyProduct(rs.rot.middleRows<3>(3 * i));
     }
   }
   if (curvature.rows() != r || curvature.cols() != r) curvature.resize(r, r);

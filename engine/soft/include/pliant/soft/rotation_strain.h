@@ -41,6 +41,8 @@ struct RotationStrain {
   Eigen::MatrixXd rot;                 // 3 samples x r: rotation vectors w_ik
   Eigen::MatrixXd strain;              // 9 samples x r: symmetric strains s_ik (column-major 3x3)
   Eigen::VectorXd mass_fraction;       // N: node mass / total mass (centroid)
+  Eigen::MatrixXd U;                   // 3N x r: the basis (per-sample rot z and strain z are
+                                       // taken from the nodal U z per cell: 12x less data than rot, strain)
   std::shared_ptr<const RsFactor> factor;
   // Unique per rotation_strain_build (copies share it): keys the per-thread cache of
   // the last evaluation (per-sample exp, positions), so the positions, adjoint,
