@@ -62,7 +62,10 @@ void PoissonSolver::smooth(Level& L, int sweeps, bool forward) {
 
 void PoissonSolver::vcycle(int l) {
   Level& L = levels_[l];
-  std::fill(L.x.begin(), L.x.end(), 0.0);
+  const size_t nl = L.shape.cells();
+  double* lx = L.x.data();
+#pragma omp parallel for schedule(static) if (nl >= kOmpMinCells)
+  for (size_t c = 0; c < nl; ++c) lx[c] = 0.0;
   if (l + 1 == int(levels_.size())) {
     smooth(L, L.coarse_sweeps, true);
     smooth(L, L.coarse_sweeps, false);
@@ -84,10 +87,14 @@ void PoissonSolver::precondition(PoissonMethod method, const double* r, double* 
     for (size_t c = 0; c < n; ++c) z[c] = r[c] * inv_diag_[c];
   } else {
     Level& L = levels_[0];
-    std::copy(r, r + n, L.b.begin());
-    remove_mean(L.b.data(), n);
+    double* lb = L.b.data();
+#pragma omp parallel for schedule(static) if (n >= kOmpMinCells)
+    for (size_t c = 0; c < n; ++c) lb[c] = r[c];
+    remove_mean(lb, n);
     vcycle(0);
-    std::copy(L.x.begin(), L.x.end(), z);
+    const double* lx = L.x.data();
+#pragma omp parallel for schedule(static) if (n >= kOmpMinCells)
+    for (size_t c = 0; c < n; ++c) z[c] = lx[c];
   }
   remove_mean(z, n);  // keep the search directions out of the null space
 }

@@ -20,7 +20,7 @@ void ForwardOps::advect_velocity_adjoint(const Vec& u, const Vec& out_bar, Vec& 
     chunk_bar_.assign(kAdjointChunks, Vec(faces_, 0.0));  // first call only; kept zero between calls
   // Scatter: chunk c takes the c-th slice of every component's faces (contiguous in
   // the slowest index, so it writes a narrow band) into its own buffer.
-#pragma omp parallel for schedule(static, 1) if (faces_ > 16384)
+#pragma omp parallel for schedule(dynamic, 1) if (faces_ > 16384)
   for (int c = 0; c < kAdjointChunks; ++c) {
     double* cb = chunk_bar_[size_t(c)].data();
     double* ub[3] = {cb + off_[0], cb + off_[1], cb + off_[2]};

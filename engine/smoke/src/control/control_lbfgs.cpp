@@ -49,13 +49,26 @@ struct LbfgsObjective {
       return last_f;
     }
     progress.check_cancelled();
-    for (int i = 0; i < T; ++i) std::copy(x.data() + size_t(i) * nf, x.data() + size_t(i + 1) * nf, f[i].begin());
-    const double E = control_detail::objective_d(m, ops, f, &g);
+    has_last = false;  // the cache is rewritten below
     grad.resize(x.size());
-    for (int i = 0; i < T; ++i) std::copy(g[i].begin(), g[i].end(), grad.data() + size_t(i) * nf);
+    last_x.resize(x.size());
+    last_grad.resize(x.size());
+    // Per frame: x -> f and the cache copy (T * faces doubles each; serial copies were
+    // a few % of a 48^3 evaluation's wall time on 2 threads).
+    const bool parallel = nf >= control_detail::kControlParallelCells;
+#pragma omp parallel for schedule(static) if (parallel)
+    for (int i = 0; i < T; ++i) {
+      const double* xi = x.data() + size_t(i) * nf;
+      std::copy(xi, xi + nf, f[size_t(i)].begin());
+      std::copy(xi, xi + nf, last_x.data() + size_t(i) * nf);
+    }
+    const double E = control_detail::objective_d(m, ops, f, &g);
+#pragma omp parallel for schedule(static) if (parallel)
+    for (int i = 0; i < T; ++i) {
+      std::copy(g[size_t(i)].begin(), g[size_t(i)].end(), grad.data() + size_t(i) * nf);
+      std::copy(g[size_t(i)].begin(), g[size_t(i)].end(), last_grad.data() + size_t(i) * nf);
+    }
     ++evaluations;
-    last_x = x;
-    last_grad = grad;
     last_f = E;
     has_last = true;
     if (E < best_f) {
