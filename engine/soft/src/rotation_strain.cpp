@@ -122,6 +122,13 @@ std::uint64_t next_rs_id() {
 
 void solve(RsWork& w, const RsFactor& f, cholmod_dense* B, cholmod_dense** X, cholmod_dense** Y,
            cholmod_dense** E) {
+  // A simplicial solve asks for its workspace Y as max(4, nrhs) x n and then reshapes
+  // it per block of 4 columns, so the next call would find the "wrong" shape and
+  // reallocate: restore the shape it asks for (same storage) first.
+  if (!f.L->is_super && *Y) {
+    const size_t nr = std::max<size_t>(4, B->ncol), n = B->nrow;
+    if ((*Y)->nzmax >= nr * n) (*Y)->nrow = nr, (*Y)->ncol = n, (*Y)->d = nr;
+  }
   if (!cholmod_solve2(CHOLMOD_A, f.L, B, nullptr, X, nullptr, Y, E, &w.cc))
     throw std::runtime_error("rotation_strain: CHOLMOD solve failed");
 }

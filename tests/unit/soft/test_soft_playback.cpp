@@ -218,4 +218,31 @@ TEST(SoftPlayback, PlaybackFrameAllocatesNothing) {
   EXPECT_EQ(g_allocations.load(), 0);
   EXPECT_EQ(pb.state.frame, 8);
 }
+
+// Rotation-strain coordinates: the per-thread reconstruction workspace (CHOLMOD
+// buffers, per-sample exp cache, adjoint and curvature buffers) is sized by the
+// first frames; later frames with contact, a push, the kept Jacobian and the
+// curvature allocate nothing.
+TEST(SoftPlayback, RotationStrainPlaybackFrameAllocatesNothing) {
+  soft::SoftModel m = worm_model();
+  soft::enable_rotation_strain(m.character);
+  soft::soft_bind(m);
+  const Eigen::VectorXd theta = Eigen::VectorXd::Constant(m.problem.dmp.parameters(), 0.3);
+  soft::SoftPlayback pb = soft::soft_playback_start(m, theta);
+  soft::soft_playback_step(m, pb);
+  pb.push_n = Eigen::Vector3d(0, 0, 5 * m.character.mass_kg);
+  soft::soft_playback_step(m, pb);
+  g_allocations = 0;
+  g_count = true;
+  int iterations = 0;
+  for (int f = 0; f < 6; ++f) {
+    if (f == 3) pb.push_n = Eigen::Vector3d(0, 0, 5 * m.character.mass_kg);
+    soft::soft_playback_step(m, pb);
+    iterations += pb.last.newton_iterations;
+  }
+  g_count = false;
+  EXPECT_EQ(g_allocations.load(), 0);
+  EXPECT_GT(iterations, 6);  // more than one Newton iteration per frame: the lagged path ran
+  EXPECT_GT(pb.state.q.norm(), 0);
+}
 #endif
