@@ -81,19 +81,24 @@ JacobianScalars jacobian_scalars(double t2) {
   return k;
 }
 
-// Per-thread reconstruction buffers (sized on first use) and the last evaluation's
-// per-sample rotation E, left Jacobian J and F = E S: the step evaluates the map,
-// its adjoint and its Jacobian at the same z, so exp runs once per z.
+// One evaluation of the map: per-sample rotation vector, strain, rotation E, left
+// Jacobian J and F = E S, and the centred positions, for coordinates key_z.
+struct RsEval {
+  std::uint64_t key = 0;  // RotationStrain::id (0: empty)
+  Eigen::VectorXd key_z, xc, v, sv;  // z; positions (3N); rotation vectors (3 S), strains (9 S)
+  std::vector<Matrix3d> Es, Js, Fs;
+};
+
+// Per-thread reconstruction buffers (sized on first use) and the last two
+// evaluations: the step evaluates the map, its adjoint and its Jacobian at the same
+// z (and a step starts with q, q_prev, then q again), so exp runs once per z.
 struct RsWork {
   cholmod_common cc;
   cholmod_dense *B = nullptr, *X = nullptr, *Y = nullptr, *E = nullptr;      // positions: N x 3
   cholmod_dense *BJ = nullptr, *XJ = nullptr, *YJ = nullptr, *EJ = nullptr;  // Jacobian: N x 3r
-  Eigen::VectorXd v, sv;  // per-sample rotation vectors (3 S) and strains (9 S)
   Eigen::VectorXd d, t;   // nodal U z; vjp: nodal adjoint sum (3N)
-  std::uint64_t key = 0;  // RotationStrain::id of the cached evaluation (0: none)
-  Eigen::VectorXd key_z;  // its coordinates
-  Eigen::VectorXd xc;     // its centred positions (3N)
-  std::vector<Matrix3d> Es, Js, Fs;  // per sample at key_z
+  RsEval slot[2];
+  int next = 0;           // the slot the next new z overwrites (least recently used)
   Eigen::MatrixXd Yc, Bc;            // curvature: the same per direction (3 S x r, 9 S x r)
   std::vector<Eigen::Matrix<double, 8, 3>> Pk;  // Jacobian: one cell's right-hand side per mode
   RsWork() { cholmod_start(&cc); }
@@ -149,21 +154,29 @@ void gather_centred(const RsWork& w, const cholmod_dense* X, const Eigen::Vector
   (void)w;
 }
 
-// Evaluates the map at z into the workspace (per-sample E, J, F and the centred
-// positions w.xc), unless it already holds z for this basis.
-void evaluate(RsWork& w, const Lattice& lat, const RotationStrain& rs, const Eigen::VectorXd& z) {
-  if (w.key == rs.id && rs.id != 0 && w.key_z.size() == z.size() && w.key_z == z) return;
-  w.key = 0;
+// Evaluates the map at z (per-sample E, J, F and the centred positions), unless a
+// slot already holds z for this basis.
+const RsEval& evaluate(RsWork& w, const Lattice& lat, const RotationStrain& rs, const Eigen::VectorXd& z) {
+  for (int k = 0; k < 2; ++k) {
+    const RsEval& c = w.slot[k];
+    if (c.key == rs.id && rs.id != 0 && c.key_z.size() == z.size() && c.key_z == z) {
+      w.next = 1 - k;
+      return c;
+    }
+  }
+  RsEval& ev = w.slot[w.next];
+  w.next = 1 - w.next;
+  ev.key = 0;
   const int n = rs.nodes, ncell = int(lat.cells.size());
   const auto& G = gauss_shape_gradients(lat.cell_size_m);
   const double vol = rs.sample_volume;
-  w.v.resize(3 * rs.samples);
-  w.sv.resize(9 * rs.samples);
+  ev.v.resize(3 * rs.samples);
+  ev.sv.resize(9 * rs.samples);
   w.d.resize(3 * n);
   w.d.noalias() = rs.U * z;
-  w.Es.resize(size_t(rs.samples));
-  w.Js.resize(size_t(rs.samples));
-  w.Fs.resize(size_t(rs.samples));
+  ev.Es.resize(size_t(rs.samples));
+  ev.Js.resize(size_t(rs.samples));
+  ev.Fs.resize(size_t(rs.samples));
   w.ensure(w.B, n, 3);
   double* b = static_cast<double*>(w.B->x);
   std::fill(b, b + 3 * size_t(n), 0.0);
@@ -178,11 +191,11 @@ void evaluate(RsWork& w, const Lattice& lat, const RotationStrain& rs, const Eig
       const int i = 8 * e + q;
       // grad(U z) at the sample: its rotation vector (= rot z) and symmetric part (= strain z).
       const Matrix3d Hq = Dc * G[q];
-      w.v.segment<3>(3 * i) = 0.5 * Vector3d(Hq(2, 1) - Hq(1, 2), Hq(0, 2) - Hq(2, 0), Hq(1, 0) - Hq(0, 1));
-      Eigen::Map<Matrix3d>(w.sv.data() + 9 * i) = 0.5 * (Hq + Hq.transpose());
-      exp_and_jacobian(w.v.segment<3>(3 * i), &w.Es[i], &w.Js[i]);
-      w.Fs[i].noalias() = w.Es[i] * (Matrix3d::Identity() + Eigen::Map<const Matrix3d>(w.sv.data() + 9 * i));
-      P.noalias() += G[q] * w.Fs[i].transpose();
+      ev.v.segment<3>(3 * i) = 0.5 * Vector3d(Hq(2, 1) - Hq(1, 2), Hq(0, 2) - Hq(2, 0), Hq(1, 0) - Hq(0, 1));
+      Eigen::Map<Matrix3d>(ev.sv.data() + 9 * i) = 0.5 * (Hq + Hq.transpose());
+      exp_and_jacobian(ev.v.segment<3>(3 * i), &ev.Es[i], &ev.Js[i]);
+      ev.Fs[i].noalias() = ev.Es[i] * (Matrix3d::Identity() + Eigen::Map<const Matrix3d>(ev.sv.data() + 9 * i));
+      P.noalias() += G[q] * ev.Fs[i].transpose();
     }
     for (int s = 0; s < 3; ++s) {
       double* c = b + size_t(s) * size_t(n);
@@ -190,11 +203,12 @@ void evaluate(RsWork& w, const Lattice& lat, const RotationStrain& rs, const Eig
     }
   }
   solve(w, *rs.factor, w.B, &w.X, &w.Y, &w.E);
-  if (w.xc.size() != 3 * n) w.xc.resize(3 * n);
-  Eigen::Map<Eigen::MatrixXd> xm(w.xc.data(), 3 * n, 1);
+  if (ev.xc.size() != 3 * n) ev.xc.resize(3 * n);
+  Eigen::Map<Eigen::MatrixXd> xm(ev.xc.data(), 3 * n, 1);
   gather_centred(w, w.X, rs.mass_fraction, xm);
-  w.key_z = z;
-  w.key = rs.id;
+  ev.key_z = z;
+  ev.key = rs.id;
+  return ev;
 }
 
 }  // namespace
@@ -268,10 +282,10 @@ void rotation_strain_positions(const Lattice& lat, const RotationStrain& rs, con
   if (!rs.factor || z.size() != rs.r || lat.nodes() != rs.nodes)
     throw std::invalid_argument("rotation_strain_positions: basis and lattice do not match");
   RsWork& w = work();
-  evaluate(w, lat, rs, z);
+  const RsEval& ev = evaluate(w, lat, rs, z);
   const int n = rs.nodes, r = rs.r, ncell = int(lat.cells.size());
   if (x.size() != 3 * n) x.resize(3 * n);
-  x = w.xc;
+  x = ev.xc;
   if (!jacobian) return;
   // dF_ik = [J_i w_ik]x F_i + E_i s_ik; right-hand side column 3k + s gets
   // vol sum_i G_i^T dF_ik, summed per cell (w.Pk) before the scatter.
@@ -287,7 +301,7 @@ void rotation_strain_positions(const Lattice& lat, const RotationStrain& rs, con
     for (int k = 0; k < r; ++k) w.Pk[k].setZero();
     for (int q = 0; q < 8; ++q) {
       const int i = 8 * e + q;
-      const Matrix3d &E = w.Es[i], &J = w.Js[i], &F = w.Fs[i];
+      const Matrix3d &E = ev.Es[i], &J = ev.Js[i], &F = ev.Fs[i];
       for (int k = 0; k < r; ++k) {
         const Vector3d dv = J * Eigen::Map<const Vector3d>(rs.rot.data() + size_t(k) * ld_rot + 3 * size_t(i));
         Matrix3d dF;
@@ -313,8 +327,8 @@ namespace {
 // P^T g = g - mass_fraction (sum_j g_j) per coordinate; the map is evaluated at z
 // first (per-sample E, J, F). Shared by the vjp and the curvature.
 const double* adjoint_multipliers(RsWork& w, const Lattice& lat, const RotationStrain& rs, const Eigen::VectorXd& z,
-                                  const Eigen::VectorXd& g) {
-  evaluate(w, lat, rs, z);
+                                  const Eigen::VectorXd& g, const RsEval*& ev) {
+  ev = &evaluate(w, lat, rs, z);
   const int n = rs.nodes;
   w.ensure(w.B, n, 3);
   double* b = static_cast<double*>(w.B->x);
@@ -347,7 +361,8 @@ void rotation_strain_vjp(const Lattice& lat, const RotationStrain& rs, const Eig
   const int n = rs.nodes, r = rs.r, ncell = int(lat.cells.size());
   const auto& G = gauss_shape_gradients(lat.cell_size_m);
   const double vol = rs.sample_volume;
-  const double* lam = adjoint_multipliers(w, lat, rs, z, g);
+  const RsEval* ev = nullptr;
+  const double* lam = adjoint_multipliers(w, lat, rs, z, g, ev);
   // <dF_k, Lam> = (J w_k) . axial(Lam F^T) + <s_k, E^T Lam> ([u]x : A = u . axial),
   // and with w_k, s_k the skew/symmetric parts of H_k = grad U_k this is <H_k, T>,
   // T = [J^T axial(Lam F^T)]x / 2 + sym(E^T Lam); sum_i vol <H_ik, T_i> = U_k . t with
@@ -359,8 +374,8 @@ void rotation_strain_vjp(const Lattice& lat, const RotationStrain& rs, const Eig
     for (int q = 0; q < 8; ++q) {
       const int i = 8 * e + q;
       const Matrix3d Lam = adjoint_gradient(lam, n, ids, G[q]);
-      const Vector3d ax = w.Js[i].transpose() * axial2(Lam * w.Fs[i].transpose());
-      const Matrix3d A2 = w.Es[i].transpose() * Lam;
+      const Vector3d ax = ev->Js[i].transpose() * axial2(Lam * ev->Fs[i].transpose());
+      const Matrix3d A2 = ev->Es[i].transpose() * Lam;
       const Matrix3d T = 0.5 * (cross_matrix(ax) + A2 + A2.transpose());
       Tc.noalias() += T * G[q].transpose();
     }
@@ -378,7 +393,8 @@ void rotation_strain_curvature(const Lattice& lat, const RotationStrain& rs, con
   const int n = rs.nodes, r = rs.r, ncell = int(lat.cells.size());
   const auto& G = gauss_shape_gradients(lat.cell_size_m);
   const double vol = rs.sample_volume;
-  const double* lam = adjoint_multipliers(w, lat, rs, z, g);
+  const RsEval* ev = nullptr;
+  const double* lam = adjoint_multipliers(w, lat, rs, z, g, ev);
   // d/dz_a of <dF_k, Lam> (Lam fixed: the solve does not depend on z), closed form:
   //   (dJ[w_a] w_k) . ax1 + (J w_k) . axial(Lam dF_a^T) + <s_k, -E^T [J w_a]x Lam>,
   // ax1 = axial(Lam F^T), dF_a = [J w_a]x F + E s_a. Every term is linear in (w_a, s_a),
@@ -395,8 +411,8 @@ void rotation_strain_curvature(const Lattice& lat, const RotationStrain& rs, con
     for (int q = 0; q < 8; ++q) {
       const int i = 8 * e + q;
       const Matrix3d Lam = adjoint_gradient(lam, n, ids, G[q]);
-      const Matrix3d &E = w.Es[i], &J = w.Js[i], &F = w.Fs[i];
-      const Vector3d v = w.v.segment<3>(3 * i);
+      const Matrix3d &E = ev->Es[i], &J = ev->Js[i], &F = ev->Fs[i];
+      const Vector3d v = ev->v.segment<3>(3 * i);
       const JacobianScalars c = jacobian_scalars(v.squaredNorm());
       const Matrix3d A1 = Lam * F.transpose();
       const Vector3d ax1 = axial2(A1);
