@@ -155,9 +155,10 @@ void rescale_scene(Scene& scene, int n, int frames) {
 // --evaluations N: issue 3's per-evaluation profile. Wall and process CPU seconds of N
 // objective + gradient evaluations (forward sweep + discrete adjoint: what one polish
 // L-BFGS iteration costs) on one ForwardOps, as the polish does. Forces: a smooth
-// descent direction f = -c dE/df(0) with max |dt f| = half a cell per frame. The
-// first evaluation (buffers sized) is reported apart; "bits" hashes E and the
-// gradient, to check that thread counts give the same bits.
+// descent direction f = -c dE/df(0) with max |dt f| = half a cell per frame (that
+// gradient evaluation sizes the buffers; it is not timed). The first timed evaluation
+// is reported apart; "bits" hashes E and the last gradient, to check that thread counts
+// give the same bits.
 nlohmann::json time_evaluations(const ControlModel& m, int n) {
   using control_detail::Vec;
   control_detail::ForwardOps ops(m, control_detail::kControlPressureTolerance);
