@@ -136,6 +136,13 @@ void expect_same_poses_and_ranges(const std::string& xml) {
         EXPECT_NEAR(ours.joints[j].axis[a], mj->jnt_axis[3 * j + a], 1e-9) << "joint " << j;
         EXPECT_NEAR(ours.joints[j].pos[a], mj->jnt_pos[3 * j + a], 1e-9) << "joint " << j;
       }
+  ASSERT_EQ(static_cast<int>(ours.actuators.size()), mj->nu);
+  for (int a = 0; a < mj->nu; ++a) {
+    EXPECT_EQ(ours.actuators[a].joint, mj->actuator_trnid[2 * a]) << "actuator " << a;
+    EXPECT_EQ(ours.actuators[a].gear, mj->actuator_gear[6 * a]) << "actuator " << a;
+  }
+  for (int j = 0; j < mj->njnt; ++j)
+    EXPECT_EQ(ours.joints[j].armature, mj->dof_armature[mj->jnt_dofadr[j]]) << "joint " << j;
   std::vector<Geom> geoms = ours.geoms;  // MuJoCo lists geoms body by body
   std::stable_sort(geoms.begin(), geoms.end(), [](const Geom& x, const Geom& y) { return x.body < y.body; });
   ASSERT_EQ(static_cast<int>(geoms.size()), mj->ngeom);
@@ -194,7 +201,7 @@ TEST(MujocoReference, DefaultsEulerAxisangleAndRangesMatch) {
 TEST(MujocoReference, AllOrientationFormsAndFromtoMatch) {
   const std::string body = R"(
     <default>
-      <joint axis="0 1 1" damping="0.2"/>
+      <joint axis="0 1 1" damping="0.2" armature="0.01"/>
       <geom type="box" size="0.05 0.04 0.03" density="900"/>
       <motor gear="7"/>
       <default class="arm"><joint axis="1 0 0.5"/><geom type="capsule" size="0.02"/>
