@@ -109,8 +109,11 @@ class ForwardOps {
 // grids, and on an oversubscribed machine libgomp's spinning barriers make it far
 // worse: measured on the 2-core build box under load 10, a 64^2 x 40 gradient took
 // 0.5 s on 1 thread and 13.6 s on 2 (0.7 s with OMP_WAIT_POLICY=passive); 128^2 x
-// 40: 2.6 s vs 24.6 s. So only grids of 2^16 cells and more run in parallel.
-inline constexpr size_t kControlParallelCells = size_t(1) << 16;
+// 40: 2.6 s vs 24.6 s. Sixth session, at load ~3 (one core free): a 32^3 x 40
+// evaluation 1.09 s on 1 thread, 0.61 s on 2 (1.79x, same bits), so 3D grids from 32^3
+// run in parallel; 128^2 x 40 was 0.30 vs 0.20 s (1.5x) but stays serial: under load
+// it is the case above.
+inline constexpr size_t kControlParallelCells = size_t(1) << 15;
 class SerialBelow {
  public:
   explicit SerialBelow(size_t cells, size_t threshold = kControlParallelCells);
