@@ -187,6 +187,26 @@ double pbad_energy(const Model& m, const SimOptions& o, const State& s, const Pb
         ws.h[c.body] += point_hessian(c.point, kk * c.normal * c.normal.transpose());
       }
     }
+    // Friction as for body points, on the slip of the mesh's material point that was
+    // under the obstacle point at q_i, with that contact's normal and normal force.
+    for (const FeatureAnchor& fa : p.feature_anchors) {
+      if (o.contact.friction == FrictionModel::None) break;
+      const Vec3 x = k.xpos[fa.body] + k.xmat[fa.body] * fa.local;
+      const Mat3 pt = Mat3::Identity() - fa.normal * fa.normal.transpose();
+      const Vec3 st = pt * (x - fa.point);
+      const bool coulomb = o.contact.friction == FrictionModel::Coulomb;
+      const double eps = o.contact.slip_eps, r = std::sqrt(st.squaredNorm() + eps * eps);
+      const double g = coulomb ? o.contact.mu * fa.normal_force / r : o.contact.ck * fa.normal_force / o.dt;
+      e += coulomb ? o.contact.mu * fa.normal_force * (r - eps) : 0.5 * g * st.squaredNorm();
+      if (derivs) {
+        ws.w[fa.body] += point_wrench(x, g * st);
+        ws.h[fa.body] += point_hessian(x, g * pt);
+        if (exact) {
+          ws.moment[fa.body] += x * (g * st).transpose();
+          ws.force[fa.body] += g * st;
+        }
+      }
+    }
   }
   // Actuator work and joint damping (dissipation potential) in joint space.
   const bool joint_terms = !m.actuators.empty() || p.any_damping;
@@ -444,6 +464,14 @@ void pbad_begin(const Model& m, const SimOptions& o, State& s, PbadStep& p, SimW
     box_or_sphere = box_or_sphere || (g.body == 0 && g.contact && (g.type == GeomType::Box || g.type == GeomType::Sphere));
   }
   p.any_mesh_features = moving_mesh && box_or_sphere;
+  p.feature_anchors.clear();
+  if (p.any_mesh_features && o.contact.enabled) {
+    ws.feature_contacts.clear();
+    mesh_feature_contacts(m, k0, ws.obstacles, &ws.feature_contacts);
+    for (const Contact& c : ws.feature_contacts)
+      p.feature_anchors.push_back({c.body, k0.xmat[c.body].transpose() * (c.point - k0.xpos[c.body]), c.point, c.normal,
+                                   o.contact.stiffness * c.depth});
+  }
   p.q = s.qpos;
   qpos_integrate(m, p.q, 2 * qpos_difference(m, s.qpos, q1) - qpos_difference(m, q1, s.past[1]), 1.0);
   p.q_pred = p.q;

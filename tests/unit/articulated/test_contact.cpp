@@ -188,6 +188,47 @@ TEST(Contact, MeshFeatureContactGradientMatchesFiniteDifferences) {
   }
 }
 
+TEST(Contact, MeshSlidingOnABoxCornerStopsAtTheCoulombDistance) {
+  // A mesh tile on two slides (x, z) resting on an upturned box corner, pushed at
+  // 0.2 m/s: Coulomb friction at the corner's feature contact stops it after
+  // v^2 / (2 mu g) = 4.08 mm; frictionless it keeps going.
+  const std::string obj = test::write_box_obj("pliant_mesh_slide", 0.1, 0.1, 0.01);
+  const Quat up = Quat::FromTwoVectors(Vec3(1, 1, 1), Vec3::UnitZ());
+  std::ostringstream bq;
+  bq.precision(17);
+  bq << up.w() << " " << up.x() << " " << up.y() << " " << up.z();
+  const double tip = 0.04 * std::sqrt(3.0), k = 1e5, mass = 0.5;
+  std::ostringstream z;
+  z.precision(17);
+  z << tip + 0.01 - mass * 9.81 / k;
+  const Model m = model_from_mjcf(
+      "<mujoco><asset><mesh name=\"tile\" file=\"" + obj + "\"/></asset><worldbody>"
+      "<geom type=\"box\" size=\"0.04 0.04 0.04\" quat=\"" + bq.str() + "\"/>"
+      "<body pos=\"0 0 " + z.str() + "\"><joint type=\"slide\" axis=\"1 0 0\"/><joint type=\"slide\" axis=\"0 0 1\"/>"
+      "<geom type=\"mesh\" mesh=\"tile\" mass=\"0.5\"/></body></worldbody></mujoco>",
+      "m.xml");
+  std::filesystem::remove(obj);
+  for (const FrictionModel f : {FrictionModel::Coulomb, FrictionModel::None}) {
+    SimOptions o;
+    o.dt = 0.005;
+    o.contact.stiffness = k;
+    o.contact.friction = f;
+    o.contact.mu = 0.5;
+    State s = state_init(m);
+    s.qvel[0] = 0.2;
+    SimWorkspace ws;
+    for (int i = 0; i < 80; ++i) ASSERT_TRUE(sim_step(m, o, s, ws));
+    std::printf("tile on a corner, %s: %.5f m after 0.4 s\n", f == FrictionModel::Coulomb ? "coulomb" : "none", s.qpos[0]);
+    if (f == FrictionModel::Coulomb) {
+      EXPECT_NEAR(s.qpos[0], 0.04 / (2 * 0.5 * 9.81), 0.1 * 0.00408);
+      EXPECT_NEAR(s.qvel[0], 0, 1e-3);
+    } else {
+      EXPECT_NEAR(s.qpos[0], 0.2 * 0.4, 0.002);
+    }
+    EXPECT_NEAR(s.qpos[1], 0, 1e-4);  // still on the corner
+  }
+}
+
 TEST(Contact, ObstacleDistances) {
   Geom box;
   box.type = GeomType::Box;

@@ -77,6 +77,14 @@ struct StepInfo {
   double energy_residual = 0;  // max |gradient| at the end (PBAD)
 };
 
+// Friction of an obstacle corner/sphere against a moving mesh (contact.h): the mesh's
+// material point under it at q_i, the obstacle point, its normal and normal force.
+struct FeatureAnchor {
+  int body;
+  Vec3 local, point, normal;
+  double normal_force;
+};
+
 struct PbadStep {
   std::vector<Vec3> y;  // target centre per body
   std::vector<Mat3> a;  // target rotation per body
@@ -88,6 +96,7 @@ struct PbadStep {
   double energy = 0, lambda = 1e-6, weight = 0.5;
   bool any_damping = false, any_limits = false;
   bool any_mesh_features = false;  // a moving mesh and a static box or sphere (contact.h)
+  std::vector<FeatureAnchor> feature_anchors;  // their contacts at q_i (friction)
   double grad_tol = 0;
   std::vector<VecX> s_hist, y_hist;  // L-BFGS pairs
   int iterations = 0;
