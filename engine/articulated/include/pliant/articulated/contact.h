@@ -70,7 +70,8 @@ void find_contacts(const Model& m, const Kinematics& k, const std::vector<Contac
 // (signed distance to its nearest face). The contact acts on the mesh's body at the
 // corner (the deepest point of the sphere), normal = the direction the body is pushed
 // (minus the mesh's outward normal), so the penalty k/2 depth^2 has the same gradient
-// form as a body point's. Frictionless; Gauss-Newton Hessian in PBAD. Appends to out.
+// form as a body point's. PBAD: Gauss-Newton Hessian, friction on the slip of the
+// mesh's material point under the obstacle point at q_i (sim.cpp). Appends to out.
 void mesh_feature_contacts(const Model& m, const Kinematics& k, const std::vector<int>& obs,
                            std::vector<Contact>* out);
 
