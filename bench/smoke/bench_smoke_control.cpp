@@ -13,8 +13,9 @@
 //                       [--nso-vcycles N] [--ao-iterations N] [scene.json ...]
 //   bench_smoke_control --converged [--budget X] [--baseline plain|c2f|both] [--deadline-unix S]
 //                       [--pliant-given E CPU_S IOU] [--grid N] [--merge] [--out FILE] scene.json ...
-//   bench_smoke_control --evaluations N [--grid N] [--frames T] scene.json ...
-//     per-evaluation profile (objective + gradient of the polish); prints JSON only.
+//   bench_smoke_control --evaluations N [--lbfgs-iterations K] [--grid N] [--frames T] scene.json ...
+//     per-evaluation profile (objective + gradient of the polish; with K: also K L-BFGS
+//     iterations from rest at that grid); prints JSON only.
 // --converged: issue 3's converged comparison (converged_comparison.h): Pliant as users
 // run it to its end, then L-BFGS with X (20) times Pliant's CPU time to reach its error.
 // --merge keeps the output file's other rows (a row replaces the row of the same case).
@@ -159,7 +160,7 @@ void rescale_scene(Scene& scene, int n, int frames) {
 // gradient evaluation sizes the buffers; it is not timed). The first timed evaluation
 // is reported apart; "bits" hashes E and the last gradient, to check that thread counts
 // give the same bits.
-nlohmann::json time_evaluations(const ControlModel& m, int n) {
+nlohmann::json time_evaluations(const ControlModel& m, int n, int lbfgs_iterations) {
   using control_detail::Vec;
   control_detail::ForwardOps ops(m, control_detail::kControlPressureTolerance);
   const size_t nf = ops.faces();
@@ -193,7 +194,28 @@ nlohmann::json time_evaluations(const ControlModel& m, int n) {
   char bits[17];
   std::snprintf(bits, sizeof bits, "%016llx", static_cast<unsigned long long>(h));
   const int rest = std::max(1, n - 1);
+  // --lbfgs-iterations K: K iterations of the L-BFGS polish itself at this level (no
+  // coarse levels), from rest: evaluations plus LBFGS++'s serial vector work.
+  double lbfgs_wall = 0, lbfgs_cpu = 0;
+  int lbfgs_done = 0;
+  if (lbfgs_iterations > 0) {
+    ControlModel lm = m;
+    lm.max_iterations = lbfgs_iterations;
+    lm.lbfgs_chunk = lbfgs_iterations;
+    lm.progressive_preview = false;
+    ControlState st = control_init(lm);
+    Progress progress;
+    const auto t0 = std::chrono::steady_clock::now();
+    const double c0 = cpu_s();
+    control_solve_lbfgs(lm, st, progress, {});
+    lbfgs_wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    lbfgs_cpu = cpu_s() - c0;
+    lbfgs_done = st.iteration;
+  }
   return {{"mode", "evaluations"},
+          {"lbfgs_iterations", lbfgs_done},
+          {"lbfgs_wall_s", lbfgs_wall},
+          {"lbfgs_cpu_s", lbfgs_cpu},
           {"omp_threads", omp_get_max_threads()},
           {"load_average_1min", load_average()},
           {"grid", m.sim.n},
@@ -292,7 +314,7 @@ int main(int argc, char** argv) {
     if (coarse_admm_levels >= -1) m.coarse_admm_levels = coarse_admm_levels;
     if (coarse_iterations >= -1) m.coarse_iterations = coarse_iterations;
     if (evaluations > 0) {  // per-evaluation profile (no results file row unless --out)
-      nlohmann::json j = time_evaluations(m, evaluations);
+      nlohmann::json j = time_evaluations(m, evaluations, lbfgs_iterations);
       std::string name = path.substr(path.find_last_of('/') + 1);
       name += " " + std::to_string(m.sim.n[0]) + "^" + std::to_string(m.sim.dim) + "x" + std::to_string(m.sim.frames);
       j["case"] = name + " evaluation omp" + std::to_string(omp_get_max_threads());
