@@ -165,5 +165,48 @@ TEST_F(ArticulatedCli, JsonMeshGeomsAndBallRanges) {
   }
 }
 
+// The sixth session's example scenes through `pliant run`: mesh tiles held by a sphere
+// and by a box corner (exact corner contacts + face samples), and a ball joint kept
+// inside its swing cone (scene joint_limits).
+TEST_F(ArticulatedCli, MeshTilesRestOnASphereAndABoxCorner) {
+  const fs::path take = dir_ / "take";
+  const ProcessResult r = pliant({"run", kAssets + "/scenes/articulated_mesh_tile.json", "--take", take.string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  TakeReader reader(take);
+  const Record last = reader.read_frame_at(reader.frame_count() - 1);
+  const Field* pose = last.find("body_pose");
+  ASSERT_NE(pose, nullptr);
+  ASSERT_EQ(pose->shape, (std::vector<uint32_t>{2, 7}));
+  // Sphere of radius 0.03 at the origin, tile 2 cm thick: centre 0.04 above it when held.
+  EXPECT_NEAR(pose->data[2], 0.04, 0.005);
+  // Box of half-size 0.04 standing on a corner: its top corner at 0.04 sqrt(3).
+  EXPECT_NEAR(pose->data[7 + 2], 0.04 * std::sqrt(3.0) + 0.01, 0.005);
+}
+
+TEST_F(ArticulatedCli, BallJointStaysInsideItsSwingCone) {
+  const fs::path take = dir_ / "take";
+  const ProcessResult r = pliant({"run", kAssets + "/scenes/articulated_ball_limits.json", "--take", take.string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  TakeReader reader(take);
+  double max_swing = 0;
+  for (uint32_t f = 0; f < reader.frame_count(); ++f) {
+    const Field* pose = reader.read_frame_at(f).find("body_pose");
+    const double x = pose->data[4], y = pose->data[5];  // quaternion (w, x, y, z) after the position
+    max_swing = std::max(max_swing, std::acos(std::clamp(1 - 2 * (x * x + y * y), -1.0, 1.0)));
+  }
+  EXPECT_GT(max_swing, 0.4);   // thrown hard enough to reach the cone
+  EXPECT_LT(max_swing, 0.6);   // penalty limit: a little past 0.5 rad at most (1.2 rad without it)
+}
+
+TEST_F(ArticulatedCli, MjcfTendonIsRefusedNamingTheElement) {
+  write_text("t.xml",
+             "<mujoco><worldbody><body><joint name=\"a\"/><geom size=\"0.1\"/></body></worldbody>"
+             "<tendon><fixed name=\"t\"><joint joint=\"a\" coef=\"1\"/></fixed></tendon></mujoco>");
+  const nlohmann::json scene = {{"pliant", 1}, {"kind", "articulated"}, {"model", "t.xml"}};
+  const ProcessResult r = pliant({"validate", write_scene("s.json", scene).string()});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_TRUE(contains(r.err, "tendon")) << r.err;
+}
+
 }  // namespace
 }  // namespace pliant::test
