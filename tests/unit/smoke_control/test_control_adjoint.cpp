@@ -11,6 +11,7 @@
 
 #include "control/control_forward_model.h"
 #include "control_test_util.h"
+#include "../malloc_counter.h"
 
 namespace pliant::smoke {
 namespace {
@@ -102,69 +103,6 @@ TEST(ControlAdjoint, ComponentsMatchFiniteDifferences) {
   EXPECT_GE(checked, 5);
 }
 
-
-}  // namespace
-
-// Allocation counting: malloc/calloc/realloc of the whole binary are interposed
-// (glibc's __libc_* do the work) and counted while g_count is set (operator new and
-// Eigen allocate through malloc). Not under a sanitizer (it owns malloc): there the
-// counts read -1 and only the other checks run.
-#if defined(__SANITIZE_ADDRESS__)
-#define PLIANT_SMOKE_NO_MALLOC_COUNT 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer) || __has_feature(memory_sanitizer) || __has_feature(thread_sanitizer)
-#define PLIANT_SMOKE_NO_MALLOC_COUNT 1
-#endif
-#endif
-#if !defined(PLIANT_SMOKE_NO_MALLOC_COUNT) && defined(__GLIBC__)
-#define PLIANT_SMOKE_MALLOC_COUNT 1
-namespace {
-std::atomic<bool> g_count{false};
-std::atomic<long> g_allocations{0};
-}  // namespace
-extern "C" {
-void* __libc_malloc(std::size_t);
-void* __libc_calloc(std::size_t, std::size_t);
-void* __libc_realloc(void*, std::size_t);
-void* malloc(std::size_t n) {
-  if (g_count.load(std::memory_order_relaxed)) g_allocations.fetch_add(1, std::memory_order_relaxed);
-  return __libc_malloc(n);
-}
-void* calloc(std::size_t a, std::size_t b) {
-  if (g_count.load(std::memory_order_relaxed)) g_allocations.fetch_add(1, std::memory_order_relaxed);
-  return __libc_calloc(a, b);
-}
-void* realloc(void* p, std::size_t n) {
-  if (g_count.load(std::memory_order_relaxed)) g_allocations.fetch_add(1, std::memory_order_relaxed);
-  return __libc_realloc(p, n);
-}
-}
-#endif
-
-namespace {
-
-// Allocations made by fn(), or -1 where they cannot be counted.
-template <class Fn>
-long count_allocations(const Fn& fn) {
-#ifdef PLIANT_SMOKE_MALLOC_COUNT
-  // The counter sees this allocation (a check that counting works at all).
-  g_allocations = 0;
-  g_count = true;
-  std::vector<double>* probe = new std::vector<double>(100);
-  g_count = false;
-  delete probe;
-  EXPECT_GE(g_allocations.load(), 1);
-  g_allocations = 0;
-  g_count = true;
-  fn();
-  g_count = false;
-  return g_allocations.exchange(0);
-#else
-  fn();
-  return -1;
-#endif
-}
-
 // Evaluations 2 and 3 of objective + gradient on one ForwardOps (as the L-BFGS polish
 // calls it) allocate nothing: trajectory, adjoint vectors, sub-step states and the
 // scatter chunks live in ForwardOps. The first evaluation runs at larger forces so it
@@ -177,7 +115,7 @@ long allocations_of_evaluations_2_and_3(const ControlModel& m) {
     for (size_t e = 0; e < f[i].size(); ++e) big[i][e] *= 2.0, small[i][e] *= 0.5;
   control_detail::objective_d(m, ops, big, &g);
   double e2 = 0, e3 = 0;
-  const long n = count_allocations([&] {
+  const long n = pliant::test::count_allocations([&] {
     e2 = control_detail::objective_d(m, ops, f, &g);
     e3 = control_detail::objective_d(m, ops, small, &g);
   });
@@ -197,7 +135,7 @@ TEST(ControlAdjoint, SecondAndThirdEvaluationsAllocateNothing) {
   m.solid.assign(180, 0);
   m.solid[4 + 6 * (1 + 6 * 1)] = 1;
   const long n3 = allocations_of_evaluations_2_and_3(m);
-#ifdef PLIANT_SMOKE_MALLOC_COUNT
+#ifdef PLIANT_MALLOC_COUNT
   EXPECT_EQ(n2, 0);
   EXPECT_EQ(n3, 0);
 #else
