@@ -1,3 +1,6 @@
+// Joint-range penalties (limit_terms, shared by PBAD's energy and the explicit
+// forces): hinge/slide ranges, ball cones, and ball joints' swing cone and twist range.
+//
 // Ball joints' swing cone and twist range (a Pliant extension, scene "joint_limits").
 // Swing-twist split about the joint's axis a (body frame): swing angle
 // phi = acos(a . R^T a) (how far the axis tilts), twist angle psi = 2 atan2(v . a, w)
@@ -11,6 +14,7 @@
 #include <cmath>
 
 #include "pliant/articulated/sim.h"
+#include "sim_internal.h"
 
 namespace pliant::articulated {
 
@@ -66,6 +70,57 @@ Vec3 hessian_diagonal_bound(const Mat3& h) {
     d[i] = std::max(0.0, h(i, i) + off);
   }
   return d;
+}
+
+// All joint-range penalties of a configuration (sim_internal.h): hinge/slide ranges,
+// ball cones and swing/twist limits, for PBAD's energy and the explicit forces.
+double limit_terms(const Model& m, const SimOptions& o, const VecX& q, VecX* force, VecX* hdiag) {
+  const double k = o.contact.limit_stiffness;
+  if (force) force->setZero(m.nv);
+  if (hdiag) hdiag->setZero(m.nv);
+  double e = 0;
+  for (const Joint& j : m.joints) {
+    if (j.type == JointType::Ball && (j.swing_max >= 0 || j.twist_limited)) {
+      Vec3 g;
+      Mat3 h;
+      const Eigen::Vector4d qb(q[j.qadr], q[j.qadr + 1], q[j.qadr + 2], q[j.qadr + 3]);
+      e += ball_swing_twist_penalty(j, k, qb, force ? &g : nullptr, hdiag ? &h : nullptr);
+      if (force) force->segment<3>(j.vadr) += g;
+      if (hdiag) hdiag->segment<3>(j.vadr) += hessian_diagonal_bound(h);
+    }
+    if (!j.limited) continue;
+    if (j.type == JointType::Ball) {
+      // Cone: rotation angle theta = |log q| <= range_max. With the local velocity
+      // (q' = q exp(dv)), d theta / d dv = the rotation's unit axis n; the Hessian
+      // k n n^T is replaced by k I (diagonal for the tree solve; exact along n, stiffer
+      // across, so LM steps stay conservative).
+      Eigen::Vector4d qb(q[j.qadr], q[j.qadr + 1], q[j.qadr + 2], q[j.qadr + 3]);
+      qb.normalize();
+      if (qb[0] < 0) qb = -qb;
+      const Vec3 v = qb.tail<3>();
+      const double sv = v.norm();
+      const double theta = 2 * std::atan2(sv, qb[0]);
+      const double d = theta - j.range_max;
+      if (d <= 0 || sv < 1e-300) continue;
+      e += 0.5 * k * d * d;
+      if (force) force->segment<3>(j.vadr) += k * d * v / sv;
+      if (hdiag) hdiag->segment<3>(j.vadr).array() += k;
+      continue;
+    }
+    const double x = q[j.qadr];
+    const double d = x > j.range_max ? x - j.range_max : x < j.range_min ? x - j.range_min : 0;
+    if (d == 0) continue;
+    e += 0.5 * k * d * d;
+    if (force) (*force)[j.vadr] = k * d;
+    if (hdiag) (*hdiag)[j.vadr] = k;
+  }
+  return e;
+}
+
+bool any_limits(const Model& m) {
+  for (const Joint& j : m.joints)
+    if (j.limited || j.swing_max >= 0 || j.twist_limited) return true;
+  return false;
 }
 
 }  // namespace pliant::articulated

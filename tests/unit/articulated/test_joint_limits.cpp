@@ -1,6 +1,7 @@
-// Ball joints' swing cone and twist range (joint_limits.cpp): exact derivatives by
-// finite differences, the LM diagonal bound, the limits holding in a simulation, and
-// the scene's "joint_limits" keys.
+// Joint-range penalties (joint_limits.cpp): ball joints' swing cone and twist range
+// (exact derivatives by finite differences, the LM diagonal bound, the limits holding
+// in a simulation, the scene's "joint_limits" keys) and the hinge range and ball cone
+// stopping a pendulum under PBAD and Euler.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -9,6 +10,7 @@
 #include "pliant/articulated/io.h"
 #include "pliant/articulated/sim.h"
 #include "pliant/core/error.h"
+#include "test_util.h"
 
 namespace pliant::articulated {
 namespace {
@@ -146,6 +148,74 @@ TEST(JointLimits, SceneKeysSetTheLimitsAndBadOnesNameTheirPointer) {
   EXPECT_NE(error_of({{"shoulder", {{"twist", {0.4, -0.2}}}}}).find("/joint_limits/shoulder/twist | lower bound"),
             std::string::npos);
   EXPECT_NE(error_of({{"shoulder", {{"swng", 0.3}}}}).find("/joint_limits/shoulder/swng"), std::string::npos);
+}
+
+
+TEST(Sim, JointRangeStopsThePendulumAtItsLimit) {
+  // A pendulum thrown at 5 rad/s towards a 0.5 rad limit: it stops there (penetration
+  // of the stiff penalty only) and bounces back.
+  Model m = test::pendulum(1.0);
+  m.joints[0].limited = true;
+  m.joints[0].range_min = -0.5;
+  m.joints[0].range_max = 0.5;
+  for (Integrator integ : {Integrator::Pbad3, Integrator::Euler}) {
+    SimOptions o;
+    o.integrator = integ;
+    o.dt = integ == Integrator::Euler ? 0.0005 : 0.005;
+    o.contact.limit_stiffness = 1e5;
+    State s = state_init(m);
+    s.qvel[0] = 5;
+    SimWorkspace ws;
+    const double e0 = state_energy(m, o, s, ws).total;
+    double qmax = 0;
+    while (s.time < 0.5) {
+      ASSERT_TRUE(sim_step(m, o, s, ws));
+      qmax = std::max(qmax, s.qpos[0]);
+    }
+    EXPECT_GT(qmax, 0.5) << integrator_name(integ);
+    EXPECT_LT(qmax, 0.5 + 0.03) << integrator_name(integ);  // free flight would reach 2.1 rad
+    // Euler keeps the bounce's energy; PBAD's backward stencil damps the stiff
+    // penalty mode (omega dt ~ 1.6 here) but never adds energy.
+    const double e1 = state_energy(m, o, s, ws).total, kinetic0 = 12.5;
+    if (integ == Integrator::Euler) EXPECT_NEAR(e1, e0, 0.05 * kinetic0);
+    else EXPECT_LT(e1, e0 + 0.01 * kinetic0);
+  }
+}
+
+TEST(Sim, BallJointConeStopsTheSwing) {
+  // A ball-jointed pendulum thrown sideways at 4 rad/s with a 0.5 rad cone: the total
+  // rotation angle stops at the cone (stiff penalty) instead of the free swing's ~1.4 rad.
+  const Model free_model = model_from_mjcf(
+      "<mujoco><worldbody><body><joint type=\"ball\"/><inertial pos=\"0 0 -1\" mass=\"1\" "
+      "diaginertia=\"1e-4 1e-4 1e-4\"/></body></worldbody></mujoco>",
+      "ball.xml");
+  Model m = free_model;
+  m.joints[0].limited = true;
+  m.joints[0].range_max = 0.5;
+  for (Integrator integ : {Integrator::Pbad3, Integrator::Euler}) {
+    SimOptions o;
+    o.integrator = integ;
+    o.dt = integ == Integrator::Euler ? 0.0005 : 0.005;
+    o.contact.limit_stiffness = 1e5;
+    double amax = 0;
+    for (const Model* model : {&free_model, static_cast<const Model*>(&m)}) {
+      State s = state_init(*model);
+      s.qvel << 3.2, 2.4, 0;  // local angular velocity, 4 rad/s about a tilted axis
+      SimWorkspace ws;
+      double angle = 0;
+      while (s.time < 0.6) {
+        ASSERT_TRUE(sim_step(*model, o, s, ws));
+        const Quat q(s.qpos[0], s.qpos[1], s.qpos[2], s.qpos[3]);
+        angle = std::max(angle, Eigen::AngleAxisd(q.normalized()).angle());
+      }
+      if (model == &free_model) {
+        EXPECT_GT(angle, 1.2) << integrator_name(integ);
+      }
+      amax = angle;
+    }
+    EXPECT_GT(amax, 0.5) << integrator_name(integ);
+    EXPECT_LT(amax, 0.5 + 0.03) << integrator_name(integ);
+  }
 }
 
 }  // namespace

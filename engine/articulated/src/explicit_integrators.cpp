@@ -1,0 +1,99 @@
+// Explicit baselines (sim.h): semi-implicit (symplectic) Euler and classic RK4 on
+// M qacc = tau - bias, with penalty contact (spring-damper normal, regularised Coulomb
+// or Ck friction), joint-range penalties and actuator forces.
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "sim_internal.h"
+
+namespace pliant::articulated {
+namespace {
+
+// Generalized contact + actuator forces for explicit integrators at (k, qvel).
+void explicit_forces(const Model& m, const SimOptions& o, const State& s, const Kinematics& k, const VecX& qpos,
+                     const VecX& qvel, SimWorkspace& ws, VecX* tau, std::vector<Contact>* record) {
+  actuator_forces(m, s, tau);
+  if (any_limits(m)) {
+    limit_terms(m, o, qpos, &ws.limit_force, nullptr);
+    *tau -= ws.limit_force;
+  }
+  ws.contacts.clear();
+  if (!o.contact.enabled || ws.points.empty() || ws.obstacles.empty()) return;
+  find_contacts(m, k, ws.points, ws.obstacles, &ws.contacts);
+  if (ws.contacts.empty()) return;
+  const int nb = static_cast<int>(m.bodies.size());
+  std::vector<Vec6> v(nb), w(nb, Vec6::Zero());
+  v[0].setZero();
+  for (int b = 1; b < nb; ++b) {
+    const Body& body = m.bodies[b];
+    v[b] = v[body.parent];
+    for (int d = body.dof_begin; d < body.dof_begin + body.dof_count; ++d) v[b] += k.cdof[d] * qvel[d];
+  }
+  for (Contact& c : ws.contacts) {
+    const Vec3 vp = v[c.body].tail<3>() + v[c.body].head<3>().cross(c.point);
+    const double vn = vp.dot(c.normal);
+    const double fn = std::max(0.0, o.contact.stiffness * c.depth - o.contact.damping * vn);
+    const Vec3 vt = vp - vn * c.normal;
+    Vec3 ft = Vec3::Zero();
+    if (o.contact.friction == FrictionModel::Coulomb) {
+      const double eps = o.contact.slip_eps / o.dt;
+      ft = -o.contact.mu * fn * vt / std::sqrt(vt.squaredNorm() + eps * eps);
+    } else if (o.contact.friction == FrictionModel::Ck) {
+      ft = -o.contact.ck * fn * vt;
+    }
+    c.force = fn * c.normal + ft;
+    w[c.body] += point_wrench(c.point, c.force);
+  }
+  VecX tc;
+  wrenches_to_generalized(m, k, w, &tc);
+  *tau += tc;
+  if (record) *record = ws.contacts;
+}
+
+}  // namespace
+
+void accel(const Model& m, const SimOptions& o, const State& s, const VecX& q, const VecX& v,
+           SimWorkspace& ws, VecX* a) {
+  kinematics(m, q, &ws.kin);
+  ws.kin_at.resize(0);
+  VecX tau;
+  explicit_forces(m, o, s, ws.kin, q, v, ws, &tau, nullptr);
+  forward_dynamics(m, ws.kin, v, tau, a, &ws.tree);
+}
+
+void euler_step(const Model& m, const SimOptions& o, State& s, SimWorkspace& ws) {
+  const double dt = o.dt;
+  VecX a;
+  accel(m, o, s, s.qpos, s.qvel, ws, &a);
+  s.qvel += dt * a;
+  qpos_integrate(m, s.qpos, s.qvel, dt);
+  s.time += dt;
+  ++s.step;
+}
+
+void rk4_step(const Model& m, const SimOptions& o, State& s, SimWorkspace& ws) {
+  const double dt = o.dt;
+  const VecX q0 = s.qpos, v0 = s.qvel;
+  VecX a1, a2, a3, a4;
+  accel(m, o, s, q0, v0, ws, &a1);
+  VecX q = q0;
+  qpos_integrate(m, q, v0, dt / 2);
+  const VecX v2 = v0 + dt / 2 * a1;
+  accel(m, o, s, q, v2, ws, &a2);
+  q = q0;
+  qpos_integrate(m, q, v2, dt / 2);
+  const VecX v3 = v0 + dt / 2 * a2;
+  accel(m, o, s, q, v3, ws, &a3);
+  q = q0;
+  qpos_integrate(m, q, v3, dt);
+  const VecX v4 = v0 + dt * a3;
+  accel(m, o, s, q, v4, ws, &a4);
+  s.qpos = q0;
+  qpos_integrate(m, s.qpos, (v0 + 2 * v2 + 2 * v3 + v4) / 6, dt);
+  s.qvel = v0 + dt / 6 * (a1 + 2 * a2 + 2 * a3 + a4);
+  s.time += dt;
+  ++s.step;
+}
+
+}  // namespace pliant::articulated

@@ -1,0 +1,40 @@
+// Internals shared by the integrator files: sim.cpp (entry points, state helpers),
+// explicit_integrators.cpp (Euler, RK4), pbad_energy.cpp (the step's energy and its
+// derivatives), pbad_solver.cpp (LM / L-BFGS iterations), pbad_step.cpp (begin/finish)
+// and joint_limits.cpp (range penalties).
+#pragma once
+#include <vector>
+
+#include "pliant/articulated/sim.h"
+
+namespace pliant::articulated {
+
+inline Mat3 second_moment(const Mat3& inertia) {  // integral rho p p^T about the centre
+  return 0.5 * inertia.trace() * Mat3::Identity() - inertia;
+}
+
+// Generalized actuator forces gear * clamp(ctrl) (sim.cpp).
+void actuator_forces(const Model& m, const State& s, VecX* tau);
+
+// Joint-range penalty 1/2 k (q - bound)^2 beyond each limited hinge/slide (and ball
+// cone / swing-twist limits): returns the energy; optionally its gradient and
+// (diagonal) Hessian in joint space (joint_limits.cpp).
+double limit_terms(const Model& m, const SimOptions& o, const VecX& q, VecX* force, VecX* hdiag);
+bool any_limits(const Model& m);
+
+// Energy of PBAD at q; with derivs also per-body wrenches (gradient) and Gauss-Newton
+// blocks in ws.w / ws.h and the generalized gradient in ws.grad.
+// With poses (kinematics at q, derivs false) the kinematics pass is skipped
+// (pbad_energy.cpp).
+double pbad_energy(const Model& m, const SimOptions& o, const State& s, const PbadStep& p,
+                   const VecX& q, SimWorkspace& ws, bool derivs, const Kinematics* poses = nullptr);
+
+// Joint accelerations of the explicit integrators at (q, v), with contact, limit and
+// actuator forces (explicit_integrators.cpp); PBAD's start-up frames use it too.
+void accel(const Model& m, const SimOptions& o, const State& s, const VecX& q, const VecX& v,
+           SimWorkspace& ws, VecX* a);
+// One step of semi-implicit Euler / classic RK4 (explicit_integrators.cpp).
+void euler_step(const Model& m, const SimOptions& o, State& s, SimWorkspace& ws);
+void rk4_step(const Model& m, const SimOptions& o, State& s, SimWorkspace& ws);
+
+}  // namespace pliant::articulated
