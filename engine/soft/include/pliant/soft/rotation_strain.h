@@ -31,7 +31,7 @@
 
 namespace pliant::soft {
 
-struct RsFactor;  // CHOLMOD factor of L (opaque; rotation_strain.cpp)
+struct RsFactor;  // CHOLMOD factor of L (opaque; src/rotation_strain_workspace.h)
 struct RsReduced;
 
 
