@@ -1,4 +1,5 @@
-// Reduced and full implicit Euler steps (see simulator.h).
+// Reduced and full implicit Euler steps (see simulator.h); the character setup is in
+// character.cpp, the per-step contact targets in step_targets.cpp.
 #include "pliant/soft/simulator.h"
 
 #include "pliant/soft/cubature.h"
@@ -7,9 +8,10 @@
 #include <Eigen/Dense>
 #include <Eigen/Geometry>
 #include <cmath>
-#include <random>
 #include <stdexcept>
 #include <string>
+
+#include "step_targets.h"
 
 namespace pliant::soft {
 namespace {
@@ -19,161 +21,7 @@ using Eigen::MatrixXd;
 using Eigen::Vector3d;
 using Eigen::VectorXd;
 
-// First point where the segment a -> b enters obstacle o (a outside), with the
-// obstacle's outward normal there.
-bool segment_entry(const Obstacle& o, const Vector3d& a, const Vector3d& b, Vector3d* p, Vector3d* nrm) {
-  const Vector3d d = b - a;
-  if (o.type == Obstacle::Plane) {
-    const double da = -o.normal.dot(a - o.point), db = -o.normal.dot(b - o.point);
-    if (db <= 0 || da > 0) return false;
-    *p = a + (-da / (db - da)) * d;
-    *nrm = o.normal;
-    return true;
-  }
-  // |a + t d - c|^2 = r^2, smallest root in [0, 1].
-  const Vector3d f = a - o.point;
-  const double A = d.squaredNorm(), B = 2 * f.dot(d), C = f.squaredNorm() - o.radius_m * o.radius_m;
-  if (A <= 0) return false;
-  const double disc = B * B - 4 * A * C;
-  if (disc < 0) return false;
-  const double tt = (-B - std::sqrt(disc)) / (2 * A);
-  if (tt < 0 || tt > 1) return false;
-  *p = a + tt * d;
-  *nrm = (*p - o.point).normalized();
-  return true;
-}
-
-// Per-step data shared by the energy evaluations of one step.
-struct StepTargets {
-  VectorXd xt;          // inertial + gravity + drag target per node
-  VectorXd x_start;     // positions at the start of the step (friction slip origin)
-  VectorXd mu_lambda;   // lagged friction normal force times mu per node
-  std::vector<Vector3d> normal;
-  // Approximate continuous collision (thin parts, fast motion): when the segment
-  // from a node's start to its inertial target enters an obstacle deeper than
-  // delta, the node gets, for this step, a penalty plane tangent at the entry point
-  // (or at its projection when it is already inside) with the stiffness that stops
-  // it within delta (implicit Euler estimate depth = D / (1 + k dt^2)). Catches thin
-  // obstacles the target jumps over and keeps a one-cell-thick sheet from passing
-  // through the ground; resting contact (target depth below delta) is unaffected.
-  VectorXd ccd_k;       // per unit mass (1/s^2); 0: inactive
-  std::vector<Vector3d> ccd_point, ccd_normal;
-};
-
-// Fills t in place (no allocation once t has the lattice's sizes).
-void make_targets(const Character& ch, const Environment& env, double dt, const VectorXd& x, const VectorXd& x_prev,
-                  StepTargets& t) {
-  const Lattice& lat = ch.lattice;
-  const int n = lat.nodes();
-  t.x_start = x;
-  t.xt = 2 * x - x_prev;
-  for (int j = 0; j < n; ++j) t.xt.segment<3>(3 * j) += dt * dt * env.gravity_m_per_s2;
-  if (env.water) {
-    for (const auto& f : lat.boundary_faces) {
-      const Vector3d a = 0.5 * (x.segment<3>(3 * f[2]) - x.segment<3>(3 * f[0]))
-                                   .cross(x.segment<3>(3 * f[3]) - x.segment<3>(3 * f[1]));
-      Vector3d U = Vector3d::Zero();
-      for (int c = 0; c < 4; ++c) U += 0.25 / dt * (x.segment<3>(3 * f[c]) - x_prev.segment<3>(3 * f[c]));
-      const Vector3d F = drag_force(env, a, U);
-      for (int c = 0; c < 4; ++c) t.xt.segment<3>(3 * f[c]) += dt * dt * 0.25 * F / lat.node_mass_kg[f[c]];
-    }
-  }
-  t.mu_lambda.setZero(n);
-  t.normal.assign(n, Vector3d::UnitY());
-  for (int j = 0; j < n; ++j)
-    t.mu_lambda[j] = env.friction * contact_normal_force(env, lat.node_mass_kg[j], x.segment<3>(3 * j), &t.normal[j]);
-  t.ccd_k.setZero(n);
-  t.ccd_point.assign(n, Vector3d::Zero());
-  t.ccd_normal.assign(n, Vector3d::UnitY());
-  const double delta = 0.25 * lat.cell_size_m;
-  for (int j = 0; j < n; ++j) {
-    const Vector3d a = x.segment<3>(3 * j), b = t.xt.segment<3>(3 * j);
-    for (const auto& o : env.obstacles) {
-      Vector3d p, nrm;
-      const double da = obstacle_depth(o, a, &nrm);
-      if (da > 0) {
-        p = a + da * nrm;  // already inside: tangent plane at its projection
-      } else if (!segment_entry(o, a, b, &p, &nrm)) {
-        continue;
-      }
-      const double D = -nrm.dot(b - p);  // depth of the target below the tangent plane
-      if (D <= delta) continue;
-      const double k = std::max(env.contact_stiffness_per_s2, (D / delta - 1) / (dt * dt));
-      if (k > t.ccd_k[j]) t.ccd_k[j] = k, t.ccd_point[j] = p, t.ccd_normal[j] = nrm;
-    }
-  }
-}
-
-// Contact + friction of node j at position xj: energy, and gradient/Hessian in x_j.
-double node_environment(const Environment& env, const StepTargets& t, double m, int j, const Vector3d& xj,
-                        double eps, Vector3d* g, Matrix3d* H) {
-  double e = contact_potential(env, m, xj, g, H);
-  if (t.ccd_k[j] > 0) {
-    const Vector3d& nrm = t.ccd_normal[j];
-    const double d = -nrm.dot(xj - t.ccd_point[j]);
-    if (d > 0) {
-      const double k = t.ccd_k[j] * m;
-      e += 0.5 * k * d * d;
-      if (g) *g -= k * d * nrm;
-      if (H) *H += k * nrm * nrm.transpose();
-    }
-  }
-  if (t.mu_lambda[j] > 0)
-    e += friction_potential(t.mu_lambda[j], t.normal[j], xj - t.x_start.segment<3>(3 * j), eps, g, H);
-  return e;
-}
-
-bool touches(const Environment& env, const StepTargets& t, int j, const Vector3d& xj) {
-  if (t.mu_lambda[j] > 0 || t.ccd_k[j] > 0) return true;
-  for (const auto& o : env.obstacles)
-    if (obstacle_depth(o, xj, nullptr) > 0) return true;
-  return false;
-}
-
 }  // namespace
-
-Character make_character(SurfaceMesh surface, Lattice lattice, const Material& mat, int modes,
-                         int derivative_modes, const PodTraining* pod) {
-  Character ch;
-  ch.surface = std::move(surface);
-  ch.lattice = std::move(lattice);
-  ch.material = mat;
-  ch.lame = lame_from(mat);
-  const int n = ch.lattice.nodes();
-  ch.rest.resize(3 * n);
-  ch.mass_kg = 0;
-  for (int j = 0; j < n; ++j) {
-    ch.rest.segment<3>(3 * j) = ch.lattice.rest[j];
-    ch.rest_com += ch.lattice.node_mass_kg[j] * ch.lattice.rest[j];
-    ch.mass_kg += ch.lattice.node_mass_kg[j];
-  }
-  ch.rest_com /= ch.mass_kg;
-  ch.rest_local = ch.rest;
-  for (int j = 0; j < n; ++j) ch.rest_local.segment<3>(3 * j) -= ch.rest_com;
-  ch.basis = linear_modes(ch.lattice, ch.lame, modes);
-  if (derivative_modes > 0) ch.basis = with_modal_derivatives(ch.lattice, ch.lame, ch.basis, derivative_modes);
-  if (pod) {
-    // Keep the lowest linear modes, POD of what the snapshots hold beyond them.
-    const int keep = std::clamp(pod->linear_modes, 0, std::max(modes - 1, 0));
-    const ModalBasis lin = ch.basis;
-    std::vector<VectorXd> snaps = pod_snapshots(ch, *pod);
-    VectorXd m(3 * n);
-    for (int j = 0; j < n; ++j) m.segment<3>(3 * j).setConstant(ch.lattice.node_mass_kg[j]);
-    const MatrixXd Uk = lin.U.leftCols(keep);
-    for (auto& u : snaps) u -= Uk * (Uk.transpose() * (m.asDiagonal() * u));
-    const ModalBasis extra = pod_basis(ch.lattice, ch.lame, snaps, modes - keep);
-    MatrixXd B(3 * n, keep + extra.r());
-    B << Uk, extra.U;
-    ch.basis = rayleigh_ritz(ch.lattice, ch.lame, B);
-  }
-  ch.mode_scale.resize(ch.basis.r());
-  for (int k = 0; k < ch.basis.r(); ++k) {
-    double mx = 0;
-    for (int j = 0; j < n; ++j) mx = std::max(mx, ch.basis.U.block<3, 1>(3 * j, k).norm());
-    ch.mode_scale[k] = mx;
-  }
-  return ch;
-}
 
 SoftState initial_state(const Character& ch, const Vector3d& offset, const Vector3d& v0, double dt) {
   SoftState s;
@@ -188,28 +36,6 @@ Matrix3d rotation_exp(const Vector3d& w) {
   const double a = w.norm();
   if (a < 1e-300) return Matrix3d::Identity();
   return Eigen::AngleAxisd(a, w / a).toRotationMatrix();
-}
-
-void enable_rotation_strain(Character& ch, bool reduced, const RsReductionSettings& settings, int reduction_poses) {
-  auto rs = std::make_shared<RotationStrain>(rotation_strain_build(ch.lattice, ch.basis.U));
-  if (reduced && ch.basis.r() > 0) {
-    const auto poses = training_poses(ch, reduction_poses, rotation_strain_training_amplitude, 5);
-    rs->reduced = rotation_strain_reduce(ch.lattice, *rs, ch.basis.U, ch.rest_local, poses, settings);
-  }
-  ch.rotation_strain = rs;
-}
-
-void local_shape(const Character& ch, const VectorXd& q, VectorXd& local, MatrixXd* jacobian) {
-  if (ch.rotation_strain) {
-    if (ch.rotation_strain->reduced)
-      rotation_strain_reduced_positions(*ch.rotation_strain->reduced, q, local, jacobian);
-    else
-      rotation_strain_positions(ch.lattice, *ch.rotation_strain, q, local, jacobian);
-    return;
-  }
-  local = ch.rest_local;
-  if (ch.basis.r() > 0) local.noalias() += ch.basis.U * q;
-  if (jacobian) *jacobian = ch.basis.U;
 }
 
 namespace {
@@ -558,56 +384,6 @@ void full_step(const Character& ch, const Environment& env, const SimParams& sp,
   x_prev = x;
   x = y;
   if (stats) *stats = st;
-}
-
-std::vector<VectorXd> pod_snapshots(const Character& ch, const PodTraining& t) {
-  const Lattice& lat = ch.lattice;
-  const int n = lat.nodes();
-  Vector3d lo = ch.rest.segment<3>(0), hi = lo;
-  for (int j = 0; j < n; ++j) lo = lo.cwiseMin(lat.rest[j]), hi = hi.cwiseMax(lat.rest[j]);
-  const Vector3d ext = (hi - lo).cwiseMax(lat.cell_size_m);
-  // Force per unit mass that holds the first linear mode at strain x diagonal.
-  const double w2 = ch.basis.r() > 0 ? ch.basis.omega2[0] : linear_modes(lat, ch.lame, 1).omega2[0];
-  const double accel = t.strain * ext.norm() * w2;
-  Environment env;
-  env.gravity_m_per_s2.setZero();
-  SimParams sp;
-  sp.dt_s = t.dt_s;
-  sp.modal_damping_s = 0;
-  std::mt19937 rng(t.seed);
-  std::uniform_real_distribution<double> uni(0, 1);
-  std::normal_distribution<double> nd(0, 1);
-  std::vector<VectorXd> out;
-  for (int run = 0; run < t.runs; ++run) {
-    VectorXd f = VectorXd::Zero(3 * n);
-    for (int w = 0; w < 3; ++w) {
-      const Vector3d d = Vector3d(nd(rng), nd(rng), nd(rng)).normalized();
-      const Vector3d k = M_PI * Vector3d(2 * uni(rng), 2 * uni(rng), 2 * uni(rng)).cwiseQuotient(ext);
-      const double phase = 2 * M_PI * uni(rng);
-      for (int j = 0; j < n; ++j)
-        f.segment<3>(3 * j) += lat.node_mass_kg[j] * accel * std::cos(k.dot(lat.rest[j] - lo) + phase) * d;
-    }
-    VectorXd x = ch.rest, xp = ch.rest;
-    for (int k = 0; k < t.frames; ++k) {
-      full_step(ch, env, sp, f, x, xp);
-      // Best rigid fit (Kabsch) of x to the rest shape, removed.
-      Vector3d cx = Vector3d::Zero();
-      for (int j = 0; j < n; ++j) cx += lat.node_mass_kg[j] * x.segment<3>(3 * j);
-      cx /= ch.mass_kg;
-      Matrix3d C = Matrix3d::Zero();
-      for (int j = 0; j < n; ++j)
-        C += lat.node_mass_kg[j] * (x.segment<3>(3 * j) - cx) * ch.rest_local.segment<3>(3 * j).transpose();
-      Eigen::JacobiSVD<Matrix3d> svd(C, Eigen::ComputeFullU | Eigen::ComputeFullV);
-      Matrix3d U = svd.matrixU();
-      if ((U * svd.matrixV().transpose()).determinant() < 0) U.col(2) *= -1;
-      const Matrix3d R = U * svd.matrixV().transpose();
-      VectorXd u(3 * n);
-      for (int j = 0; j < n; ++j)
-        u.segment<3>(3 * j) = R.transpose() * (x.segment<3>(3 * j) - cx) - ch.rest_local.segment<3>(3 * j);
-      out.push_back(std::move(u));
-    }
-  }
-  return out;
 }
 
 }  // namespace pliant::soft
