@@ -1,8 +1,7 @@
-// Navigation: RRT* (OMPL) ends in the goal disc without touching the
-// inflated obstacles; the turn objective measures yaw rate; a gait primitive of a
-// straight gait has no yaw; the cached gaits of soft_navigate.json reach the goal
-// around the obstacle in re-simulation. Without OMPL the planner tests skip and a
-// "navigation" scene is an InputError.
+// Navigation: the turn objective measures yaw rate; a gait primitive of a straight
+// gait has no yaw; the cached gaits of soft_navigate.json reach the goal around the
+// obstacle in re-simulation. Without OMPL a "navigation" scene is an InputError.
+// (The RRT* route: test_navigation_rrt.cpp.)
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -13,25 +12,6 @@
 
 using namespace pliant;
 using namespace pliant::soft;
-
-TEST(Navigation, RrtStarPathAvoidsObstaclesAndEndsAtGoal) {
-  if (!navigation_available()) GTEST_SKIP() << "built without OMPL";
-  NavSettings nav;
-  nav.goal_m = {3, 0};
-  nav.goal_tolerance_m = 0.2;
-  nav.obstacles = {{{1.5, 0.0}, 0.5}};
-  nav.planning_time_s = 0.5;
-  const double rho = 0.4, inflate = 0.2;
-  const auto path = plan_dubins_path({0, 0, 0}, nav, rho, inflate);
-  ASSERT_GT(path.size(), 10u);
-  EXPECT_LE((path.back().head<2>() - nav.goal_m).norm(), nav.goal_tolerance_m);
-  double len = 0;
-  for (size_t i = 0; i < path.size(); ++i) {
-    EXPECT_GT((path[i].head<2>() - nav.obstacles[0].center_m).norm(), nav.obstacles[0].radius_m + inflate - 1e-6);
-    if (i > 0) len += (path[i].head<2>() - path[i - 1].head<2>()).norm();
-  }
-  EXPECT_GT(len, 3.0);  // it had to go around
-}
 
 TEST(Navigation, SceneWithoutOmplIsInputErrorAndBadGaitsAreRejected) {
   const std::string text = R"({"pliant": 1, "kind": "soft",
