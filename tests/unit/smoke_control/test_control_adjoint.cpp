@@ -103,6 +103,27 @@ TEST(ControlAdjoint, ComponentsMatchFiniteDifferences) {
   EXPECT_GE(checked, 5);
 }
 
+// A ForwardOps reused across evaluations (as the L-BFGS polish uses it, with its
+// buffers kept) gives the same objective and gradient bits as a fresh one: nothing of
+// an earlier evaluation leaks into the next (sub-step pool, adjoint accumulators).
+TEST(ControlAdjoint, ReusedWorkspaceGivesTheFreshGradient) {
+  for (const bool periodic : {false, true}) {
+    const ControlModel m = test::tiny_model(16, 16, 6, periodic);
+    control_detail::ForwardOps reused(m, control_detail::kControlPressureTolerance);
+    const std::vector<Vec> a = random_forces(m, reused.faces(), 8.0, 5), b = random_forces(m, reused.faces(), 0.5, 6);
+    std::vector<Vec> g_reused, g_fresh;
+    control_detail::objective_d(m, reused, a, &g_reused);  // larger forces: more sub-steps
+    const double e_reused = control_detail::objective_d(m, reused, b, &g_reused);
+    control_detail::ForwardOps fresh(m, control_detail::kControlPressureTolerance);
+    const double e_fresh = control_detail::objective_d(m, fresh, b, &g_fresh);
+    EXPECT_EQ(e_reused, e_fresh) << "periodic " << periodic;
+    ASSERT_EQ(g_reused.size(), g_fresh.size());
+    for (size_t i = 0; i < g_fresh.size(); ++i)
+      for (size_t e = 0; e < g_fresh[i].size(); ++e)
+        ASSERT_EQ(g_reused[i][e], g_fresh[i][e]) << "periodic " << periodic << " frame " << i << " face " << e;
+  }
+}
+
 // Evaluations 2 and 3 of objective + gradient on one ForwardOps (as the L-BFGS polish
 // calls it) allocate nothing: trajectory, adjoint vectors, sub-step states and the
 // scatter chunks live in ForwardOps. The first evaluation runs at larger forces so it
