@@ -3,8 +3,17 @@
 #include <string>
 
 #include "pliant/core/scene.h"
+#include "pliant/soft/environment.h"
 
 namespace pliant::soft::test {
+
+// Flat ground (the plane y = 0) with friction coefficient mu.
+inline Environment ground(double mu) {
+  Environment env;
+  env.friction = mu;
+  env.obstacles.push_back({Obstacle::Plane, Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitY(), 0});
+  return env;
+}
 
 // The small T-shape (t_shape.obj, 4 cells, 6 modes, 30 frames of 25 ms) of the
 // jump tests in test_objective.cpp and test_spacetime.cpp; `objectives` and

@@ -13,8 +13,11 @@
 #include "pliant/geom/triangle_mesh.h"
 #include "pliant/soft/fem.h"
 #include "pliant/soft/simulator.h"
+#include "soft_test_scenes.h"
 
 using namespace pliant::soft;
+
+using pliant::soft::test::ground;
 
 namespace {
 Character block(int res, int modes, double young = 1e5) {
@@ -28,12 +31,6 @@ Character block(int res, int modes, double young = 1e5) {
   return make_character(std::move(s), std::move(lat), Material{1000, young, 0.3}, modes);
 }
 
-Environment ground(double mu) {
-  Environment env;
-  env.friction = mu;
-  env.obstacles.push_back({Obstacle::Plane, Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitY(), 0});
-  return env;
-}
 }  // namespace
 
 TEST(Simulator, BlockAtRestStaysAtRest) {

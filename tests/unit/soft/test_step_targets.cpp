@@ -10,17 +10,11 @@
 #include "pliant/geom/triangle_mesh.h"
 #include "pliant/soft/fem.h"
 #include "pliant/soft/simulator.h"
+#include "soft_test_scenes.h"
 
 using namespace pliant::soft;
 
-namespace {
-Environment ground(double mu) {
-  Environment env;
-  env.friction = mu;
-  env.obstacles.push_back({Obstacle::Plane, Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitY(), 0});
-  return env;
-}
-}  // namespace
+using pliant::soft::test::ground;
 
 TEST(Simulator, ThinSheetDroppedFastDoesNotTunnelThroughTheGround) {
   // A 30 cm sheet one lattice cell (2.5 cm) thick hits the ground at 30 m/s: its
