@@ -40,7 +40,7 @@ if [ "${1:-}" != "--no-sanitize" ]; then
     -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -gline-tables-only -DNDEBUG" \
     -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O2 -gline-tables-only -DNDEBUG" \
     -DPLIANT_EDITOR=OFF -DPLIANT_BENCH=OFF -DPLIANT_SANITIZE=ON -DPLIANT_FUZZ=ON -DPLIANT_INTEGRATION_TESTS=OFF
-  cmake --build build-asan -j"$JOBS"
+  cmake --build build-asan -j"$JOBS" --target unit_and_fuzz_tests
   echo "== Unit and fuzz tests under ASan + UBSan"
   (cd build-asan && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
      ctest --output-on-failure -j"$JOBS" -L 'unit|fuzz' -LE no_asan --timeout 600)
