@@ -242,6 +242,9 @@ void optimizers(const std::string& scene, int iterations) {
     if (const char* e = std::getenv("LBFGS_STEP0")) os.lbfgs_initial_step = std::atof(e);
     if (extra) os.lbfgs_initial_step = step0;
     if (const char* e = std::getenv("BROYDEN")) os.broyden_reuse = std::atoi(e);
+    // JACOBIAN=fd|sensitivity overrides the scene's optimizer.jacobian.
+    if (const char* e = std::getenv("JACOBIAN"))
+      os.jacobian = std::string(e) == "fd" ? JacobianKind::FiniteDifference : JacobianKind::Sensitivity;
     double t_hit = -1, cpu_hit = -1;
     int it_hit = -1;
     const auto t0 = Clock::now();
@@ -267,7 +270,7 @@ void optimizers(const std::string& scene, int iterations) {
       if (const char* e = std::getenv("SPACETIME_STALL")) ss.stall = std::atof(e);
       spacetime_optimize(p, ss, st, on_it, &rep);
     } else {
-      optimize([&p](const Eigen::VectorXd& th) { return residuals(p, th); }, os, st, on_it);
+      optimize([&p](const Eigen::VectorXd& th) { return residuals(p, th); }, os, st, on_it, problem_jacobian(p, os));
     }
     const double wall = since(t0), cpu = cpu_s() - c0;
     // Re-simulate the optimized controller independently over the take length.
@@ -286,6 +289,7 @@ void optimizers(const std::string& scene, int iterations) {
                         {"lbfgs_initial_step", os.lbfgs_initial_step},
                         {"lm_lambda_initial", os.lambda_initial},
                         {"broyden_reuse", os.broyden_reuse},
+                        {"jacobian", os.jacobian == JacobianKind::Sensitivity ? "sensitivity" : "finite_difference"},
                         {"method", optimizer_name(k)},
                         {"iterations", st.iteration},
                         {"rollouts", st.evaluations},

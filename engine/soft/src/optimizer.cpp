@@ -51,7 +51,7 @@ Eigen::VectorXd lm_step(const Eigen::MatrixXd& JtJ, const Eigen::VectorXd& g, do
 }  // namespace
 
 void optimize(const ResidualFn& rf, const OptimizerSettings& settings, OptimizerState& st,
-              const IterationFn& on_iteration) {
+              const IterationFn& on_iteration, const JacobianFn& jacobian) {
   const int n = int(st.theta.size());
   Eigen::VectorXd r = rf(st.theta);
   ++st.evaluations;
@@ -100,8 +100,13 @@ void optimize(const ResidualFn& rf, const OptimizerSettings& settings, Optimizer
     }
     if (!accepted) {
       reused = 0;
-      J = fd_jacobian(rf, st.theta, r, s.fd_step);
-      st.evaluations += n;
+      if (jacobian) J = jacobian(st.theta, r);
+      if (jacobian && J.size()) {
+        st.evaluations += 1;
+      } else {
+        J = fd_jacobian(rf, st.theta, r, s.fd_step);
+        st.evaluations += n;
+      }
     }
     const Eigen::VectorXd g = accepted ? Eigen::VectorXd() : Eigen::VectorXd(J.transpose() * r);
     // After an accepted Broyden step nothing more happens this iteration.

@@ -227,6 +227,10 @@ SoftModel soft_compile(const Scene& scene) {
     m.optimizer.lambda_initial = oj->number("lm_lambda_initial", m.optimizer.lambda_initial, 1e-12, 1e12);
     m.optimizer.broyden_reuse = int(oj->integer("broyden_reuse", m.optimizer.broyden_reuse, 0, 1000));
     m.optimizer.lbfgs_initial_step = oj->number("lbfgs_initial_step", m.optimizer.lbfgs_initial_step, 1e-12, 1e12);
+    // Rollout Jacobian: exact forward sensitivities or finite differences (optimizer.h).
+    const std::string jac = oj->choice("jacobian", m.optimizer.jacobian == JacobianKind::Sensitivity ? "sensitivity" : "finite_difference",
+                                       {"sensitivity", "finite_difference"});
+    m.optimizer.jacobian = jac == "sensitivity" ? JacobianKind::Sensitivity : JacobianKind::FiniteDifference;
     // Spacetime penalty weights (spacetime.h), per metre^2.
     SpacetimeSettings& sp = m.spacetime;
     sp.w_physics = oj->number("physics_weight", sp.w_physics, 1e-6, 1e16);

@@ -104,10 +104,13 @@ nlohmann::json run_navigation(JobContext& ctx, SoftModel& m, std::chrono::steady
       OptimizerState st;
       st.theta = initial_theta(pk);
       const ResidualFn rf = [&pk](const Eigen::VectorXd& th) { return residuals(pk, th); };
-      optimize(rf, m.optimizer, st, [&](const OptimizerState&) {
-        ctx.progress.check_cancelled();
-        return true;
-      });
+      optimize(
+          rf, m.optimizer, st,
+          [&](const OptimizerState&) {
+            ctx.progress.check_cancelled();
+            return true;
+          },
+          problem_jacobian(pk, m.optimizer));
       theta = st.theta;
     }
     ck.index = k;

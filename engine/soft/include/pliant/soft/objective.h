@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "pliant/soft/dmp.h"
+#include "pliant/soft/optimizer.h"
 #include "pliant/soft/simulator.h"
 
 namespace pliant::soft {
@@ -97,6 +98,17 @@ Eigen::VectorXd trajectory_residuals(const Problem& p, const std::vector<SoftSta
 // Starting point of the optimizers: small deterministic weights (2% of the
 // activation bound) next to the symmetric rest state.
 Eigen::VectorXd initial_theta(const Problem& p);
+
+// Exact Jacobian dr/dtheta of residuals(p, theta) by forward sensitivities
+// (sensitivity.cpp: implicit function theorem on every converged step, all columns
+// from one rollout and one LDLT per step). Linear and POD bases; returns an empty
+// matrix for rotation-strain coordinates (callers fall back to finite differences).
+// r_out (optional): the rollout's residuals (NaN when a step did not converge).
+Eigen::MatrixXd sensitivity_jacobian(const Problem& p, const Eigen::VectorXd& theta, Eigen::VectorXd* r_out = nullptr);
+
+// The optimizer's Jacobian for s.jacobian: sensitivity_jacobian where it applies
+// (falls back to finite differences otherwise), empty (= finite differences) for FD.
+JacobianFn problem_jacobian(const Problem& p, const OptimizerSettings& s);
 
 // Largest COM height gain over a rollout of n frames (for checks and metrics).
 double max_height_gain(const Problem& p, const Eigen::VectorXd& theta, int n);

@@ -12,8 +12,9 @@
 // Jacobian and first tries one step on that (one rollout, not n + 1); the finite-
 // difference Jacobian is recomputed when that step fails its gain-ratio test.
 // The Jacobian is by forward finite differences of whole rollouts (one column per
-// parameter, columns in parallel with OpenMP): theta has tens of entries and every
-// rollout is cheap in the reduced space. Every accepted step lowers the objective
+// parameter, columns in parallel with OpenMP), or, with settings.jacobian =
+// Sensitivity, from the caller's JacobianFn (exact forward sensitivities of the
+// rollout, objective.h). Every accepted step lowers the objective
 // (steps that do not are rejected), so the history is monotone.
 #pragma once
 #include <Eigen/Core>
@@ -26,6 +27,10 @@ namespace pliant::soft {
 // Spacetime is spacetime.h's method (states, controls and theta as unknowns); it
 // needs the Problem, so optimize() given only r(theta) runs the hybrid for it.
 enum class OptimizerKind { Hybrid, LM, LBFGS, Spacetime };
+// How LM / L-BFGS / the hybrid get J = dr/dtheta: forward differences of whole
+// rollouts (n + 1 rollouts), or exact forward sensitivities (objective.h:
+// sensitivity_jacobian; one rollout plus one small solve per step).
+enum class JacobianKind { FiniteDifference, Sensitivity };
 
 struct OptimizerSettings {
   OptimizerKind kind = OptimizerKind::Hybrid;
@@ -47,6 +52,7 @@ struct OptimizerSettings {
   // which slowed pure L-BFGS down 2-5x (T-shape jump: 9 iterations to 1% instead of
   // 2). The hybrid's first L-BFGS step instead has its last LM step's length.
   double lbfgs_initial_step = 1.0;
+  JacobianKind jacobian = JacobianKind::FiniteDifference;
 };
 
 struct OptimizerState {
@@ -63,10 +69,13 @@ struct OptimizerState {
 using ResidualFn = std::function<Eigen::VectorXd(const Eigen::VectorXd&)>;
 // Called after every iteration; return false to stop (cancellation, checkpoints).
 using IterationFn = std::function<bool(const OptimizerState&)>;
+// J(theta) given r0 = r(theta); an empty result means "use finite differences".
+using JacobianFn = std::function<Eigen::MatrixXd(const Eigen::VectorXd& theta, const Eigen::VectorXd& r0)>;
 
-// Continues from `state` (theta set; history may hold a resumed run).
+// Continues from `state` (theta set; history may hold a resumed run). jacobian
+// (optional) replaces the finite-difference Jacobian; it counts as one rollout.
 void optimize(const ResidualFn& r, const OptimizerSettings& s, OptimizerState& state,
-              const IterationFn& on_iteration = {});
+              const IterationFn& on_iteration = {}, const JacobianFn& jacobian = {});
 
 // Broyden's rank-1 secant update: J += (dr - J d) d^T / |d|^2, so J d = dr after it
 // and J is unchanged on vectors orthogonal to d.
