@@ -22,6 +22,7 @@
 #include <string>
 #include <vector>
 
+#include "pliant/articulated/articulated.h"
 #include "pliant/articulated/io.h"
 #include "pliant/articulated/mpc.h"
 #include "pliant/articulated/sim.h"
@@ -362,6 +363,47 @@ void cost_per_step_case() {
   }
 }
 
+// Body-body contact (assets/scenes/articulated_pile.json: 3 boxes, 2 capsules and a
+// ball dropped on each other and the ground, pbad3, dt 0.01, 3 s): cost per step and LM
+// iterations with self-collision, and the same bodies without it (they fall through
+// each other onto the ground). Thread CPU time, fastest of 3 runs.
+void pile_case(bool quick) {
+  const std::string path = std::string(PLIANT_RESULTS_DIR) + "/../../assets/scenes/articulated_pile.json";
+  const ArticulatedScene a = articulated_compile(pliant::load_scene(path));
+  double per_step[2] = {0, 0};
+  for (int on = 1; on >= 0; --on) {
+    SimOptions o = a.options;
+    o.contact.self_collision = on;
+    double best = 1e300, iterations = 0, max_iterations = 0, max_depth = 0, contacts = 0;
+    for (int rep = 0; rep < (quick ? 1 : 3); ++rep) {
+      State s = a.initial;
+      SimWorkspace ws;
+      double cpu = 0;
+      iterations = max_iterations = max_depth = contacts = 0;
+      for (int i = 0; i < a.steps; ++i) {
+        StepInfo info;
+        const double t0 = thread_cpu_s();
+        sim_step(a.model, o, s, ws, &info);
+        cpu += thread_cpu_s() - t0;
+        iterations += info.iterations;
+        max_iterations = std::max<double>(max_iterations, info.iterations);
+        if (on) {
+          for (const PairContact& c : ws.pair_contacts) max_depth = std::max(max_depth, c.depth);
+          contacts += ws.pair_contacts.size();
+        }
+      }
+      best = std::min(best, cpu);
+    }
+    per_step[on] = best / a.steps;
+    emit({{"case", "pile"}, {"method", "pbad3"}, {"self_collision", bool(on)}, {"dt", a.options.dt},
+          {"bodies", a.model.bodies.size() - 1}, {"steps", a.steps}, {"us_per_step", 1e6 * per_step[on]},
+          {"lm_iterations", iterations / a.steps}, {"lm_iterations_max", max_iterations},
+          {"pair_contacts_per_step", contacts / a.steps}, {"max_pair_depth_m", max_depth},
+          {"cost_vs_without", on ? nlohmann::json(nullptr) : nlohmann::json(per_step[1] / per_step[0])},
+          {"load_average", load_average()}, {"timing", "thread CPU time, fastest of 3 runs (1 in --quick)"}});
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -395,11 +437,16 @@ int main(int argc, char** argv) {
     else if (!std::strcmp(argv[i], "--methods") && i + 1 < argc) only_methods = argv[++i], filtered = true;
     else {
       std::fprintf(stderr, "usage: bench_articulated [--quick] [--out FILE] [--links 10,40] [--dt 0.02,0.05] "
-                           "[--case chain_swing|chain_tilt] [--methods pbad3,pbad4,mujoco] [--chains-only]\n");
+                           "[--case chain_swing|chain_tilt|pile] [--methods pbad3,pbad4,mujoco] [--chains-only]\n");
       return 2;
     }
   }
   g_machine = pliant::bench::machine_description();
+  if (only_case == "pile") {  // the body-body contact case alone
+    pile_case(quick);
+    if (explicit_out) std::ofstream(out) << g_results.dump(1) << "\n";
+    return 0;
+  }
   const double duration = quick ? 2.0 : 10.0;
   std::vector<int> link_counts = quick ? std::vector<int>{10, 40} : std::vector<int>{10, 40, 100};
   std::vector<double> dts = quick ? std::vector<double>{0.005, 0.01, 0.05}
@@ -546,6 +593,7 @@ int main(int argc, char** argv) {
     cost_per_step_case();
     contact_cases(quick);
     batched_case(quick);
+    pile_case(quick);
   }
   if (filtered && !explicit_out) return 0;
   std::filesystem::create_directories(std::filesystem::path(out).parent_path());

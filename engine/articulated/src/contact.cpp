@@ -117,20 +117,23 @@ double mesh_distance(const MeshShape& mesh, const Vec3& p, Vec3* normal) {
 
 }  // namespace
 
-double obstacle_distance(const Geom& g, const Vec3& x, Vec3* normal) {
-  const Mat3 r = g.quat.toRotationMatrix();
-  const Vec3 p = r.transpose() * (x - g.pos);
-  switch (g.type) {
+namespace {
+
+// Signed distance (positive outside) of world point x from a plane, sphere, box or
+// capsule placed at (c, r), with its outward normal.
+double shape_distance(GeomType type, const Vec3& size, const Vec3& c, const Mat3& r, const Vec3& x, Vec3* normal) {
+  const Vec3 p = r.transpose() * (x - c);
+  switch (type) {
     case GeomType::Plane:
       *normal = r.col(2);
       return p.z();
     case GeomType::Sphere: {
       const double d = p.norm();
       *normal = d > 1e-12 ? Vec3(r * p / d) : Vec3(r.col(2));
-      return d - g.size[0];
+      return d - size[0];
     }
     case GeomType::Box: {
-      const Vec3 q = p.cwiseAbs() - g.size;
+      const Vec3 q = p.cwiseAbs() - size;
       const Vec3 sg(p.x() < 0 ? -1 : 1, p.y() < 0 ? -1 : 1, p.z() < 0 ? -1 : 1);
       if (q.maxCoeff() > 0) {
         const Vec3 out = q.cwiseMax(0.0).cwiseProduct(sg);
@@ -144,20 +147,28 @@ double obstacle_distance(const Geom& g, const Vec3& x, Vec3* normal) {
       return d;
     }
     case GeomType::Capsule: {
-      const double h = std::clamp(p.z(), -g.size[1], g.size[1]);
+      const double h = std::clamp(p.z(), -size[1], size[1]);
       const Vec3 dp = p - Vec3(0, 0, h);
       const double d = dp.norm();
       *normal = d > 1e-12 ? Vec3(r * dp / d) : Vec3(r.col(0));
-      return d - g.size[0];
+      return d - size[0];
     }
-    case GeomType::Mesh: {
-      Vec3 n;
-      const double d = mesh_distance(*g.mesh, p, &n);
-      *normal = r * n;
-      return d;
-    }
+    case GeomType::Mesh: break;
   }
   return 1e300;
+}
+
+}  // namespace
+
+double obstacle_distance(const Geom& g, const Vec3& x, Vec3* normal) {
+  const Mat3 r = g.quat.toRotationMatrix();
+  if (g.type == GeomType::Mesh) {
+    Vec3 n;
+    const double d = mesh_distance(*g.mesh, r.transpose() * (x - g.pos), &n);
+    *normal = r * n;
+    return d;
+  }
+  return shape_distance(g.type, g.size, g.pos, r, x, normal);
 }
 
 void mesh_feature_contacts(const Model& m, const Kinematics& k, const std::vector<int>& obs,
@@ -210,6 +221,137 @@ void find_contacts(const Model& m, const Kinematics& k, const std::vector<Contac
     }
   }
   mesh_feature_contacts(m, k, obs, out);
+}
+
+// ---- Body-body contact ----
+
+double geom_bounding_radius(const Geom& g) {
+  switch (g.type) {
+    case GeomType::Sphere: return g.size[0];
+    case GeomType::Capsule: return g.size[0] + g.size[1];
+    case GeomType::Box: return g.size.norm();
+    default: return 0;
+  }
+}
+
+std::vector<GeomPair> contact_geom_pairs(const Model& m) {
+  std::vector<GeomPair> out;
+  const auto collides = [](const Geom& g) {
+    return g.body != 0 && (g.type == GeomType::Sphere || g.type == GeomType::Capsule || g.type == GeomType::Box);
+  };
+  for (size_t i = 0; i < m.geoms.size(); ++i) {
+    const Geom& ga = m.geoms[i];
+    if (!collides(ga)) continue;
+    for (size_t j = i + 1; j < m.geoms.size(); ++j) {
+      const Geom& gb = m.geoms[j];
+      if (!collides(gb) || ga.body == gb.body) continue;
+      if (m.bodies[ga.body].parent == gb.body || m.bodies[gb.body].parent == ga.body) continue;
+      if (!((ga.contype & gb.conaffinity) || (gb.contype & ga.conaffinity))) continue;
+      const std::array<int, 2> key{std::min(ga.body, gb.body), std::max(ga.body, gb.body)};
+      if (std::find(m.contact_exclude.begin(), m.contact_exclude.end(), key) != m.contact_exclude.end()) continue;
+      out.push_back({static_cast<int>(i), static_cast<int>(j), geom_bounding_radius(ga) + geom_bounding_radius(gb)});
+    }
+  }
+  return out;
+}
+
+namespace {
+
+struct Placed {  // a geom at its world pose
+  const Geom* g;
+  Vec3 c;
+  Mat3 r;
+};
+
+// Point x of body `body` (a sphere of radius `radius` about it) against geom s: a
+// contact on body s.g->body (a) and `body` (b) along s's outward normal.
+void point_against(const Placed& s, int body, const Vec3& x, double radius, std::vector<PairContact>* out) {
+  Vec3 n;
+  const double d = shape_distance(s.g->type, s.g->size, s.c, s.r, x, &n) - radius;
+  if (d < 0) out->push_back({s.g->body, body, x - radius * n, n, -d});
+}
+
+void corners_against(const Placed& box, const Placed& s, std::vector<PairContact>* out) {
+  for (int f = 0; f < 8; ++f) {
+    const Vec3 corner((f & 1 ? 1 : -1) * box.g->size[0], (f & 2 ? 1 : -1) * box.g->size[1],
+                      (f & 4 ? 1 : -1) * box.g->size[2]);
+    point_against(s, box.g->body, box.c + box.r * corner, 0.0, out);
+  }
+}
+
+void end_spheres_against(const Placed& cap, const Placed& s, std::vector<PairContact>* out) {
+  for (int e : {-1, 1}) point_against(s, cap.g->body, cap.c + cap.r.col(2) * (e * cap.g->size[1]), cap.g->size[0], out);
+}
+
+// Closest points of segments p0 + s d0 and p1 + t d1 (s, t in [0, 1]); parallel
+// segments: the middle of their overlap along the first (or the nearest ends).
+void segment_closest(const Vec3& p0, const Vec3& d0, const Vec3& p1, const Vec3& d1, double* s_out, double* t_out) {
+  const Vec3 w = p0 - p1;
+  const double a = d0.dot(d0), b = d0.dot(d1), e = d1.dot(d1), c = d0.dot(w), f = d1.dot(w);
+  const double denom = a * e - b * b;
+  double s, t;
+  if (denom > 1e-12 * a * e) {
+    s = std::clamp((b * f - c * e) / denom, 0.0, 1.0);
+  } else {  // parallel: the second segment's ends projected on the first
+    const double s0 = -c / a, s1 = (b - c) / a;
+    const double lo = std::max(0.0, std::min(s0, s1)), hi = std::min(1.0, std::max(s0, s1));
+    s = lo <= hi ? 0.5 * (lo + hi) : std::clamp(0.5 * (s0 + s1), 0.0, 1.0);
+  }
+  t = (b * s + f) / e;
+  if (t < 0 || t > 1) {
+    t = std::clamp(t, 0.0, 1.0);
+    s = std::clamp((b * t - c) / a, 0.0, 1.0);
+  }
+  *s_out = s;
+  *t_out = t;
+}
+
+void capsule_capsule(const Placed& a, const Placed& b, std::vector<PairContact>* out) {
+  const Vec3 pa = a.c - a.r.col(2) * a.g->size[1], pb = b.c - b.r.col(2) * b.g->size[1];
+  const Vec3 da = a.r.col(2) * (2 * a.g->size[1]), db = b.r.col(2) * (2 * b.g->size[1]);
+  double s, t;
+  segment_closest(pa, da, pb, db, &s, &t);
+  const Vec3 xa = pa + s * da, xb = pb + t * db;
+  const double len = (xb - xa).norm(), d = len - a.g->size[0] - b.g->size[0];
+  if (d >= 0) return;
+  const Vec3 n = len > 1e-12 ? Vec3((xb - xa) / len) : Vec3(a.r.col(0));
+  out->push_back({a.g->body, b.g->body, xb - b.g->size[0] * n, n, -d});
+}
+
+}  // namespace
+
+void find_pair_contacts(const Model& m, const Kinematics& k, const std::vector<GeomPair>& pairs,
+                        std::vector<PairContact>* out) {
+  out->clear();
+  for (const GeomPair& pr : pairs) {
+    const Geom &g0 = m.geoms[pr.a], &g1 = m.geoms[pr.b];
+    Placed a{&g0, k.xpos[g0.body] + k.xmat[g0.body] * g0.pos, Mat3()};
+    Placed b{&g1, k.xpos[g1.body] + k.xmat[g1.body] * g1.pos, Mat3()};
+    if ((a.c - b.c).squaredNorm() >= pr.reach * pr.reach) continue;  // bounding spheres apart
+    a.r = k.xmat[g0.body] * g0.quat.toRotationMatrix();
+    b.r = k.xmat[g1.body] * g1.quat.toRotationMatrix();
+    // Order by type (sphere < capsule < box) so each combination has one case.
+    const Placed* lo = &a;
+    const Placed* hi = &b;
+    const auto rank = [](GeomType t) { return t == GeomType::Sphere ? 0 : t == GeomType::Capsule ? 1 : 2; };
+    if (rank(hi->g->type) < rank(lo->g->type)) std::swap(lo, hi);
+    const int pair = rank(lo->g->type) * 3 + rank(hi->g->type);
+    switch (pair) {
+      case 0: case 1: case 2:  // sphere against sphere, capsule, box: exact
+        point_against(*hi, lo->g->body, lo->c, lo->g->size[0], out);
+        break;
+      case 4: capsule_capsule(*lo, *hi, out); break;
+      case 5:  // capsule-box
+        end_spheres_against(*lo, *hi, out);
+        corners_against(*hi, *lo, out);
+        break;
+      case 8:
+        corners_against(*lo, *hi, out);
+        corners_against(*hi, *lo, out);
+        break;
+      default: break;
+    }
+  }
 }
 
 }  // namespace pliant::articulated

@@ -59,6 +59,8 @@ ArticulatedScene articulated_compile(const Scene& scene) {
     o.contact.ck = c->number("ck", o.contact.ck, 0);
     o.contact.slip_eps = c->number("slip_eps", o.contact.slip_eps, 1e-12);
     o.contact.limit_stiffness = c->number("limit_stiffness", o.contact.limit_stiffness, 0);
+    // Body-body contact (off by default: older scenes keep their trajectories).
+    o.contact.self_collision = c->boolean("self_collision", false);
     c->finish();
   }
   if (auto jl = r.object("joint_limits")) {

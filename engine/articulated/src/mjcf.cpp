@@ -302,7 +302,13 @@ void read_geom(Ctx& c, const XmlElement& e, const std::string& path, int body) {
       g.size[1] = 0.5 * (b - a).norm();
     }
   }
+  // Integers as in MuJoCo: obstacles touch a geom whose contype or conaffinity is
+  // nonzero; body-body pairs use the bitmask rule (contact_geom_pairs).
   const double contype = number(c, e, path, "contype", 1, 0), conaff = number(c, e, path, "conaffinity", 1, 0);
+  for (const auto& [key, v] : {std::make_pair("contype", contype), std::make_pair("conaffinity", conaff)})
+    if (v != std::floor(v) || v > 0x7fffffff) throw InputError(c.file, path + "/@" + key, "must be a non-negative integer");
+  g.contype = static_cast<int>(contype);
+  g.conaffinity = static_cast<int>(conaff);
   g.contact = contype != 0 || conaff != 0;
   c.m.geoms.push_back(g);
 }
@@ -444,6 +450,39 @@ void geom_set_mesh(Geom& g, const std::shared_ptr<const MeshShape>& shape) {
   g.pos += g.quat * centre;
 }
 
+// <contact>: <exclude body1 body2> (body pairs that never touch); <pair> and
+// anything else rejected (Pliant's contact has its own stiffness and friction).
+void read_contact(Ctx& c, const XmlElement& e, const std::string& path) {
+  check_attrs(c, e, path, {});
+  for (size_t k = 0; k < e.children.size(); ++k) {
+    const XmlElement& ch = e.children[k];
+    const std::string cp = child_path(path, e, k);
+    if (ch.name != "exclude")
+      throw InputError(c.file, cp, "unsupported element <" + ch.name + "> in <contact> (only <exclude> is supported)");
+    check_attrs(c, ch, cp, {"name", "body1", "body2"});
+    int ids[2];
+    const char* keys[2] = {"body1", "body2"};
+    for (int i = 0; i < 2; ++i) {
+      const auto* name = ch.attr(keys[i]);
+      if (!name) throw InputError(c.file, cp + "/@" + keys[i], "<exclude> needs body1 and body2");
+      ids[i] = -1;
+      std::vector<std::string> names;
+      for (size_t b = 1; b < c.m.bodies.size(); ++b) {
+        names.push_back(c.m.bodies[b].name);
+        if (c.m.bodies[b].name == *name) ids[i] = static_cast<int>(b);
+      }
+      if (ids[i] < 0) {
+        const std::string near = nearest_name(*name, names);
+        throw InputError(c.file, cp + "/@" + keys[i],
+                         "no body named \"" + *name + "\"" + (near.empty() ? "" : "; did you mean \"" + near + "\"?") +
+                             (*name == "world" ? " (excluding the world's obstacles is not supported)" : ""));
+      }
+    }
+    if (ids[0] == ids[1]) throw InputError(c.file, cp + "/@body2", "a body cannot be excluded from itself");
+    c.m.contact_exclude.push_back({std::min(ids[0], ids[1]), std::max(ids[0], ids[1])});
+  }
+}
+
 Model model_from_mjcf(const std::string& text, const std::string& file, const std::filesystem::path& base_dir) {
   XmlElement root = parse_xml(text, file);
   if (root.name != "mujoco") throw InputError(file, "/" + root.name, "root element must be <mujoco>");
@@ -498,6 +537,7 @@ Model model_from_mjcf(const std::string& text, const std::string& file, const st
   c.m.bodies.push_back(world);
   if (const auto* n = root.attr("model")) c.m.name = *n;
   const std::string rp = "/mujoco";
+  std::vector<size_t> contact_elements;
   for (size_t k = 0; k < root.children.size(); ++k) {
     const XmlElement& e = root.children[k];
     const std::string p = child_path(rp, root, k);
@@ -548,7 +588,9 @@ Model model_from_mjcf(const std::string& text, const std::string& file, const st
     } else if (e.name == "visual" || e.name == "asset" || e.name == "statistic" || e.name == "size" ||
                e.name == "sensor" || e.name == "keyframe") {  // asset: above; the rest do not change the dynamics
       continue;
-    } else if (e.name == "tendon" || e.name == "equality" || e.name == "contact" || e.name == "include" ||
+    } else if (e.name == "contact") {
+      contact_elements.push_back(k);  // after the bodies: exclude names them
+    } else if (e.name == "tendon" || e.name == "equality" || e.name == "include" ||
                e.name == "custom" || e.name == "extension") {
       throw InputError(file, p, "unsupported element <" + e.name + "> in <mujoco>: it changes the model or its dynamics, and "
                                 "Pliant does not support it (remove it, or model it with joints and motors)");
@@ -556,6 +598,7 @@ Model model_from_mjcf(const std::string& text, const std::string& file, const st
       throw InputError(file, p, "unsupported element <" + e.name + "> in <mujoco>");
     }
   }
+  for (size_t k : contact_elements) read_contact(c, root.children[k], child_path(rp, root, k));
   try {
     model_finalize(c.m, c.has_inertial);
   } catch (const std::invalid_argument& err) {

@@ -43,6 +43,9 @@ Geom read_geom(JsonReader& r, int body, const std::filesystem::path& base_dir) {
   g.density = r.number("density", 1000, 0);
   g.mass = r.has("mass") ? r.number("mass", 1, 0) : -1;
   g.contact = r.boolean("contact", true);
+  // Body-body filter (MuJoCo's bitmask rule); "contact": false also clears both.
+  g.contype = static_cast<int>(r.integer("contype", g.contact ? 1 : 0, 0, 0x7fffffff));
+  g.conaffinity = static_cast<int>(r.integer("conaffinity", g.contact ? 1 : 0, 0, 0x7fffffff));
   const size_t need = g.type == GeomType::Box ? 3 : (g.type == GeomType::Capsule && !r.has("fromto") ? 2 : 1);
   if (g.type == GeomType::Mesh) {
     // As MJCF's <asset><mesh file scale>: the file relative to the model's folder.
@@ -169,6 +172,27 @@ Model model_from_json(JsonReader& r, const std::filesystem::path& base_dir) {
       act.ctrl_max = cr[1];
       a.finish();
       m.actuators.push_back(act);
+    }
+    // Body pairs that never touch (as MJCF's <contact><exclude body1 body2>).
+    for (JsonReader& x : r.objects("exclude")) {
+      int ids[2];
+      const char* keys[2] = {"body1", "body2"};
+      for (int i = 0; i < 2; ++i) {
+        const std::string name = x.required_string(keys[i]);
+        ids[i] = -1;
+        std::vector<std::string> names;
+        for (size_t b = 1; b < m.bodies.size(); ++b) {
+          names.push_back(m.bodies[b].name);
+          if (m.bodies[b].name == name) ids[i] = static_cast<int>(b);
+        }
+        if (ids[i] < 0) {
+          const std::string near = nearest_name(name, names);
+          x.fail(keys[i], "no body named \"" + name + "\"" + (near.empty() ? "" : "; did you mean \"" + near + "\"?"));
+        }
+      }
+      if (ids[0] == ids[1]) x.fail("body2", "a body cannot be excluded from itself");
+      x.finish();
+      m.contact_exclude.push_back({std::min(ids[0], ids[1]), std::max(ids[0], ids[1])});
     }
     try {
       model_finalize(m, has_inertial);

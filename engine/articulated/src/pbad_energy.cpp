@@ -140,6 +140,54 @@ double pbad_energy(const Model& m, const SimOptions& o, const State& s, const Pb
       }
     }
   }
+  if (derivs) ws.pair_terms.clear();
+  if (o.contact.enabled && p.any_pairs) {
+    // Body-body contact (contact.h): the penalty couples bodies a and b, which per-body
+    // blocks cannot express (dropping the a-b block cost 19 LM iterations per step in
+    // the pile scene), so its Gauss-Newton matrix goes to the solver as rank-1 terms
+    // (ws.pair_terms, added by Woodbury's identity); the gradient is exact.
+    find_pair_contacts(m, k, ws.pairs, &ws.pair_contacts);
+    const double kk = o.contact.stiffness;
+    for (const PairContact& c : ws.pair_contacts) {
+      e += 0.5 * kk * c.depth * c.depth;
+      if (!derivs) continue;
+      const Vec3 f = kk * c.depth * c.normal;  // force on b; the energy's gradient at b's point is -f
+      ws.w[c.body_b] -= point_wrench(c.point, f);
+      ws.w[c.body_a] += point_wrench(c.point, f);
+      ws.pair_terms.push_back({c.body_a, c.body_b, c.point, c.point, c.normal, kk});
+      if (exact) {
+        ws.moment[c.body_b] -= c.point * f.transpose();
+        ws.force[c.body_b] -= f;
+        ws.moment[c.body_a] += c.point * f.transpose();
+        ws.force[c.body_a] += f;
+      }
+    }
+    // Friction on the relative slip of the two bodies' material points that met at q_i.
+    for (const PairAnchor& pa : p.pair_anchors) {
+      if (o.contact.friction == FrictionModel::None) break;
+      const Vec3 xa = k.xpos[pa.body_a] + k.xmat[pa.body_a] * pa.local_a;
+      const Vec3 xb = k.xpos[pa.body_b] + k.xmat[pa.body_b] * pa.local_b;
+      const Mat3 pt = Mat3::Identity() - pa.normal * pa.normal.transpose();
+      const Vec3 st = pt * (xb - xa);
+      const bool coulomb = o.contact.friction == FrictionModel::Coulomb;
+      const double eps = o.contact.slip_eps, r = std::sqrt(st.squaredNorm() + eps * eps);
+      const double g = coulomb ? o.contact.mu * pa.normal_force / r : o.contact.ck * pa.normal_force / o.dt;
+      e += coulomb ? o.contact.mu * pa.normal_force * (r - eps) : 0.5 * g * st.squaredNorm();
+      if (!derivs) continue;
+      ws.w[pa.body_b] += point_wrench(xb, g * st);
+      ws.w[pa.body_a] -= point_wrench(xa, g * st);
+      // g P = g (t1 t1^T + t2 t2^T): two rank-1 terms.
+      const Vec3 t1 = pa.normal.unitOrthogonal(), t2 = pa.normal.cross(t1);
+      ws.pair_terms.push_back({pa.body_a, pa.body_b, xa, xb, t1, g});
+      ws.pair_terms.push_back({pa.body_a, pa.body_b, xa, xb, t2, g});
+      if (exact) {
+        ws.moment[pa.body_b] += xb * (g * st).transpose();
+        ws.force[pa.body_b] += g * st;
+        ws.moment[pa.body_a] -= xa * (g * st).transpose();
+        ws.force[pa.body_a] -= g * st;
+      }
+    }
+  }
   // Actuator work and joint damping (dissipation potential) in joint space.
   const bool joint_terms = !m.actuators.empty() || p.any_damping;
   if (joint_terms) {

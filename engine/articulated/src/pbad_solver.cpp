@@ -35,7 +35,7 @@ bool lbfgs_iterate(const Model& m, const SimOptions& o, const State& s, PbadStep
   }
   tree_diagonal(m, ws.kin, ws.h, &ws.diag, &ws.tree);
   lm_armature(m, o, p, 1e-9, ws);
-  tree_solve(m, ws.kin, ws.h, ws.arm, q, &ws.step, &ws.tree);
+  lm_solve(m, ws.h, q, &ws.step, ws);
   for (int i = 0; i < hist; ++i) {
     const double beta = p.y_hist[i].dot(ws.step) / p.y_hist[i].dot(p.s_hist[i]);
     ws.step += p.s_hist[i] * (alpha[i] - beta);
@@ -45,7 +45,7 @@ bool lbfgs_iterate(const Model& m, const SimOptions& o, const State& s, PbadStep
   if (!(slope < 0)) {  // not a descent direction: restart from the preconditioner alone
     p.s_hist.clear();
     p.y_hist.clear();
-    tree_solve(m, ws.kin, ws.h, ws.arm, ws.grad, &ws.step, &ws.tree);
+    lm_solve(m, ws.h, ws.grad, &ws.step, ws);
     ws.step = -ws.step;
     slope = ws.grad.dot(ws.step);
     if (!(slope < 0)) return true;
@@ -91,7 +91,7 @@ bool final_correction(const Model& m, const SimOptions& o, PbadStep& p, SimWorks
   tree_diagonal(m, ws.kin, ws.h, &ws.diag, &ws.tree);
   ws.rhs = -ws.grad;
   lm_armature(m, o, p, p.lambda, ws);
-  if (!tree_solve(m, ws.kin, o.exact_hessian ? ws.h_exact : ws.h, ws.arm, ws.rhs, &ws.step, &ws.tree))
+  if (!lm_solve(m, o.exact_hessian ? ws.h_exact : ws.h, ws.rhs, &ws.step, ws))
     return false;  // the next iteration damps and solves again
   const double correction = qpos_difference(m, p.q, p.q_pred).lpNorm<Eigen::Infinity>();
   if (ws.step.lpNorm<Eigen::Infinity>() > o.lm_relative_tolerance * correction) {
@@ -103,7 +103,72 @@ bool final_correction(const Model& m, const SimOptions& o, PbadStep& p, SimWorks
   return true;
 }
 
+// Generalized force of a unit force dir at xb on body b and -dir at xa on body a
+// (their ancestors' dofs only; world-frame motion subspaces).
+void pair_column(const Model& m, const Kinematics& k, const PairTerm& t, Eigen::Ref<VecX> u) {
+  u.setZero();
+  const Vec6 wb = point_wrench(t.point_b, t.dir), wa = point_wrench(t.point_a, -t.dir);
+  for (int b = t.body_b; b != 0; b = m.bodies[b].parent)
+    for (int d = m.bodies[b].dof_begin; d < m.bodies[b].dof_begin + m.bodies[b].dof_count; ++d) u[d] += k.cdof[d].dot(wb);
+  for (int b = t.body_a; b != 0; b = m.bodies[b].parent)
+    for (int d = m.bodies[b].dof_begin; d < m.bodies[b].dof_begin + m.bodies[b].dof_count; ++d) u[d] += k.cdof[d].dot(wa);
+}
+
+// Solves the leading n x n block of c (overwritten) for rhs in place: Gaussian
+// elimination with partial pivoting (the capacitance matrix is non-symmetric with the
+// exact Hessian's blocks); no allocation.
+void dense_solve(Eigen::MatrixXd& c, int n, VecX& rhs) {
+  for (int j = 0; j < n; ++j) {
+    int piv = j;
+    for (int i = j + 1; i < n; ++i)
+      if (std::abs(c(i, j)) > std::abs(c(piv, j))) piv = i;
+    if (piv != j) {
+      for (int l = 0; l < n; ++l) std::swap(c(j, l), c(piv, l));
+      std::swap(rhs[j], rhs[piv]);
+    }
+    const double d = c(j, j);
+    for (int i = j + 1; i < n; ++i) {
+      const double f = c(i, j) / d;
+      if (f == 0) continue;
+      for (int l = j + 1; l < n; ++l) c(i, l) -= f * c(j, l);
+      rhs[i] -= f * rhs[j];
+    }
+  }
+  for (int j = n - 1; j >= 0; --j) {
+    double v = rhs[j];
+    for (int l = j + 1; l < n; ++l) v -= c(j, l) * rhs[l];
+    rhs[j] = v / c(j, j);
+  }
+}
+
 }  // namespace
+
+bool lm_solve(const Model& m, const std::vector<Mat6>& blocks, const VecX& rhs, VecX* x, SimWorkspace& ws) {
+  const bool pd = tree_solve(m, ws.kin, blocks, ws.arm, rhs, x, &ws.tree);
+  const int nt = static_cast<int>(ws.pair_terms.size());
+  if (nt == 0) return pd;
+  if (ws.pair_u.rows() != m.nv || ws.pair_u.cols() < nt) {  // capacity grows, never shrinks
+    const int cap = std::max(nt, static_cast<int>(ws.pair_u.cols()) * 2);
+    ws.pair_u.resize(m.nv, cap);
+    ws.pair_y.resize(m.nv, cap);
+    ws.pair_cap.resize(cap, cap);
+    ws.pair_alpha.resize(cap);
+  }
+  for (int t = 0; t < nt; ++t) {
+    pair_column(m, ws.kin, ws.pair_terms[t], ws.pair_u.col(t));
+    ws.pair_col = ws.pair_u.col(t);
+    tree_solve(m, ws.kin, blocks, ws.arm, ws.pair_col, &ws.pair_sol, &ws.tree);
+    ws.pair_y.col(t) = ws.pair_sol;
+  }
+  for (int i = 0; i < nt; ++i) {
+    for (int j = 0; j < nt; ++j) ws.pair_cap(i, j) = ws.pair_u.col(i).dot(ws.pair_y.col(j));
+    ws.pair_cap(i, i) += 1 / ws.pair_terms[i].weight;
+    ws.pair_alpha[i] = ws.pair_u.col(i).dot(*x);
+  }
+  dense_solve(ws.pair_cap, nt, ws.pair_alpha);
+  for (int t = 0; t < nt; ++t) *x -= ws.pair_alpha[t] * ws.pair_y.col(t);
+  return pd && x->allFinite();
+}
 
 bool pbad_iterate(const Model& m, const SimOptions& o, const State& s, PbadStep& p, SimWorkspace& ws) {
   if (p.done) return true;
@@ -128,8 +193,8 @@ bool pbad_iterate(const Model& m, const SimOptions& o, const State& s, PbadStep&
       // 100-link whip at dt 0.05, 3.57 -> 2.49 iterations per step, same drift, every
       // whip of the sweep bounded with pbad3 and pbad4 (judged with the body-point
       // velocity; with the old joint-space velocity this looked unsafe).
-      if (!tree_solve(m, ws.kin, blocks, ws.arm, ws.rhs, &ws.step, &ws.tree) &&
-          (&blocks == &ws.h || !tree_solve(m, ws.kin, ws.h, ws.arm, ws.rhs, &ws.step, &ws.tree))) {
+      if (!lm_solve(m, blocks, ws.rhs, &ws.step, ws) &&
+          (&blocks == &ws.h || !lm_solve(m, ws.h, ws.rhs, &ws.step, ws))) {
         p.lambda *= 10;
         continue;
       }

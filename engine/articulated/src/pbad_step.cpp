@@ -29,7 +29,7 @@ void startup_past(const Model& m, const SimOptions& o, const State& s, SimWorksp
   past->assign(frames, s.qpos);
   for (int f = 1; f <= frames; ++f)
     qpos_integrate(m, (*past)[f - 1], -f * dt * s.qvel + 0.5 * f * f * dt * dt * a, 1.0);
-  if (o.contact.enabled && !ws.contacts.empty()) return;  // accel() found contacts at q0
+  if (o.contact.enabled && (!ws.contacts.empty() || !ws.pair_contacts.empty())) return;  // accel() found contacts at q0
   const int sub = std::max(4, static_cast<int>(std::ceil(dt / 0.01)));
   const double h = -dt / sub;
   VecX q = s.qpos, v = s.qvel, a1, a2, a3, a4, qs;
@@ -50,7 +50,7 @@ void startup_past(const Model& m, const SimOptions& o, const State& s, SimWorksp
       accel(m, o, s, qs, v4, ws, &a4);
       qpos_integrate(m, q, (v + 2 * v2 + 2 * v3 + v4) / 6, h);
       v += h / 6 * (a1 + 2 * a2 + 2 * a3 + a4);
-      if (!ws.contacts.empty()) return;  // touched an obstacle on the way back: keep Taylor
+      if (!ws.contacts.empty() || !ws.pair_contacts.empty()) return;  // touched on the way back: keep Taylor
     }
     if (!q.allFinite() || !v.allFinite()) return;
     (*past)[frame - 1] = q;
@@ -152,6 +152,15 @@ void pbad_begin(const Model& m, const SimOptions& o, State& s, PbadStep& p, SimW
     for (const Contact& c : ws.feature_contacts)
       p.feature_anchors.push_back({c.body, k0.xmat[c.body].transpose() * (c.point - k0.xpos[c.body]), c.point, c.normal,
                                    o.contact.stiffness * c.depth});
+  }
+  p.any_pairs = o.contact.enabled && o.contact.self_collision && !ws.pairs.empty();
+  p.pair_anchors.clear();
+  if (p.any_pairs && o.contact.friction != FrictionModel::None) {
+    find_pair_contacts(m, k0, ws.pairs, &ws.pair_contacts);
+    for (const PairContact& c : ws.pair_contacts)
+      p.pair_anchors.push_back({c.body_a, c.body_b, k0.xmat[c.body_a].transpose() * (c.point - k0.xpos[c.body_a]),
+                                k0.xmat[c.body_b].transpose() * (c.point - k0.xpos[c.body_b]), c.normal,
+                                o.contact.stiffness * c.depth});
   }
   p.q = s.qpos;
   qpos_integrate(m, p.q, 2 * qpos_difference(m, s.qpos, q1) - qpos_difference(m, q1, s.past[1]), 1.0);

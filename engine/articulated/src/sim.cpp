@@ -52,6 +52,7 @@ void sim_prepare(const Model& m, SimWorkspace& ws) {
   if (ws.cached_for == &m) return;
   ws.points = contact_points(m);
   ws.obstacles = contact_obstacles(m);
+  ws.pairs = contact_geom_pairs(m);
   ws.cached_for = &m;
 }
 
@@ -101,6 +102,10 @@ Energy state_energy(const Model& m, const SimOptions& o, const State& s, SimWork
   if (o.contact.enabled) {
     find_contacts(m, ws.kin, ws.points, ws.obstacles, &ws.contacts);
     for (const Contact& c : ws.contacts) e.potential += 0.5 * o.contact.stiffness * c.depth * c.depth;
+    if (o.contact.self_collision) {
+      find_pair_contacts(m, ws.kin, ws.pairs, &ws.pair_contacts);
+      for (const PairContact& c : ws.pair_contacts) e.potential += 0.5 * o.contact.stiffness * c.depth * c.depth;
+    }
   }
   e.total = e.kinetic + e.potential;
   return e;

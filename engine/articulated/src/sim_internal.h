@@ -29,6 +29,13 @@ bool any_limits(const Model& m);
 double pbad_energy(const Model& m, const SimOptions& o, const State& s, const PbadStep& p,
                    const VecX& q, SimWorkspace& ws, bool derivs, const Kinematics* poses = nullptr);
 
+// LM's linear solve: tree_solve with the per-body blocks and ws.arm, plus the
+// body-body contacts' rank-1 terms (ws.pair_terms) by Woodbury's identity
+// (A + U W U^T)^-1 r = z - A^-1 U (W^-1 + U^T A^-1 U)^-1 U^T z, z = A^-1 r: one more
+// tree solve per term. Returns tree_solve's positive-definiteness flag for A
+// (pbad_solver.cpp).
+bool lm_solve(const Model& m, const std::vector<Mat6>& blocks, const VecX& rhs, VecX* x, SimWorkspace& ws);
+
 // Joint accelerations of the explicit integrators at (q, v), with contact, limit and
 // actuator forces (explicit_integrators.cpp); PBAD's start-up frames use it too.
 void accel(const Model& m, const SimOptions& o, const State& s, const VecX& q, const VecX& v,

@@ -7,6 +7,7 @@
 #include "pliant/articulated/io.h"
 #include "pliant/articulated/sim.h"
 #include "mesh_fixture.h"
+#include "sim_internal.h"
 
 namespace pliant::articulated {
 namespace {
@@ -297,6 +298,250 @@ TEST(Contact, BoxAboveFrictionAngleSlides) {
   // s = 1/2 g (sin a - mu cos a) t^2 along the slope after 1 s.
   const double expect = 0.5 * 9.81 * (std::sin(slope) - 0.5 * std::cos(slope));
   EXPECT_NEAR((s.qpos.head<3>() - p0).norm() / expect, 1.0, 0.05);
+}
+
+// ---- Body-body contact ----
+
+// Two free bodies a and b (MJCF geoms given), no obstacles.
+Model two_bodies(const std::string& pos_a, const std::string& geom_a, const std::string& pos_b,
+                 const std::string& geom_b, const std::string& gravity = "0 0 -9.81") {
+  return model_from_mjcf("<mujoco><option gravity=\"" + gravity + "\"/><worldbody><body name=\"a\" pos=\"" + pos_a +
+                             "\"><freejoint/>" + geom_a + "</body><body name=\"b\" pos=\"" + pos_b +
+                             "\"><freejoint/>" + geom_b + "</body></worldbody></mujoco>",
+                         "pair.xml");
+}
+
+std::vector<PairContact> pair_contacts_at(const Model& m, const VecX& q) {
+  Kinematics k;
+  kinematics(m, q, &k);
+  std::vector<PairContact> c;
+  find_pair_contacts(m, k, contact_geom_pairs(m), &c);
+  return c;
+}
+
+// PBAD's gradient with body-body penalty and Coulomb friction against central
+// differences of its energy; the LM matrix's body-body part against the Gauss-Newton
+// k sum grad(d) grad(d)^T from finite differences of each contact's depth, a-b
+// coupling included. Returns the number of contacts.
+size_t expect_pair_derivatives(const Model& m) {
+  SimOptions o;
+  o.dt = 0.01;
+  o.contact.self_collision = true;
+  State s = state_init(m);
+  SimWorkspace ws;
+  PbadStep p;
+  pbad_begin(m, o, s, p, ws);
+  EXPECT_FALSE(p.pair_anchors.empty());
+  VecX dv(m.nv);
+  for (int i = 0; i < m.nv; ++i) dv[i] = 0.0015 * std::sin(1.3 * i + 0.4);
+  VecX q = s.qpos;
+  qpos_integrate(m, q, dv, 1.0);
+  const std::vector<PairContact> contacts = pair_contacts_at(m, q);
+  EXPECT_FALSE(contacts.empty());
+  const auto moved = [&](int i, double h) {
+    VecX e = VecX::Zero(m.nv), qq = q;
+    e[i] = h;
+    qpos_integrate(m, qq, e, 1.0);
+    return qq;
+  };
+  pbad_evaluate(m, o, s, p, q, ws);
+  const VecX g = ws.grad;
+  const double eps = 1e-7;
+  for (int i = 0; i < m.nv; ++i) {
+    const double fd = (pbad_evaluate(m, o, s, p, moved(i, eps), ws) - pbad_evaluate(m, o, s, p, moved(i, -eps), ws)) / (2 * eps);
+    EXPECT_NEAR(g[i], fd, 1e-6 * (1 + g.norm())) << i;
+  }
+  // Gauss-Newton: k sum_c grad(d_c) grad(d_c)^T in joint space.
+  Eigen::MatrixXd gn = Eigen::MatrixXd::Zero(m.nv, m.nv);
+  for (size_t c = 0; c < contacts.size(); ++c) {
+    VecX grad_d(m.nv);
+    for (int i = 0; i < m.nv; ++i) {
+      const auto cp = pair_contacts_at(m, moved(i, 1e-7)), cm = pair_contacts_at(m, moved(i, -1e-7));
+      EXPECT_EQ(cp.size(), contacts.size());
+      EXPECT_EQ(cm.size(), contacts.size());
+      if (cp.size() != contacts.size() || cm.size() != contacts.size()) return 0;
+      grad_d[i] = (cp[c].depth - cm[c].depth) / 2e-7;
+    }
+    gn += o.contact.stiffness * grad_d * grad_d.transpose();
+  }
+  // The LM matrix's body-body part: (tree blocks + rank-1 terms) minus the tree
+  // blocks alone, from both inverses (lm_solve, tree_solve) at q, frictionless.
+  o.contact.friction = FrictionModel::None;
+  pbad_evaluate(m, o, s, p, q, ws);
+  ws.arm = VecX::Zero(m.nv);
+  Eigen::MatrixXd full_inv(m.nv, m.nv), tree_inv(m.nv, m.nv);
+  for (int i = 0; i < m.nv; ++i) {
+    VecX x;
+    const VecX e = VecX::Unit(m.nv, i);
+    lm_solve(m, ws.h, e, &x, ws);
+    full_inv.col(i) = x;
+    tree_solve(m, ws.kin, ws.h, ws.arm, e, &x, &ws.tree);
+    tree_inv.col(i) = x;
+  }
+  const Eigen::MatrixXd pair_part = full_inv.inverse() - tree_inv.inverse();
+  EXPECT_LT((pair_part - gn).norm(), 1e-5 * gn.norm());
+  EXPECT_GT(gn.block(0, 6, 6, 6).norm(), 0.1 * gn.norm());  // the a-b coupling per-body blocks cannot hold
+  return contacts.size();
+}
+
+TEST(Contact, BodyPairGradientAndBlocksMatchFiniteDifferences) {
+  const std::string sphere = "<geom type=\"sphere\" size=\"0.05\"/>";
+  const std::string capsule = "<geom type=\"capsule\" size=\"0.03 0.08\" euler=\"20 35 10\"/>";
+  const std::string capsule2 = "<geom type=\"capsule\" size=\"0.025 0.07\" euler=\"80 -10 40\"/>";
+  const std::string box = "<geom type=\"box\" size=\"0.1 0.07 0.05\" euler=\"5 -8 12\"/>";
+  const std::string cube = "<geom type=\"box\" size=\"0.04 0.04 0.04\" euler=\"30 40 20\"/>";
+  EXPECT_EQ(expect_pair_derivatives(two_bodies("0 0 0", sphere, "0.05 0.04 0.05", "<geom type=\"sphere\" size=\"0.04\"/>")), 1u);
+  EXPECT_EQ(expect_pair_derivatives(two_bodies("0 0 0", capsule, "0.06 -0.03 0.02", sphere)), 1u);
+  EXPECT_EQ(expect_pair_derivatives(two_bodies("0 0 0", capsule, "0.03 0.04 0.01", capsule2)), 1u);
+  EXPECT_EQ(expect_pair_derivatives(two_bodies("0 0 0", box, "0.02 0.01 0.09", sphere)), 1u);
+  // Capsule end sphere dipping into the box's top face (corners far from the capsule).
+  EXPECT_GE(expect_pair_derivatives(two_bodies("0 0 0", box, "0.01 0 0.12", capsule)), 1u);
+  // A tilted cube's lowest corner in the box's top face.
+  EXPECT_GE(expect_pair_derivatives(two_bodies("0 0 0", box, "0.01 0.005 0.11", cube)), 1u);
+}
+
+// Three bodies dropped on a free box that stands on the ground: each comes to rest at
+// the penalty's static depth m g / (n k) (n contacts sharing its weight).
+TEST(Contact, BodiesDroppedOnABoxRestAtThePenaltyDepth) {
+  const Model m = model_from_mjcf(R"(<mujoco><worldbody><geom type="plane"/>
+    <body name="base" pos="0 0 0.05"><freejoint/><geom type="box" size="0.3 0.3 0.05" mass="3"/></body>
+    <body name="ball" pos="-0.15 0 0.16"><freejoint/><geom type="sphere" size="0.05" mass="0.5"/></body>
+    <body name="cube" pos="0 0.1 0.16"><freejoint/><geom type="box" size="0.05 0.05 0.05" mass="0.5"/></body>
+    <body name="rod" pos="0.15 0 0.14"><freejoint/><geom type="capsule" size="0.03 0.1" euler="90 0 0" mass="0.5"/></body>
+    </worldbody></mujoco>)", "pile.xml");
+  SimOptions o;
+  o.dt = 0.01;
+  o.contact.self_collision = true;
+  State s = state_init(m);
+  SimWorkspace ws;
+  double max_iterations = 0;
+  for (int i = 0; i < 150; ++i) {
+    StepInfo info;
+    ASSERT_TRUE(sim_step(m, o, s, ws, &info));
+    max_iterations = std::max<double>(max_iterations, info.iterations);
+  }
+  EXPECT_LT(s.qvel.lpNorm<Eigen::Infinity>(), 1e-2);
+  Kinematics k;
+  kinematics(m, s.qpos, &k);
+  std::vector<PairContact> c;
+  find_pair_contacts(m, k, contact_geom_pairs(m), &c);
+  const double g = 9.81, kk = o.contact.stiffness;
+  int count[5] = {0, 0, 0, 0, 0};
+  for (const PairContact& pc : c) {
+    ASSERT_EQ(pc.body_a, 1);  // the base below, every top body pushed up
+    EXPECT_NEAR(pc.normal.z(), 1.0, 1e-3);
+    const int n = pc.body_b == 2 ? 1 : pc.body_b == 3 ? 4 : 2;
+    EXPECT_NEAR(pc.depth / (0.5 * g / (n * kk)), 1.0, 0.2) << "body " << pc.body_b;
+    ++count[pc.body_b];
+  }
+  EXPECT_EQ(count[2], 1);
+  EXPECT_EQ(count[3], 4);
+  EXPECT_EQ(count[4], 2);
+  EXPECT_LT(max_iterations, 20);
+  std::printf("pile at rest: %zu body-body contacts, max LM iterations per step %g\n", c.size(), max_iterations);
+}
+
+// Zero gravity, no friction: a box hits a capsule off-centre (both spin); the stencil's
+// momentum sum(m v) is conserved through the collision.
+TEST(Contact, CollidingFreeBodiesConserveMomentum) {
+  const Model m = two_bodies("0 0 0", "<geom type=\"box\" size=\"0.05 0.04 0.03\" mass=\"1\" euler=\"10 20 0\"/>",
+                             "0.2 0.03 0.01", "<geom type=\"capsule\" size=\"0.03 0.06\" mass=\"0.7\" euler=\"0 80 30\"/>",
+                             "0 0 0");
+  SimOptions o;
+  o.dt = 0.005;
+  o.contact.self_collision = true;
+  o.contact.friction = FrictionModel::None;
+  o.lm_relative_tolerance = 0;
+  o.lm_tolerance = 1e-12;
+  State s = state_init(m);
+  s.qvel.head<3>() << 1.0, 0.1, 0;
+  s.qvel.segment<3>(6) << -0.5, 0, 0.05;
+  SimWorkspace ws;
+  const auto momentum = [&](const State& st) {
+    return Vec3(m.bodies[1].mass * st.qvel.head<3>() + m.bodies[2].mass * st.qvel.segment<3>(6));
+  };
+  const Vec3 p0 = momentum(s);
+  const Vec3 v_rel0 = s.qvel.head<3>() - s.qvel.segment<3>(6);
+  bool touched = false;
+  double worst = 0;
+  for (int i = 0; i < 60; ++i) {
+    ASSERT_TRUE(sim_step(m, o, s, ws));
+    if (i > 0) worst = std::max(worst, (momentum(s) - p0).norm() / p0.norm());
+    Kinematics k;
+    kinematics(m, s.qpos, &k);
+    std::vector<PairContact> c;
+    find_pair_contacts(m, k, contact_geom_pairs(m), &c);
+    touched = touched || !c.empty();
+  }
+  EXPECT_TRUE(touched);
+  EXPECT_LT(worst, 1e-6);
+  // They bounced: the relative velocity along x changed sign.
+  EXPECT_LT((s.qvel.head<3>() - s.qvel.segment<3>(6)).x() * v_rel0.x(), 0);
+  std::printf("momentum drift %.3g relative\n", worst);
+}
+
+// A chain of three capsules whose last link falls back onto the first (fixed) one:
+// with self-collision the two stay apart (penalty depth), without it they pass.
+double folding_chain_min_gap(bool self_collision) {
+  const Model m = model_from_mjcf(R"(<mujoco><worldbody>
+    <body name="l1"><geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.02"/>
+      <body name="l2" pos="0.3 0 0" euler="0 -100 0"><joint type="hinge" axis="0 1 0"/>
+        <geom type="capsule" fromto="0 0 0 0.1 0 0" size="0.02"/>
+        <body name="l3" pos="0.1 0 0" euler="0 -80 0"><joint type="hinge" axis="0 1 0"/>
+          <geom type="capsule" fromto="0 0 0 0.25 0 0" size="0.02"/></body></body></body>
+    </worldbody></mujoco>)", "fold.xml");
+  SimOptions o;
+  o.dt = 0.005;
+  o.contact.self_collision = self_collision;
+  State s = state_init(m);
+  SimWorkspace ws;
+  Kinematics k;
+  double gap = 1e9;
+  const Geom &g1 = m.geoms[0], &g3 = m.geoms[2];
+  for (int i = 0; i < 160; ++i) {
+    if (!sim_step(m, o, s, ws)) return -1e9;
+    kinematics(m, s.qpos, &k);
+    // Distance of link 3's axis from link 1's capsule (sampled), minus link 3's radius.
+    for (int j = 0; j <= 20; ++j) {
+      const Vec3 x = k.xpos[3] + k.xmat[3] * (g3.pos + g3.quat * Vec3(0, 0, g3.size[1] * (j / 10.0 - 1)));
+      Geom w = g1;
+      w.pos = k.xpos[1] + k.xmat[1] * g1.pos;
+      w.quat = Quat(k.xmat[1]) * g1.quat;
+      Vec3 n;
+      gap = std::min(gap, obstacle_distance(w, x, &n) - g3.size[0]);
+    }
+  }
+  return gap;
+}
+
+TEST(Contact, FoldingChainStaysApartWithSelfCollision) {
+  const double on = folding_chain_min_gap(true), off = folding_chain_min_gap(false);
+  std::printf("folding chain: min gap %.3g m with self-collision, %.3g m without\n", on, off);
+  EXPECT_GT(on, -2e-3);
+  EXPECT_LT(off, -0.02);
+}
+
+TEST(Contact, BodyPairFiltersParentChildBitmaskAndExclude) {
+  // Geoms 1..7 on bodies a, child, grandchild, t2, a2, t4, ex (geom 0: the plane).
+  const Model m = model_from_mjcf(R"(<mujoco><worldbody><geom type="plane"/>
+    <body name="a"><freejoint/><geom size="0.1"/>
+      <body name="child"><joint/><geom size="0.1"/>
+        <body name="grandchild"><joint/><geom size="0.1"/></body></body></body>
+    <body name="t2"><freejoint/><geom size="0.1" contype="2" conaffinity="0"/></body>
+    <body name="a2"><freejoint/><geom size="0.1" contype="0" conaffinity="2"/></body>
+    <body name="t4"><freejoint/><geom size="0.1" contype="4" conaffinity="4"/></body>
+    <body name="ex"><freejoint/><geom size="0.1"/></body>
+    </worldbody><contact><exclude body1="ex" body2="a"/></contact></mujoco>)", "filters.xml");
+  std::vector<std::pair<int, int>> pairs;
+  for (const GeomPair& p : contact_geom_pairs(m)) pairs.emplace_back(p.a, p.b);
+  // a-child, child-grandchild: parent and child; t2/a2/t4 by the bitmask rule (only
+  // t2's type meets a2's affinity); ex-a excluded.
+  const std::vector<std::pair<int, int>> expect = {{1, 3}, {2, 7}, {3, 7}, {4, 5}};
+  EXPECT_EQ(pairs, expect);
+  // Without the exclude, ex meets a too.
+  Model open = m;
+  open.contact_exclude.clear();
+  EXPECT_EQ(contact_geom_pairs(open).size(), 5u);
 }
 
 }  // namespace

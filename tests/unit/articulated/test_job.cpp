@@ -26,6 +26,10 @@ TEST(Job, CompileReadsOptionsAndCountsFrames) {
   EXPECT_EQ(a.steps, 50);
   EXPECT_EQ(a.frames, 11);
   EXPECT_EQ(a.options.contact.friction, FrictionModel::Ck);
+  EXPECT_FALSE(a.options.contact.self_collision);  // the default
+  nlohmann::json on = sc.doc;
+  on["contact"]["self_collision"] = true;
+  EXPECT_TRUE(articulated_compile(scene_of(on)).options.contact.self_collision);
   EXPECT_EQ(articulated_summary(sc)["nv"], 20);
 }
 

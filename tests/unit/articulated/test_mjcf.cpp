@@ -162,7 +162,7 @@ TEST(Mjcf, UnsupportedPhysicsNamesTheElementAndHarmlessPartsAreIgnored) {
             std::string::npos);
   EXPECT_NE(error_of(b + "<equality><weld body1=\"a\"/></equality></mujoco>").find("/mujoco/equality[0] | unsupported element <equality>"),
             std::string::npos);
-  EXPECT_NE(error_of(b + "<contact><exclude body1=\"a\" body2=\"a\"/></contact></mujoco>").find("/mujoco/contact[0]"),
+  EXPECT_NE(error_of(b + "<contact><pair geom1=\"g\" geom2=\"h\"/></contact></mujoco>").find("/mujoco/contact[0]/pair[0] | unsupported element <pair>"),
             std::string::npos);
   EXPECT_NE(error_of("<mujoco><option><flag gravity=\"disable\"/></option></mujoco>").find("/mujoco/option[0]/flag[0] | unsupported element <flag>"),
             std::string::npos);
@@ -189,6 +189,27 @@ TEST(Mjcf, UnsupportedPhysicsNamesTheElementAndHarmlessPartsAreIgnored) {
   EXPECT_EQ(extra.bodies.size(), plain.bodies.size());
   EXPECT_EQ(extra.bodies[1].mass, plain.bodies[1].mass);
   EXPECT_EQ(extra.nq, plain.nq);
+}
+
+TEST(Mjcf, ContactExcludeAndMasksAreReadAndMalformedOnesNameTheElement) {
+  const std::string b = "<mujoco><worldbody><body name=\"a\"><freejoint/><geom size=\"0.1\" contype=\"3\" conaffinity=\"5\"/></body>"
+                        "<body name=\"b\"><freejoint/><geom size=\"0.1\"/></body></worldbody>";
+  const Model m = model_from_mjcf(b + "<contact><exclude name=\"x\" body1=\"b\" body2=\"a\"/></contact></mujoco>", "a.xml");
+  ASSERT_EQ(m.contact_exclude.size(), 1u);
+  EXPECT_EQ(m.contact_exclude[0], (std::array<int, 2>{1, 2}));
+  EXPECT_EQ(m.geoms[0].contype, 3);
+  EXPECT_EQ(m.geoms[0].conaffinity, 5);
+  EXPECT_EQ(error_of(b + "<contact><exclude body1=\"a\"/></contact></mujoco>"),
+            "/mujoco/contact[0]/exclude[0]/@body2 | <exclude> needs body1 and body2");
+  EXPECT_EQ(error_of(b + "<contact><exclude body1=\"a\" body2=\"bb\"/></contact></mujoco>"),
+            "/mujoco/contact[0]/exclude[0]/@body2 | no body named \"bb\"; did you mean \"b\"?");
+  EXPECT_EQ(error_of(b + "<contact><exclude body1=\"a\" body2=\"a\"/></contact></mujoco>"),
+            "/mujoco/contact[0]/exclude[0]/@body2 | a body cannot be excluded from itself");
+  EXPECT_NE(error_of(b + "<contact><exclude body1=\"a\" body2=\"b\" margin=\"1\"/></contact></mujoco>")
+                .find("/mujoco/contact[0]/exclude[0]/@margin | unsupported attribute"),
+            std::string::npos);
+  EXPECT_EQ(error_of("<mujoco><worldbody><body><geom size=\"0.1\" contype=\"1.5\"/></body></worldbody></mujoco>"),
+            "/mujoco/worldbody[0]/body[0]/geom[0]/@contype | must be a non-negative integer");
 }
 
 TEST(Mjcf, MalformedOrientationsAndFromtoNameTheField) {

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include "pliant/articulated/contact.h"
 #include "pliant/articulated/io.h"
 #include "pliant/core/error.h"
 #include "mesh_fixture.h"
@@ -60,6 +61,39 @@ TEST(ModelJson, ErrorsNameTheField) {
             "/bodies/0/joints/0/range");
   EXPECT_EQ(pointer_of({{"bodies", {{{"name", "a"}, {"joints", {{{"type", "free"}, {"range", {0, 1}}}}}}}}}),
             "/bodies/0/joints/0/range");
+}
+
+TEST(ModelJson, BodyContactFiltersAndExcludes) {
+  const auto body = [](const char* name, nlohmann::json geom) {
+    return nlohmann::json{{"name", name}, {"joints", {{{"type", "free"}}}}, {"geoms", {geom}}};
+  };
+  const nlohmann::json sphere = {{"type", "sphere"}, {"size", {0.1}}};
+  nlohmann::json j = {{"bodies",
+                       {body("a", sphere), body("b", sphere), body("c", {{"type", "sphere"}, {"size", {0.1}}, {"contact", false}}),
+                        body("d", {{"type", "sphere"}, {"size", {0.1}}, {"contype", 2}, {"conaffinity", 2}})}},
+                      {"exclude", {{{"body1", "b"}, {"body2", "a"}}}}};
+  const Model m = from_json(j);
+  EXPECT_EQ(m.geoms[2].contype, 0);  // "contact": false clears both masks
+  EXPECT_EQ(m.geoms[3].conaffinity, 2);
+  ASSERT_EQ(m.contact_exclude.size(), 1u);
+  EXPECT_EQ(m.contact_exclude[0], (std::array<int, 2>{1, 2}));
+  EXPECT_TRUE(contact_geom_pairs(m).empty());  // a-b excluded, c off, d's masks meet nobody's
+  auto pointer_of = [](const nlohmann::json& bad) {
+    try {
+      from_json(bad);
+    } catch (const InputError& e) {
+      return e.pointer() + " | " + e.problem();
+    }
+    return std::string("no error");
+  };
+  nlohmann::json bad = j;
+  bad["exclude"] = {{{"body1", "bb"}, {"body2", "a"}}};
+  EXPECT_EQ(pointer_of(bad), "/exclude/0/body1 | no body named \"bb\"; did you mean \"b\"?");
+  bad["exclude"] = {{{"body1", "a"}}};
+  EXPECT_EQ(pointer_of(bad).substr(0, 16), "/exclude/0/body2");
+  bad = j;
+  bad["bodies"][0]["geoms"][0]["contype"] = -1;
+  EXPECT_EQ(pointer_of(bad).substr(0, 26), "/bodies/0/geoms/0/contype ");
 }
 
 TEST(ModelJson, BallRangeIsAConeAngle) {

@@ -30,6 +30,9 @@ struct ContactOptions {
   double ck = 10;                // s/m
   double slip_eps = 1e-7;        // m per step
   double limit_stiffness = 1e3;  // N m/rad (hinge) or N/m (slide) beyond a joint's range
+  // Body-body contact (find_pair_contacts). Off by default: scenes written before it
+  // keep their trajectories; MuJoCo would collide every pair its filter allows.
+  bool self_collision = false;
 };
 
 // A contact candidate: one body point, one obstacle.
@@ -74,5 +77,37 @@ void find_contacts(const Model& m, const Kinematics& k, const std::vector<Contac
 // mesh's material point under the obstacle point at q_i (sim.cpp). Appends to out.
 void mesh_feature_contacts(const Model& m, const Kinematics& k, const std::vector<int>& obs,
                            std::vector<Contact>* out);
+
+// ---- Body-body contact (ContactOptions::self_collision) ----
+// Candidate geom pairs, found once per model: sphere, capsule and box geoms of two
+// different moving bodies that are not parent and child, not excluded
+// (Model::contact_exclude) and pass MuJoCo's contype/conaffinity bitmask rule. Mesh
+// geoms take no part. Per step each pair is culled by bounding spheres (reach = sum
+// of the radii): O(G^2) pairs, fine for the tens of geoms of a pile or a walker.
+struct GeomPair {
+  int a, b;      // geom indices, a < b
+  double reach;  // bounding radius of a + of b (about each geom's centre)
+};
+std::vector<GeomPair> contact_geom_pairs(const Model& m);
+double geom_bounding_radius(const Geom& g);
+
+// A body-body contact: penalty k/2 depth^2, force k depth normal on body_b at point,
+// the opposite on body_a. Pair types: sphere-sphere, sphere-capsule (exact, sphere
+// centre against the other's signed distance), capsule-capsule (closest points of the
+// two segments; parallel overlapping segments: the middle of the overlap, one
+// contact), sphere-box (exact), capsule-box (the capsule's end spheres against the
+// box, the box's corners against the capsule), box-box (each box's corners against
+// the other box). Missed: box edge across box edge or capsule side with no corner or
+// end sphere inside the other (see README, Missing).
+struct PairContact {
+  int body_a, body_b;
+  Vec3 point;   // world: the deepest point of b's surface (a point of both bodies' lines of action)
+  Vec3 normal;  // unit, pushes body_b away from body_a
+  double depth; // > 0
+};
+// Active contacts of the pairs at kinematics k (out is cleared; no allocation once
+// its capacity suffices).
+void find_pair_contacts(const Model& m, const Kinematics& k, const std::vector<GeomPair>& pairs,
+                        std::vector<PairContact>* out);
 
 }  // namespace pliant::articulated

@@ -70,7 +70,11 @@ struct Geom {
   Vec3 size{0.05, 0, 0};
   double density = 1000;  // kg/m^3, used when mass < 0
   double mass = -1;       // explicit mass (MJCF "mass")
-  bool contact = true;
+  bool contact = true;  // against obstacles (MJCF: contype or conaffinity nonzero)
+  // Body-body contact (ContactOptions::self_collision) as MuJoCo's bitmask rule: two
+  // geoms of different, non parent-child bodies touch when
+  // (contype_a & conaffinity_b) || (contype_b & conaffinity_a).
+  int contype = 1, conaffinity = 1;
   std::shared_ptr<const MeshShape> mesh;  // GeomType::Mesh only
 };
 
@@ -105,6 +109,9 @@ struct Model {
   double timestep = 0.01;   // MJCF <option timestep>, default for scenes
   VecX qpos0;               // reference configuration
   std::vector<int> dof_body;  // body of each velocity dof
+  // Body pairs that never touch each other (MJCF <contact><exclude body1 body2>,
+  // JSON "exclude"), smaller index first.
+  std::vector<std::array<int, 2>> contact_exclude;
 };
 
 // Fills joint addresses, body dof ranges, dof_body and qpos0, and the mass

@@ -85,6 +85,15 @@ struct FeatureAnchor {
   double normal_force;
 };
 
+// Friction of a body-body contact (find_pair_contacts) found at q_i: the material
+// points of both bodies at the contact point (local frames), its normal and normal
+// force; the slip is the two points' relative displacement over the step.
+struct PairAnchor {
+  int body_a, body_b;
+  Vec3 local_a, local_b, normal;
+  double normal_force;
+};
+
 struct PbadStep {
   std::vector<Vec3> y;  // target centre per body
   std::vector<Mat3> a;  // target rotation per body
@@ -97,10 +106,22 @@ struct PbadStep {
   bool any_damping = false, any_limits = false;
   bool any_mesh_features = false;  // a moving mesh and a static box or sphere (contact.h)
   std::vector<FeatureAnchor> feature_anchors;  // their contacts at q_i (friction)
+  bool any_pairs = false;  // self_collision on and candidate geom pairs exist
+  std::vector<PairAnchor> pair_anchors;  // body-body contacts at q_i (friction)
   double grad_tol = 0;
   std::vector<VecX> s_hist, y_hist;  // L-BFGS pairs
   int iterations = 0;
   bool done = false;
+};
+
+// One rank-1 term weight * u u^T of a body-body contact's Gauss-Newton matrix, u the
+// generalized force of a unit force `dir` at point_b on body_b and -dir at point_a on
+// body_a (normal: weight k; friction: one term per tangent direction). The LM solve
+// adds them to the tree solve's per-body blocks exactly (Woodbury, pbad_solver.cpp).
+struct PairTerm {
+  int body_a, body_b;
+  Vec3 point_a, point_b, dir;
+  double weight;
 };
 
 // Per-trajectory scratch (no allocation once warm).
@@ -122,6 +143,11 @@ struct SimWorkspace {
   std::vector<Contact> contacts;
   std::vector<Contact> feature_contacts;  // obstacle corners against moving meshes (PBAD energy)
   std::vector<ContactPoint> points;  // cached from the model on first use
+  std::vector<GeomPair> pairs;       // body-body candidates (contact_geom_pairs), cached
+  std::vector<PairContact> pair_contacts;
+  std::vector<PairTerm> pair_terms;  // at the last evaluation with derivatives
+  Eigen::MatrixXd pair_u, pair_y, pair_cap;  // columns u, A^-1 u, capacitance (capacity grows)
+  VecX pair_col, pair_sol, pair_alpha;
   std::vector<int> obstacles;
   const Model* cached_for = nullptr;
   PbadStep pbad;  // sim_step's PBAD iterate
