@@ -9,13 +9,25 @@ namespace pliant::smoke {
 using control_detail::Vec;
 
 NsoSolver::NsoSolver(const ControlModel& m, control_detail::ForwardOps& ops)
-    : m_(m), ops_(ops), T_(m.sim.frames), F_(ops.faces()) {
-  mg_ = std::make_unique<SpacetimeMultigrid>(SpacetimeGrid(ops.grid(), T_));
-  mg_->pre_sweeps = mg_->post_sweeps = 2;
+    : m_(m), ops_(ops), T_(m.sim.frames), F_(ops.faces()) {}
+
+SpacetimeMultigrid& NsoSolver::multigrid() {
+  if (!mg_) {
+    mg_ = std::make_unique<SpacetimeMultigrid>(SpacetimeGrid(ops_.grid(), T_));
+    mg_->pre_sweeps = mg_->post_sweeps = 2;
+    std::vector<double>().swap(xs_);  // candidate() is the fine level's x from now on
+  }
+  return *mg_;
+}
+
+double* NsoSolver::candidate() {
+  if (mg_) return mg_->fine().x.data();
+  xs_.resize(size_t(T_) * F_);
+  return xs_.data();
 }
 
 size_t NsoSolver::bytes() const {
-  size_t b = mg_->bytes();
+  size_t b = (mg_ ? mg_->bytes() : 0) + xs_.capacity() * sizeof(double);
   for (const Worker& w : workers_) b += (w.a.capacity() + w.b.capacity()) * sizeof(double);
   return b;  // (the workers' ForwardOps are not counted)
 }
@@ -74,9 +86,9 @@ double NsoSolver::energy_flat(const double* x, const std::vector<Vec>& d, double
 }
 
 double NsoSolver::energy(const std::vector<Vec>& z, const std::vector<Vec>& d, double beta) {
-  NsoLevel& L = mg_->fine();
-  for (int t = 0; t < T_; ++t) std::copy(z[t].begin(), z[t].end(), L.x.begin() + size_t(t) * F_);
-  return energy_flat(L.x.data(), d, beta);
+  double* x = candidate();
+  for (int t = 0; t < T_; ++t) std::copy(z[t].begin(), z[t].end(), x + size_t(t) * F_);
+  return energy_flat(x, d, beta);
 }
 
 NsoStats NsoSolver::solve(std::vector<Vec>& z, const std::vector<Vec>& d, double beta, int vcycles, int lm_steps) {
@@ -84,32 +96,34 @@ NsoStats NsoSolver::solve(std::vector<Vec>& z, const std::vector<Vec>& d, double
   const double dt = ops_.dt(), w = 2.0 * m_.r / (dt * dt);
   double E = energy(z, d, beta);
   st.e_before = E;
-  NsoLevel& L = mg_->fine();
   if (projected_start) {
     // Start from the per-frame projection P d when it is better: the exact solution for
     // r -> 0 (no dynamics term), and a much better guess than the last z while beta
-    // dominates 2r/dt^2, so fewer V-cycles reach the same residual. Built in the fine
-    // level's x (no T*faces copy).
+    // dominates 2r/dt^2, so fewer V-cycles reach the same residual. Built in candidate()
+    // (no T*faces copy).
+    double* x = candidate();
     for_frames([&](int t, control_detail::ForwardOps& ops, Worker& w) {
       w.b = d[t];
       ops.project(w.b);
-      std::copy(w.b.begin(), w.b.end(), L.x.begin() + size_t(t) * F_);
+      std::copy(w.b.begin(), w.b.end(), x + size_t(t) * F_);
     });
-    const double Ep = energy_flat(L.x.data(), d, beta);
+    const double Ep = energy_flat(x, d, beta);
     double ef = 0;
     for (int t = 0; t < T_; ++t) ef += frame_ef_[t];
     // E(z) >= beta/2 ||Pd - d||^2 for every divergence-free z (P d is the closest one),
     // so the optimum is at most the dynamics term r||f(Pd)||^2 below E(Pd).
     st.start_gap = Ep > 0 ? m_.r * ef / (dt * dt) / Ep : 0.0;
     if (Ep < E) {
-      for (int t = 0; t < T_; ++t) std::copy(L.x.begin() + size_t(t) * F_, L.x.begin() + size_t(t + 1) * F_, z[t].begin());
+      for (int t = 0; t < T_; ++t) std::copy(x + size_t(t) * F_, x + size_t(t + 1) * F_, z[t].begin());
       E = Ep;
       st.projected_start = true;
       st.skipped = st.start_gap < skip_gap;
     }
   }
   // vcycles == 0: the projected start alone (bench experiments; scenes ask for >= 1).
+  NsoLevel* fine = vcycles > 0 && lm_steps > 0 && !st.skipped ? &multigrid().fine() : nullptr;
   for (int step = 0; step < lm_steps && vcycles > 0 && !st.skipped; ++step) {
+    NsoLevel& L = *fine;
     bool accepted = false;
     for (int attempt = 0; attempt < 3 && !accepted; ++attempt) {
       for (int t = 0; t < T_; ++t)

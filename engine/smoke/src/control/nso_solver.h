@@ -48,7 +48,9 @@ class NsoSolver {
                  int vcycles, int lm_steps = 1);
   double energy(const std::vector<control_detail::Vec>& z, const std::vector<control_detail::Vec>& d,
                 double beta);
-  SpacetimeMultigrid& multigrid() { return *mg_; }
+  // Built on first use (a solve that does not skip it), so ADMM runs whose every solve
+  // skips never hold it (~2.6 GB at 64^3 x 40).
+  SpacetimeMultigrid& multigrid();
   // Bytes held by the solver (multigrid levels and scratch), for memory reports.
   size_t bytes() const;
   // Levenberg-Marquardt damping carried to the next solve (ControlState::nso_damping).
@@ -74,8 +76,12 @@ class NsoSolver {
   void for_frames(Frame&& frame);
   // E of the fine level's x (T*faces, frame-major): the candidate z without a copy.
   double energy_flat(const double* x, const std::vector<control_detail::Vec>& d, double beta);
+  // T*faces doubles for a candidate z: the multigrid's fine x once it exists, else xs_.
+  double* candidate();
 
-  std::unique_ptr<SpacetimeMultigrid> mg_;
+
+  std::unique_ptr<SpacetimeMultigrid> mg_;  // null until the first multigrid solve
+  std::vector<double> xs_;                  // candidate() while there is no multigrid
   std::vector<Worker> workers_;
   std::vector<double> frame_ef_, frame_ed_;  // per-frame energy terms (summed in order)
   double mu_ = 0;
