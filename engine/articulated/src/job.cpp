@@ -143,8 +143,16 @@ Record articulated_frame_record(const Model& m, const SimOptions& o, const State
     const Quat& q = ws.kin.xquat[b];
     for (double v : {x.x(), x.y(), x.z(), q.w(), q.x(), q.y(), q.z()}) pose.data.push_back(static_cast<float>(v));
   }
-  Field contacts{"contacts", {static_cast<uint32_t>(ws.contacts.size()), 6}, {}};
+  // Obstacle contacts, then body-body ones (force on the body the normal pushes).
+  const size_t npair = o.contact.enabled && o.contact.self_collision ? ws.pair_contacts.size() : 0;
+  Field contacts{"contacts", {static_cast<uint32_t>(ws.contacts.size() + npair), 6}, {}};
   for (const Contact& c : ws.contacts) {
+    const Vec3 f = o.contact.stiffness * c.depth * c.normal;
+    for (double v : {c.point.x(), c.point.y(), c.point.z(), f.x(), f.y(), f.z()})
+      contacts.data.push_back(static_cast<float>(v));
+  }
+  for (size_t i = 0; i < npair; ++i) {
+    const PairContact& c = ws.pair_contacts[i];
     const Vec3 f = o.contact.stiffness * c.depth * c.normal;
     for (double v : {c.point.x(), c.point.y(), c.point.z(), f.x(), f.y(), f.z()})
       contacts.data.push_back(static_cast<float>(v));
