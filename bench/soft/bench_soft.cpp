@@ -371,6 +371,45 @@ void optimizers(const std::string& scene, int iterations) {
   }
 }
 
+// One rollout Jacobian at the optimizer's starting point: forward differences (the
+// optimizer's, n rollouts next to the given r0) vs forward sensitivities (one
+// rollout + one solve per step), both against central differences (2n rollouts).
+void jacobian(const std::string& scene) {
+  SoftModel m = load(scene);
+  const Problem& p = m.problem;
+  const Eigen::VectorXd theta = initial_theta(p);
+  const ResidualFn rf = [&p](const Eigen::VectorXd& th) { return residuals(p, th); };
+  const Eigen::VectorXd r0 = rf(theta);
+  double c0 = cpu_s();
+  const Eigen::MatrixXd Jfd = fd_jacobian(rf, theta, r0, m.optimizer.fd_step);
+  const double cpu_fd = cpu_s() - c0;
+  c0 = cpu_s();
+  const Eigen::MatrixXd Js = sensitivity_jacobian(p, theta);
+  const double cpu_sens = cpu_s() - c0;
+  c0 = cpu_s();
+  const double rollout_cpu = (rf(theta), cpu_s() - c0);
+  Eigen::MatrixXd Jc(r0.size(), theta.size());
+  const double h = (std::getenv("CENTRAL_H") ? std::atof(std::getenv("CENTRAL_H")) : 1e-3) * max_activation_m(m.character, p.dmp);
+  for (int i = 0; i < theta.size(); ++i) {
+    Eigen::VectorXd tp = theta, tm = theta;
+    tp[i] += h, tm[i] -= h;
+    Jc.col(i) = (rf(tp) - rf(tm)) / (2 * h);
+  }
+  const double scale = Jc.cwiseAbs().maxCoeff();
+  emit({{"case", "jacobian_" + scene.substr(0, scene.find('.'))},
+        {"parameters", theta.size()},
+        {"residuals", r0.size()},
+        {"frames", p.frames},
+        {"cpu_s_finite_difference", cpu_fd},
+        {"cpu_s_sensitivity", cpu_sens},
+        {"cpu_s_rollout", rollout_cpu},
+        {"speedup", cpu_fd / cpu_sens},
+        {"central_step", h},
+        {"sensitivity_vs_central_rel", Js.size() ? (Js - Jc).cwiseAbs().maxCoeff() / scale : -1.0},
+        {"finite_difference_vs_central_rel", (Jfd - Jc).cwiseAbs().maxCoeff() / scale},
+        {"load_average", load_average()}});
+}
+
 void playback(const std::string& scene, int frames) {
   SoftModel m = load(scene);
   const Problem& p = m.problem;
@@ -465,6 +504,14 @@ int main(int argc, char** argv) {
     playback("fish_swim.json", quick ? 100 : 300);
     playback_rotation_strain("spider_walk.json", quick ? 100 : 300);
     playback_rotation_strain("fish_swim.json", quick ? 100 : 300);
+  }
+  if (want("jacobian")) {
+    jacobian("soft_t_jump.json");
+    if (const char* e = std::getenv("JACOBIAN_SCENE")) {
+      jacobian(e);
+    } else if (!quick) {
+      jacobian("spider_walk.json"), jacobian("fish_swim.json"), jacobian("soft_worm_crawl.json");
+    }
   }
   if (want("optimize")) optimizers("soft_worm_crawl.json", quick ? 3 : 15);
   if (!quick && want("optimize")) {

@@ -52,7 +52,7 @@ struct OptimizerSettings {
   // which slowed pure L-BFGS down 2-5x (T-shape jump: 9 iterations to 1% instead of
   // 2). The hybrid's first L-BFGS step instead has its last LM step's length.
   double lbfgs_initial_step = 1.0;
-  JacobianKind jacobian = JacobianKind::FiniteDifference;
+  JacobianKind jacobian = JacobianKind::Sensitivity;
 };
 
 struct OptimizerState {
