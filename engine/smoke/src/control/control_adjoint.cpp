@@ -127,25 +127,40 @@ void ForwardOps::upwind_step_adjoint(const Vec& u, double dt_sub, const Vec& q, 
 
 double objective_d(const ControlModel& m, ForwardOps& ops, const std::vector<Vec>& f, std::vector<Vec>* grad) {
   const int T = m.sim.frames;
-  const size_t nf = ops.faces(), nc = ops.cells();
+  const size_t nf = ops.faces();
   if (int(f.size()) != T) throw std::invalid_argument("control: expected " + std::to_string(T) + " force frames");
   for (const Vec& fi : f)
     if (fi.size() != nf) throw std::invalid_argument("control: force frame has the wrong number of faces");
+  ForwardOps::Scratch& w = ops.scratch;
+  w.force_frames.resize(size_t(T));
+  for (int i = 0; i < T; ++i) w.force_frames[size_t(i)] = f[size_t(i)].data();
+  if (grad) {
+    grad->resize(T);
+    w.grad_frames.resize(size_t(T));
+    for (int i = 0; i < T; ++i) {
+      (*grad)[size_t(i)].resize(nf);
+      w.grad_frames[size_t(i)] = (*grad)[size_t(i)].data();
+    }
+  }
+  return objective_d(m, ops, w.force_frames.data(), grad ? w.grad_frames.data() : nullptr);
+}
+
+double objective_d(const ControlModel& m, ForwardOps& ops, const double* const* f, double* const* grad) {
+  const int T = m.sim.frames;
+  const size_t nf = ops.faces(), nc = ops.cells();
   const SerialBelow serial(nc);
   ForwardOps::Scratch& w = ops.scratch;
   TrajectoryD& t = w.trajectory;
   forward_d(m, ops, f, t);
   double reg = 0;
-  for (const Vec& fi : f) {
-    const double* p = fi.data();
+  for (int i = 0; i < T; ++i) {
+    const double* p = f[i];
     reg += fixed_order_sum(nf, [p](size_t e) { return p[e] * p[e]; });
   }
   const double E = keyframe_error_d(m, t) + m.r * reg;
   if (!grad) return E;
 
   // Every entry of grad, wbar and qbar is written below; ubar and rhobar accumulate.
-  grad->resize(T);
-  for (Vec& gi : *grad) gi.resize(nf);
   Vec &ubar = w.ubar, &ubar_prev = w.ubar_prev, &wbar = w.wbar, &rhobar = w.rhobar, &qbar = w.qbar;
   ubar.assign(nf, 0.0);
   ubar_prev.resize(nf);
@@ -191,8 +206,8 @@ double objective_d(const ControlModel& m, ForwardOps& ops, const std::vector<Vec
     }
     ops.project(wbar);
     {
-      double* gi = (*grad)[i].data();
-      const double* fi = f[i].data();
+      double* gi = grad[i];
+      const double* fi = f[i];
       const double* wb = wbar.data();
       const double r2 = 2.0 * m.r;
 #pragma omp parallel for schedule(static) if (parallel_faces)

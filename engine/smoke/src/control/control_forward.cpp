@@ -222,6 +222,13 @@ SerialBelow::~SerialBelow() {
 }
 
 void forward_d(const ControlModel& m, ForwardOps& ops, const std::vector<Vec>& f, TrajectoryD& out) {
+  std::vector<const double*>& fp = ops.scratch.force_frames;
+  fp.resize(f.size());
+  for (size_t i = 0; i < f.size(); ++i) fp[i] = f[i].data();
+  forward_d(m, ops, fp.data(), out);
+}
+
+void forward_d(const ControlModel& m, ForwardOps& ops, const double* const* f, TrajectoryD& out) {
   const SerialBelow serial(ops.cells());
   const int T = m.sim.frames;
   const size_t nf = ops.faces(), nc = ops.cells();
@@ -239,7 +246,7 @@ void forward_d(const ControlModel& m, ForwardOps& ops, const std::vector<Vec>& f
     Vec& w = out.u[i + 1];
     w.resize(nf);
     ops.advect_velocity(out.u[i], w);
-    const double* fi = f[i].data();
+    const double* fi = f[i];
     double* wp = w.data();
 #pragma omp parallel for schedule(static) if (nf > 16384)
     for (size_t e = 0; e < nf; ++e) wp[e] += dt * fi[e];

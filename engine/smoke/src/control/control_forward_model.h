@@ -71,6 +71,8 @@ class ForwardOps {
     Vec rho_tmp;                            // upwind ping-pong buffer
     Vec ubar, ubar_prev, wbar, rhobar, qbar;
     std::vector<Vec> substep_states;        // grows to the most density sub-steps seen
+    std::vector<const double*> force_frames;  // the vector overloads' frame pointers
+    std::vector<double*> grad_frames;
   };
   Scratch scratch;
 
@@ -127,10 +129,15 @@ class SerialBelow {
 
 // Forward simulation from rest with rho_0 = m.initial_density.
 void forward_d(const ControlModel& m, ForwardOps& ops, const std::vector<Vec>& f, TrajectoryD& out);
+// The same with f[i] pointing at frame i's faces() forces (no copy of a flat vector).
+void forward_d(const ControlModel& m, ForwardOps& ops, const double* const* f, TrajectoryD& out);
 // Keyframe term sum_k w_k ||rho_tk - rho*_k||^2 of a trajectory.
 double keyframe_error_d(const ControlModel& m, const TrajectoryD& t);
 // E(f) and, if grad, dE/df by the discrete adjoint.
 double objective_d(const ControlModel& m, ForwardOps& ops, const std::vector<Vec>& f, std::vector<Vec>* grad);
+// The same on frame pointers (f[i], grad[i]: faces() doubles each; grad may be null): the
+// L-BFGS objective hands its flat x and gradient over without T x faces copies.
+double objective_d(const ControlModel& m, ForwardOps& ops, const double* const* f, double* const* grad);
 
 // Default projection tolerance of the control model (tight: the adjoint needs P symmetric).
 inline constexpr double kControlPressureTolerance = 1e-10;

@@ -23,20 +23,22 @@
 namespace pliant::smoke {
 namespace {
 
-using control_detail::Vec;
 
 // Iterations the relative-decrease stop looks back (see control_solve_lbfgs).
 constexpr int kStopPast = 3;
 
 struct LbfgsObjective {
   LbfgsObjective(const ControlModel& m, control_detail::ForwardOps& ops, Progress& progress, int T, size_t nf)
-      : m(m), ops(ops), progress(progress), T(T), nf(nf), f(T, Vec(nf)) {}
+      : m(m), ops(ops), progress(progress), T(T), nf(nf), f(size_t(T)), g(size_t(T)) {}
   const ControlModel& m;
   control_detail::ForwardOps& ops;
   Progress& progress;
   int T;
   size_t nf;
-  std::vector<Vec> f, g;
+  // Frame pointers into x and the gradient: objective_d reads and writes them in place
+  // (per-frame copies were 2 x T x faces doubles, 0.5 GB at 64^3 x 40, and two passes).
+  std::vector<const double*> f;
+  std::vector<double*> g;
   double best_f = std::numeric_limits<double>::infinity();
   Eigen::VectorXd best_x;
   std::vector<double>* history = nullptr;
@@ -48,17 +50,11 @@ struct LbfgsObjective {
   double operator()(const Eigen::VectorXd& x, Eigen::VectorXd& grad) {
     progress.check_cancelled();
     grad.resize(x.size());
-    // Per frame: x -> f and g -> grad (T * faces doubles each; serial copies were a few %
-    // of a 48^3 evaluation's wall time on 2 threads).
-    const bool parallel = nf >= control_detail::kControlParallelCells;
-#pragma omp parallel for schedule(static) if (parallel)
     for (int i = 0; i < T; ++i) {
-      const double* xi = x.data() + size_t(i) * nf;
-      std::copy(xi, xi + nf, f[size_t(i)].begin());
+      f[size_t(i)] = x.data() + size_t(i) * nf;
+      g[size_t(i)] = grad.data() + size_t(i) * nf;
     }
-    const double E = control_detail::objective_d(m, ops, f, &g);
-#pragma omp parallel for schedule(static) if (parallel)
-    for (int i = 0; i < T; ++i) std::copy(g[size_t(i)].begin(), g[size_t(i)].end(), grad.data() + size_t(i) * nf);
+    const double E = control_detail::objective_d(m, ops, f.data(), g.data());
     ++evaluations;
     if (E < best_f) {
       best_f = E;
