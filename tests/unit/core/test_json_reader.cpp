@@ -2,21 +2,14 @@
 
 #include <gtest/gtest.h>
 
+#include "input_error_of.h"
+
 namespace pliant {
 namespace {
 
 using nlohmann::json;
 
-// The message of the InputError that `f` throws ("" if none).
-template <class F>
-std::string error_of(F&& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
+using test::error_of;
 
 const json kDoc = json::parse(R"({
   "grid": {"resolution": [-3, 4], "resoluton": [1, 2], "cell_size_m": 0.01, "boundary": "perodic"},

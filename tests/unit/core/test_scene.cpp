@@ -2,21 +2,14 @@
 
 #include <gtest/gtest.h>
 
+#include "input_error_of.h"
 #include "pliant/core/error.h"
 #include "temp_dir.h"
 
 namespace pliant {
 namespace {
 
-template <class F>
-std::string error_of(F&& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
+using test::error_of;
 
 TEST(Scene, LoadsTheSampleScenes) {
   Scene s = load_scene(std::filesystem::path(PLIANT_ASSETS_DIR) / "scenes/plume_2d.json");
