@@ -125,7 +125,7 @@ LbfgsResult run_lbfgs(const ControlModel& m, const FaceSeries& start, double c0,
     param.m = 10;
     param.epsilon = 1e-12;
     param.epsilon_rel = 1e-9;
-    param.past = 1;
+    param.past = 3;  // the production stop's look-back (control_lbfgs.cpp kStopPast)
     param.delta = 1e-9;
     param.max_iterations = 0;  // unlimited: the budget ends the run
     LBFGSpp::LBFGSSolver<double> solver(param);
