@@ -65,6 +65,12 @@ def smoke_control_rows(cases):
                              f"1 thread: {c['after_1thread_wall_s']:.2f} s",
                              f"{c['after_1thread_wall_s'] / c['after_2thread_wall_s']:.2f}x"))
             continue
+        if c.get("comparison") == "converged" and c.get("baseline") == "none":  # Pliant alone
+            name = c["case"].split(" converged")[0].removesuffix(".json").replace(".json", "")
+            rows.append((f"Keyframe control {name} ({g} x {c['frames']}), converged, Pliant only",
+                         f"Pliant: {c['pliant_s']:.1f} s CPU, E* {c['pliant_objective']:.1f} "
+                         f"(IoU min {c['iou_min']:.2f})", "no L-BFGS run", "-"))
+            continue
         if c.get("comparison") == "converged":
             ratio = (f">= {c['speedup']:.2f}x" if c.get("speedup_is_lower_bound") else f"{c['speedup']:.2f}x")
             name = c["case"].split(" converged")[0].removesuffix(".json").replace(".json", "")
