@@ -122,6 +122,54 @@ void back_substitute(const Kinematics& k, const Body& body, const Mat6& u, const
 
 }  // namespace
 
+namespace {
+
+// tree_resolve's leaves-to-root pass for one body: only the right-hand side moves,
+// pa_p += pa + u D^-1 (r - S^T pa) with the stored u and D^-1.
+template <int N>
+void resolve_body(const Kinematics& k, const Body& body, const VecX& rhs, const Mat6& u, const Mat6& dinv,
+                  const Vec6& pa, Vec6* ures, Vec6* pa_p) {
+  Eigen::Matrix<double, N, 1> r = rhs.segment<N>(body.dof_begin);
+  for (int i = 0; i < N; ++i) r[i] -= k.cdof[body.dof_begin + i].dot(pa);
+  pa_p->noalias() += pa + u.leftCols<N>() * (dinv.topLeftCorner<N, N>() * r);
+  ures->template head<N>() = r;
+}
+
+}  // namespace
+
+void tree_resolve(const Model& m, const Kinematics& k, const VecX& rhs, VecX* x, TreeWorkspace* ws) {
+  const int nb = static_cast<int>(m.bodies.size());
+  for (int b = 0; b < nb; ++b) ws->pa[b].setZero();
+  for (int b = nb - 1; b >= 1; --b) {
+    const Body& body = m.bodies[b];
+    Vec6* pa_p = &ws->pa[body.parent];
+    switch (body.dof_count) {
+      case 0: *pa_p += ws->pa[b]; break;
+      case 1: resolve_body<1>(k, body, rhs, ws->u[b], ws->dinv[b], ws->pa[b], &ws->ures[b], pa_p); break;
+      case 2: resolve_body<2>(k, body, rhs, ws->u[b], ws->dinv[b], ws->pa[b], &ws->ures[b], pa_p); break;
+      case 3: resolve_body<3>(k, body, rhs, ws->u[b], ws->dinv[b], ws->pa[b], &ws->ures[b], pa_p); break;
+      case 4: resolve_body<4>(k, body, rhs, ws->u[b], ws->dinv[b], ws->pa[b], &ws->ures[b], pa_p); break;
+      case 5: resolve_body<5>(k, body, rhs, ws->u[b], ws->dinv[b], ws->pa[b], &ws->ures[b], pa_p); break;
+      default: resolve_body<6>(k, body, rhs, ws->u[b], ws->dinv[b], ws->pa[b], &ws->ures[b], pa_p); break;
+    }
+  }
+  x->resize(m.nv);
+  ws->acc[0].setZero();
+  for (int b = 1; b < nb; ++b) {
+    const Body& body = m.bodies[b];
+    const Vec6& ap = ws->acc[body.parent];
+    switch (body.dof_count) {
+      case 0: ws->acc[b] = ap; break;
+      case 1: back_substitute<1>(k, body, ws->u[b], ws->dinv[b], ws->ures[b], ap, x, &ws->acc[b]); break;
+      case 2: back_substitute<2>(k, body, ws->u[b], ws->dinv[b], ws->ures[b], ap, x, &ws->acc[b]); break;
+      case 3: back_substitute<3>(k, body, ws->u[b], ws->dinv[b], ws->ures[b], ap, x, &ws->acc[b]); break;
+      case 4: back_substitute<4>(k, body, ws->u[b], ws->dinv[b], ws->ures[b], ap, x, &ws->acc[b]); break;
+      case 5: back_substitute<5>(k, body, ws->u[b], ws->dinv[b], ws->ures[b], ap, x, &ws->acc[b]); break;
+      default: back_substitute<6>(k, body, ws->u[b], ws->dinv[b], ws->ures[b], ap, x, &ws->acc[b]); break;
+    }
+  }
+}
+
 bool tree_solve(const Model& m, const Kinematics& k, const std::vector<Mat6>& h,
                 const VecX& armature, const VecX& rhs, VecX* x, TreeWorkspace* ws) {
   bool positive = true;

@@ -154,10 +154,10 @@ bool lm_solve(const Model& m, const std::vector<Mat6>& blocks, const VecX& rhs, 
     ws.pair_cap.resize(cap, cap);
     ws.pair_alpha.resize(cap);
   }
-  for (int t = 0; t < nt; ++t) {
+  for (int t = 0; t < nt; ++t) {  // A^-1 u with A's elimination from the solve above
     pair_column(m, ws.kin, ws.pair_terms[t], ws.pair_u.col(t));
     ws.pair_col = ws.pair_u.col(t);
-    tree_solve(m, ws.kin, blocks, ws.arm, ws.pair_col, &ws.pair_sol, &ws.tree);
+    tree_resolve(m, ws.kin, ws.pair_col, &ws.pair_sol, &ws.tree);
     ws.pair_y.col(t) = ws.pair_sol;
   }
   for (int i = 0; i < nt; ++i) {

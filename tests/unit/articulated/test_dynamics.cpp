@@ -49,6 +49,19 @@ TEST(Dynamics, TreeSolveMatchesDenseSolve) {
   EXPECT_LT((d - mm.diagonal()).norm(), 1e-10);
 }
 
+// tree_resolve reuses the last tree_solve's elimination for a new right-hand side.
+TEST(Dynamics, TreeResolveMatchesTreeSolve) {
+  RandomState s;
+  const VecX arm = VecX::LinSpaced(s.m.nv, 0.01, 0.2);
+  TreeWorkspace ws, fresh;
+  VecX x, ref;
+  tree_solve(s.m, s.k, s.k.cinert, arm, s.v, &x, &ws);
+  const VecX other = VecX::LinSpaced(s.m.nv, -1, 2);
+  tree_resolve(s.m, s.k, other, &x, &ws);
+  tree_solve(s.m, s.k, s.k.cinert, arm, other, &ref, &fresh);
+  EXPECT_LT((x - ref).norm(), 1e-12 * ref.norm());
+}
+
 // The fixed-size joint blocks (6, 3 and 2 dofs here) report definiteness and still
 // solve an indefinite (non-singular) system, as the LM loop's first tries need.
 TEST(Dynamics, TreeSolveReportsDefinitenessAndSolvesIndefiniteSystems) {

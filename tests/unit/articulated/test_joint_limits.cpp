@@ -118,7 +118,7 @@ TEST(JointLimits, SwingConeAndTwistRangeHoldInASimulation) {
   EXPECT_GT(twist, 0.28);
 }
 
-Scene scene_of(const nlohmann::json& limits) {
+Scene limits_scene_of(const nlohmann::json& limits) {
   const nlohmann::json j = {{"pliant", 1}, {"kind", "articulated"},
                             {"model", {{"bodies", {{{"name", "p"}, {"pos", {0, 0, 0}},
                                                     {"joints", {{{"type", "ball"}, {"name", "shoulder"}, {"axis", {0, 1, 0}}}}},
@@ -129,7 +129,7 @@ Scene scene_of(const nlohmann::json& limits) {
 
 std::string error_of(const nlohmann::json& limits) {
   try {
-    articulated_compile(scene_of(limits));
+    articulated_compile(limits_scene_of(limits));
   } catch (const InputError& e) {
     return e.pointer() + " | " + e.problem();
   }
@@ -137,7 +137,7 @@ std::string error_of(const nlohmann::json& limits) {
 }
 
 TEST(JointLimits, SceneKeysSetTheLimitsAndBadOnesNameTheirPointer) {
-  const ArticulatedScene a = articulated_compile(scene_of({{"shoulder", {{"swing", 0.7}, {"twist", {-0.2, 0.4}}}}}));
+  const ArticulatedScene a = articulated_compile(limits_scene_of({{"shoulder", {{"swing", 0.7}, {"twist", {-0.2, 0.4}}}}}));
   EXPECT_EQ(a.model.joints[0].swing_max, 0.7);
   EXPECT_TRUE(a.model.joints[0].twist_limited);
   EXPECT_EQ(a.model.joints[0].twist_min, -0.2);

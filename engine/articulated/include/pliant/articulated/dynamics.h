@@ -75,6 +75,11 @@ struct TreeWorkspace {
 bool tree_solve(const Model& m, const Kinematics& k, const std::vector<Mat6>& h,
                 const VecX& armature, const VecX& rhs, VecX* x, TreeWorkspace* ws);
 
+// Solves the same matrix as the last tree_solve with ws (its elimination kept in ws)
+// for another right-hand side: only the vectors move, several times cheaper than
+// tree_solve (PBAD's body-body contact terms, Woodbury).
+void tree_resolve(const Model& m, const Kinematics& k, const VecX& rhs, VecX* x, TreeWorkspace* ws);
+
 // Diagonal of sum_b Phi_b^T H_b Phi_b (composite blocks), O(N).
 void tree_diagonal(const Model& m, const Kinematics& k, const std::vector<Mat6>& h, VecX* diag,
                    TreeWorkspace* ws);
