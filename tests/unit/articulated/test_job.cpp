@@ -97,7 +97,7 @@ TEST(Job, MeshTileAndBallLimitScenesRun) {
   }
 }
 
-// Body-body contact scene: six free bodies dropped on each other; after 3 s every
+// Body-body contact scene: six free bodies dropped on each other; after 1.5 s every
 // body is above the ground, no pair deeper than a few penalty depths, and the frame
 // record lists the body-body contacts after the ground's.
 TEST(Job, PileSceneBodiesRestOnEachOther) {
@@ -107,15 +107,16 @@ TEST(Job, PileSceneBodiesRestOnEachOther) {
   State s = a.initial;
   SimWorkspace ws;
   double max_depth = 0, iterations = 0;
-  for (int i = 0; i < a.steps; ++i) {
+  const int steps = a.steps / 2;  // 1.5 s: the pile has settled (keeps the ASan pass short)
+  for (int i = 0; i < steps; ++i) {
     StepInfo info;
     ASSERT_TRUE(sim_step(a.model, a.options, s, ws, &info));
     iterations += info.iterations;
     for (const PairContact& c : ws.pair_contacts) max_depth = std::max(max_depth, c.depth);
   }
-  std::printf("pile: max body-body depth %.3g m, %.2f LM iterations per step\n", max_depth, iterations / a.steps);
+  std::printf("pile: max body-body depth %.3g m, %.2f LM iterations per step\n", max_depth, iterations / steps);
   EXPECT_LT(max_depth, 3e-3);
-  EXPECT_LT(iterations / a.steps, 4);
+  EXPECT_LT(iterations / steps, 4);
   for (size_t b = 1; b < a.model.bodies.size(); ++b) EXPECT_GT(s.qpos[7 * (b - 1) + 2], 0.02) << b;
   const Record r = articulated_frame_record(a.model, a.options, s, 0, ws);
   EXPECT_EQ(r.find("contacts")->shape[0], ws.contacts.size() + ws.pair_contacts.size());
