@@ -208,5 +208,37 @@ TEST_F(ArticulatedCli, MjcfTendonIsRefusedNamingTheElement) {
   EXPECT_TRUE(contains(r.err, "tendon")) << r.err;
 }
 
+// Body-body contact through `pliant run` (seventh session): the pile scene's bodies come
+// to rest on each other instead of falling through to the ground, and a malformed MJCF
+// <contact><exclude> exits 2 naming the attribute.
+TEST_F(ArticulatedCli, PileBodiesRestOnEachOther) {
+  const fs::path take = dir_ / "take";
+  const ProcessResult r = pliant({"run", kAssets + "/scenes/articulated_pile.json", "--take", take.string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  TakeReader reader(take);
+  const Record last = reader.read_frame_at(reader.frame_count() - 1);
+  ASSERT_TRUE(all_finite(last));
+  const Field* pose = last.find("body_pose");
+  ASSERT_NE(pose, nullptr);
+  ASSERT_EQ(pose->shape, (std::vector<uint32_t>{6, 7}));
+  // box_low (half-height 0.05) lies on the ground; box_mid (half-height 0.04) on box_low,
+  // not at the ground's 0.04 it would reach through it.
+  EXPECT_NEAR(pose->data[0 * 7 + 2], 0.05, 0.005);
+  EXPECT_GT(pose->data[1 * 7 + 2], 0.05 + 0.05 + 0.04 - 0.01);
+  const Field* contacts = last.find("contacts");
+  ASSERT_NE(contacts, nullptr);
+  EXPECT_GT(contacts->shape[0], 4u);  // more than the bottom box's ground corners
+}
+
+TEST_F(ArticulatedCli, MalformedContactExcludeExitsTwoNamingTheAttribute) {
+  write_text("x.xml",
+             "<mujoco><worldbody><body name=\"a\"><freejoint/><geom size=\"0.1\"/></body></worldbody>"
+             "<contact><exclude body1=\"a\"/></contact></mujoco>");
+  const nlohmann::json scene = {{"pliant", 1}, {"kind", "articulated"}, {"model", "x.xml"}};
+  const ProcessResult r = pliant({"validate", write_scene("s.json", scene).string()});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_TRUE(contains(r.err, "/mujoco/contact[0]/exclude[0]/@body2")) << r.err;
+}
+
 }  // namespace
 }  // namespace pliant::test
