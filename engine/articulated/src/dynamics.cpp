@@ -120,6 +120,27 @@ void back_substitute(const Kinematics& k, const Body& body, const Mat6& u, const
   for (int i = 0; i < N; ++i) *acc += k.cdof[body.dof_begin + i] * xb[i];
 }
 
+// Root to leaves, shared by tree_solve and tree_resolve: joint solutions from the
+// stored elimination (u, D^-1, reduced right-hand sides) and accumulated accelerations.
+void back_substitute_tree(const Model& m, const Kinematics& k, VecX* x, TreeWorkspace* ws) {
+  const int nb = static_cast<int>(m.bodies.size());
+  x->resize(m.nv);
+  ws->acc[0].setZero();
+  for (int b = 1; b < nb; ++b) {
+    const Body& body = m.bodies[b];
+    const Vec6& ap = ws->acc[body.parent];
+    switch (body.dof_count) {
+      case 0: ws->acc[b] = ap; break;
+      case 1: back_substitute<1>(k, body, ws->u[b], ws->dinv[b], ws->ures[b], ap, x, &ws->acc[b]); break;
+      case 2: back_substitute<2>(k, body, ws->u[b], ws->dinv[b], ws->ures[b], ap, x, &ws->acc[b]); break;
+      case 3: back_substitute<3>(k, body, ws->u[b], ws->dinv[b], ws->ures[b], ap, x, &ws->acc[b]); break;
+      case 4: back_substitute<4>(k, body, ws->u[b], ws->dinv[b], ws->ures[b], ap, x, &ws->acc[b]); break;
+      case 5: back_substitute<5>(k, body, ws->u[b], ws->dinv[b], ws->ures[b], ap, x, &ws->acc[b]); break;
+      default: back_substitute<6>(k, body, ws->u[b], ws->dinv[b], ws->ures[b], ap, x, &ws->acc[b]); break;
+    }
+  }
+}
+
 }  // namespace
 
 namespace {
@@ -153,21 +174,7 @@ void tree_resolve(const Model& m, const Kinematics& k, const VecX& rhs, VecX* x,
       default: resolve_body<6>(k, body, rhs, ws->u[b], ws->dinv[b], ws->pa[b], &ws->ures[b], pa_p); break;
     }
   }
-  x->resize(m.nv);
-  ws->acc[0].setZero();
-  for (int b = 1; b < nb; ++b) {
-    const Body& body = m.bodies[b];
-    const Vec6& ap = ws->acc[body.parent];
-    switch (body.dof_count) {
-      case 0: ws->acc[b] = ap; break;
-      case 1: back_substitute<1>(k, body, ws->u[b], ws->dinv[b], ws->ures[b], ap, x, &ws->acc[b]); break;
-      case 2: back_substitute<2>(k, body, ws->u[b], ws->dinv[b], ws->ures[b], ap, x, &ws->acc[b]); break;
-      case 3: back_substitute<3>(k, body, ws->u[b], ws->dinv[b], ws->ures[b], ap, x, &ws->acc[b]); break;
-      case 4: back_substitute<4>(k, body, ws->u[b], ws->dinv[b], ws->ures[b], ap, x, &ws->acc[b]); break;
-      case 5: back_substitute<5>(k, body, ws->u[b], ws->dinv[b], ws->ures[b], ap, x, &ws->acc[b]); break;
-      default: back_substitute<6>(k, body, ws->u[b], ws->dinv[b], ws->ures[b], ap, x, &ws->acc[b]); break;
-    }
-  }
+  back_substitute_tree(m, k, x, ws);
 }
 
 bool tree_solve(const Model& m, const Kinematics& k, const std::vector<Mat6>& h,
@@ -213,21 +220,7 @@ bool tree_solve(const Model& m, const Kinematics& k, const std::vector<Mat6>& h,
     positive = positive && pos;
   }
   // Root to leaves: joint solutions and accumulated body "accelerations".
-  x->resize(m.nv);
-  ws->acc[0].setZero();
-  for (int b = 1; b < nb; ++b) {
-    const Body& body = m.bodies[b];
-    const Vec6& ap = ws->acc[body.parent];
-    switch (body.dof_count) {
-      case 0: ws->acc[b] = ap; break;
-      case 1: back_substitute<1>(k, body, ws->u[b], ws->dinv[b], ws->ures[b], ap, x, &ws->acc[b]); break;
-      case 2: back_substitute<2>(k, body, ws->u[b], ws->dinv[b], ws->ures[b], ap, x, &ws->acc[b]); break;
-      case 3: back_substitute<3>(k, body, ws->u[b], ws->dinv[b], ws->ures[b], ap, x, &ws->acc[b]); break;
-      case 4: back_substitute<4>(k, body, ws->u[b], ws->dinv[b], ws->ures[b], ap, x, &ws->acc[b]); break;
-      case 5: back_substitute<5>(k, body, ws->u[b], ws->dinv[b], ws->ures[b], ap, x, &ws->acc[b]); break;
-      default: back_substitute<6>(k, body, ws->u[b], ws->dinv[b], ws->ures[b], ap, x, &ws->acc[b]); break;
-    }
-  }
+  back_substitute_tree(m, k, x, ws);
   return positive;
 }
 
