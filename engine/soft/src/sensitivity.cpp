@@ -65,15 +65,106 @@ SoftState perturbed(const SoftState& s, const Eigen::Ref<const VectorXd>& e, dou
 
 }  // namespace
 
+MatrixXd step_sensitivity(const Character& ch, const Environment& env, const SimParams& sim, const SoftState& start,
+                          const SoftState& s, const MatrixXd& X1, const MatrixXd& X2, const MatrixXd& Q1,
+                          const MatrixXd& dU, MatrixXd* dx_dz) {
+  if (ch.rotation_strain) return MatrixXd();
+  const Lattice& lat = ch.lattice;
+  const int n = lat.nodes(), r = ch.basis.r(), dof = r + 6, nt = int(X1.cols());
+  const double dt = sim.dt_s, idt2 = 1 / (dt * dt), eps = env.friction_eps_m_per_s * dt;
+  const double beta = sim.modal_damping_s / dt;
+  const MatrixXd& U = ch.basis.U;
+  // The step's data, as reduced_step builds it from the start state.
+  VectorXd x, xp, local, g_el;
+  node_positions(ch, start, x);
+  SoftState sp = start;
+  sp.q = start.q_prev, sp.R = start.R_prev, sp.c = start.c_prev;
+  node_positions(ch, sp, xp);
+  StepTargets T;
+  make_targets(ch, env, dt, x, xp, T);
+  MatrixXd J(3 * n, dof), HJ(3 * n, dof), H(dof, dof), H_el, W(3 * n, nt);
+
+  // Exact Hessian at the converged z_f.
+  local_shape(ch, s.q, local);
+  elastic_reduced(lat, ch.lame, local, ch.cubature, U, &g_el, &H_el);
+  Matrix3d Sww = Matrix3d::Zero();
+  MatrixXd Sqw = MatrixXd::Zero(r, 3);
+  W.setZero();
+  for (int j = 0; j < n; ++j) {
+    const double m = lat.node_mass_kg[j];
+    const Vector3d yj = s.R * local.segment<3>(3 * j), xj = yj + s.c;
+    Vector3d G = m * idt2 * (xj - T.xt.segment<3>(3 * j));
+    Matrix3d Hn = m * idt2 * Matrix3d::Identity();
+    Matrix3d Gx = -2 * m * idt2 * Matrix3d::Identity();  // dG/dx_{f-1}
+    if (touches(env, T, j, xj)) {
+      node_environment(env, T, m, j, xj, eps, &G, &Hn);
+      if (T.mu_lambda[j] > 0) {
+        // Friction: slip origin x_{f-1} and lagged normal force mu k m depth(x_{f-1}).
+        const Vector3d slip = xj - T.x_start.segment<3>(3 * j);
+        Vector3d g1 = Vector3d::Zero();
+        Matrix3d Hf = Matrix3d::Zero();
+        friction_potential(T.mu_lambda[j], T.normal[j], slip, eps, &g1, &Hf);
+        g1 /= T.mu_lambda[j];
+        Vector3d dmu = Vector3d::Zero();
+        const Vector3d xs = T.x_start.segment<3>(3 * j);
+        for (const auto& o : env.obstacles) {
+          Vector3d nrm;
+          if (obstacle_depth(o, xs, &nrm) > 0) dmu -= env.friction * env.contact_stiffness_per_s2 * m * nrm;
+        }
+        Gx += -Hf + g1 * dmu.transpose();
+      }
+    }
+    J.block(3 * j, 0, 3, r).noalias() = s.R * U.middleRows(3 * j, 3);
+    J.block<3, 3>(3 * j, r) = Matrix3d::Identity();
+    J.block<3, 3>(3 * j, r + 3) = -cross_matrix(yj);
+    HJ.middleRows(3 * j, 3).noalias() = Hn * J.middleRows(3 * j, 3);
+    // Second derivatives of x_j(q, c, w) contracted with the node force G.
+    Sww += 0.5 * (yj * G.transpose() + G * yj.transpose()) - G.dot(yj) * Matrix3d::Identity();
+    for (int k = 0; k < r; ++k) Sqw.row(k) += J.block<3, 1>(3 * j, k).cross(G).transpose();
+    W.middleRows(3 * j, 3).noalias() = Gx * X1.middleRows(3 * j, 3) + m * idt2 * X2.middleRows(3 * j, 3);
+  }
+  H.noalias() = J.transpose() * HJ;
+  H.topLeftCorner(r, r) += H_el;
+  H.topLeftCorner(r, r).diagonal() += beta * ch.basis.omega2;
+  H.block<3, 3>(r + 3, r + 3) += Sww;
+  H.block(0, r + 3, r, 3) += Sqw;
+  H.block(r + 3, 0, 3, r) += Sqw.transpose();
+  // Drag: the target moves by dt^2 F / (4 m) per face node, so G_j gets -F / 4 and
+  // its derivatives through the face's area vector (x_{f-1}) and velocity.
+  if (env.water) {
+    const double dt_inv4 = 0.25 / dt;
+    for (const auto& fc : lat.boundary_faces) {
+      const Vector3d A = x.segment<3>(3 * fc[2]) - x.segment<3>(3 * fc[0]);
+      const Vector3d B = x.segment<3>(3 * fc[3]) - x.segment<3>(3 * fc[1]);
+      const Vector3d a = 0.5 * A.cross(B);
+      Vector3d vel = Vector3d::Zero();
+      for (int c = 0; c < 4; ++c) vel += dt_inv4 * (x.segment<3>(3 * fc[c]) - xp.segment<3>(3 * fc[c]));
+      Matrix3d dFda, dFdU;
+      drag_derivatives(env, a, vel, dFda, dFdU);
+      // da = 0.5 (dA x B + A x dB) = 0.5 (-[B] dA + [A] dB)
+      const Matrix3d Bx = 0.5 * cross_matrix(B), Ax = 0.5 * cross_matrix(A);
+      MatrixXd dF = dFda * (-Bx * (X1.middleRows(3 * fc[2], 3) - X1.middleRows(3 * fc[0], 3)) +
+                            Ax * (X1.middleRows(3 * fc[3], 3) - X1.middleRows(3 * fc[1], 3)));
+      MatrixXd dv = MatrixXd::Zero(3, nt);
+      for (int c = 0; c < 4; ++c) dv += dt_inv4 * (X1.middleRows(3 * fc[c], 3) - X2.middleRows(3 * fc[c], 3));
+      dF.noalias() += dFdU * dv;
+      for (int c = 0; c < 4; ++c) W.middleRows(3 * fc[c], 3) -= 0.25 * dF;
+    }
+  }
+  MatrixXd rhs = J.transpose() * W;
+  rhs.topRows(r) -= (beta * ch.basis.omega2).asDiagonal() * Q1;
+  rhs.topRows(r) -= dU;
+  MatrixXd S = -H.ldlt().solve(rhs);
+  if (dx_dz) *dx_dz = std::move(J);
+  return S;
+}
+
 MatrixXd sensitivity_jacobian(const Problem& p, const VectorXd& theta, VectorXd* r_out) {
   const Character& ch = *p.character;
   if (ch.rotation_strain) return MatrixXd();  // finite differences (optimizer.h)
   const Lattice& lat = ch.lattice;
-  const Environment& env = p.env;
-  const int n = lat.nodes(), r = ch.basis.r(), dof = r + 6, nt = int(theta.size()), modes = p.dmp.modes;
-  const double dt = p.sim.dt_s, idt2 = 1 / (dt * dt), eps = env.friction_eps_m_per_s * dt;
-  const double beta = p.sim.modal_damping_s / dt, a_max = max_activation_m(ch, p.dmp);
-  const MatrixXd& U = ch.basis.U;
+  const int n = lat.nodes(), r = ch.basis.r(), nt = int(theta.size()), modes = p.dmp.modes;
+  const double dt = p.sim.dt_s, a_max = max_activation_m(ch, p.dmp);
 
   SoftState s = initial_state(ch, p.start_offset_m, Vector3d::Zero(), dt);
   DmpState dmp = dmp_init(p.dmp);
@@ -86,11 +177,8 @@ MatrixXd sensitivity_jacobian(const Problem& p, const VectorXd& theta, VectorXd*
   frames.reserve(p.frames), sens.reserve(p.frames);
   MatrixXd X1 = MatrixXd::Zero(3 * n, nt), X2 = X1;  // dx/dtheta of frames f-1, f-2
   MatrixXd Q1 = MatrixXd::Zero(r, nt);               // dq/dtheta of frame f-1
-  VectorXd u, x, xp, local, g_el, gfr;
-  MatrixXd J(3 * n, dof), HJ(3 * n, dof), H(dof, dof), H_el, W(3 * n, nt), rhs(dof, nt), dudt(r, nt);
-  StepTargets T;
-  std::vector<Matrix3d> Gx(n);
-  Eigen::LDLT<MatrixXd> ldlt;
+  VectorXd u;
+  MatrixXd dudt(r, nt), J;
   int unconverged = 0;
 
   for (int f = 0; f < p.frames; ++f) {
@@ -104,88 +192,11 @@ MatrixXd sensitivity_jacobian(const Problem& p, const VectorXd& theta, VectorXd*
         dudt(k, i) = ch.basis.omega2[k] * (1 - th * th) / ch.mode_scale[k] * yi[k];
       }
     }
-    // The step's data, as reduced_step builds it from the start state.
-    node_positions(ch, s, x);
-    SoftState sp = s;
-    sp.q = s.q_prev, sp.R = s.R_prev, sp.c = s.c_prev;
-    node_positions(ch, sp, xp);
-    make_targets(ch, env, dt, x, xp, T);
+    const SoftState start = s;
     StepStats st;
-    reduced_step(ch, env, p.sim, u, s, &st);
+    reduced_step(ch, p.env, p.sim, u, s, &st);
     if (!st.converged) ++unconverged;
-
-    // Exact Hessian at the converged z_f.
-    local_shape(ch, s.q, local);
-    elastic_reduced(lat, ch.lame, local, ch.cubature, U, &g_el, &H_el);
-    Matrix3d Sww = Matrix3d::Zero();
-    MatrixXd Sqw = MatrixXd::Zero(r, 3);
-    W.setZero();
-    for (int j = 0; j < n; ++j) {
-      const double m = lat.node_mass_kg[j];
-      const Vector3d yj = s.R * local.segment<3>(3 * j), xj = yj + s.c;
-      Vector3d G = m * idt2 * (xj - T.xt.segment<3>(3 * j));
-      Matrix3d Hn = m * idt2 * Matrix3d::Identity();
-      Gx[j] = -2 * m * idt2 * Matrix3d::Identity();
-      if (touches(env, T, j, xj)) {
-        node_environment(env, T, m, j, xj, eps, &G, &Hn);
-        if (T.mu_lambda[j] > 0) {
-          // Friction: slip origin x_{f-1} and lagged normal force mu k m depth(x_{f-1}).
-          const Vector3d slip = xj - T.x_start.segment<3>(3 * j);
-          Vector3d g1 = Vector3d::Zero();
-          Matrix3d Hf = Matrix3d::Zero();
-          friction_potential(T.mu_lambda[j], T.normal[j], slip, eps, &g1, &Hf);
-          g1 /= T.mu_lambda[j];
-          Vector3d dmu = Vector3d::Zero();
-          const Vector3d xs = T.x_start.segment<3>(3 * j);
-          for (const auto& o : env.obstacles) {
-            Vector3d nrm;
-            if (obstacle_depth(o, xs, &nrm) > 0) dmu -= env.friction * env.contact_stiffness_per_s2 * m * nrm;
-          }
-          Gx[j] += -Hf + g1 * dmu.transpose();
-        }
-      }
-      J.block(3 * j, 0, 3, r).noalias() = s.R * U.middleRows(3 * j, 3);
-      J.block<3, 3>(3 * j, r) = Matrix3d::Identity();
-      J.block<3, 3>(3 * j, r + 3) = -cross_matrix(yj);
-      HJ.middleRows(3 * j, 3).noalias() = Hn * J.middleRows(3 * j, 3);
-      // Second derivatives of x_j(q, c, w) contracted with the node force G.
-      Sww += 0.5 * (yj * G.transpose() + G * yj.transpose()) - G.dot(yj) * Matrix3d::Identity();
-      for (int k = 0; k < r; ++k) Sqw.row(k) += J.block<3, 1>(3 * j, k).cross(G).transpose();
-      W.middleRows(3 * j, 3).noalias() = Gx[j] * X1.middleRows(3 * j, 3) + m * idt2 * X2.middleRows(3 * j, 3);
-    }
-    H.noalias() = J.transpose() * HJ;
-    H.topLeftCorner(r, r) += H_el;
-    H.topLeftCorner(r, r).diagonal() += beta * ch.basis.omega2;
-    H.block<3, 3>(r + 3, r + 3) += Sww;
-    H.block(0, r + 3, r, 3) += Sqw;
-    H.block(r + 3, 0, 3, r) += Sqw.transpose();
-    // Drag: the target moves by dt^2 F / (4 m) per face node, so G_j gets -F / 4 and
-    // its derivatives through the face's area vector (x_{f-1}) and velocity.
-    if (env.water) {
-      const double dt_inv4 = 0.25 / dt;
-      for (const auto& fc : lat.boundary_faces) {
-        const Vector3d A = x.segment<3>(3 * fc[2]) - x.segment<3>(3 * fc[0]);
-        const Vector3d B = x.segment<3>(3 * fc[3]) - x.segment<3>(3 * fc[1]);
-        const Vector3d a = 0.5 * A.cross(B);
-        Vector3d vel = Vector3d::Zero();
-        for (int c = 0; c < 4; ++c) vel += dt_inv4 * (x.segment<3>(3 * fc[c]) - xp.segment<3>(3 * fc[c]));
-        Matrix3d dFda, dFdU;
-        drag_derivatives(env, a, vel, dFda, dFdU);
-        // da = 0.5 (dA x B + A x dB) = 0.5 (-[B] dA + [A] dB)
-        const Matrix3d Bx = 0.5 * cross_matrix(B), Ax = 0.5 * cross_matrix(A);
-        MatrixXd dF = dFda * (-Bx * (X1.middleRows(3 * fc[2], 3) - X1.middleRows(3 * fc[0], 3)) +
-                              Ax * (X1.middleRows(3 * fc[3], 3) - X1.middleRows(3 * fc[1], 3)));
-        MatrixXd dv = MatrixXd::Zero(3, nt);
-        for (int c = 0; c < 4; ++c) dv += dt_inv4 * (X1.middleRows(3 * fc[c], 3) - X2.middleRows(3 * fc[c], 3));
-        dF.noalias() += dFdU * dv;
-        for (int c = 0; c < 4; ++c) W.middleRows(3 * fc[c], 3) -= 0.25 * dF;
-      }
-    }
-    rhs.noalias() = J.transpose() * W;
-    rhs.topRows(r) -= (beta * ch.basis.omega2).asDiagonal() * Q1;
-    rhs.topRows(r) -= dudt;
-    ldlt.compute(H);
-    MatrixXd S = -ldlt.solve(rhs);
+    MatrixXd S = step_sensitivity(ch, p.env, p.sim, start, s, X1, X2, Q1, dudt, &J);
     X2.swap(X1);
     X1.noalias() = J * S;
     Q1 = S.topRows(r);

@@ -106,6 +106,56 @@ void project_states(const Problem& p, SpacetimeVars& v) {
   }
 }
 
+// Inverse right Jacobian of SO(3) at phi: d log(exp([phi]) exp([d])) / dd at d = 0.
+Eigen::Matrix3d so3_right_jacobian_inverse(const Eigen::Vector3d& phi) {
+  const double t = phi.norm();
+  const Eigen::Matrix3d P = cross_matrix(phi);
+  const double c = t < 1e-4 ? 1.0 / 12 + t * t / 720 : 1 / (t * t) - (1 + std::cos(t)) / (2 * t * std::sin(t));
+  return Eigen::Matrix3d::Identity() + 0.5 * P + c * P * P;
+}
+
+// d x_j / d z for one frame state in spacetime's chart (q in metres via mode_scale,
+// rotation exp([d / L]) R, translation): 3N x (r + 6).
+void position_derivative(const Character& ch, double L, const SoftState& s, Eigen::MatrixXd& X) {
+  const int n = ch.lattice.nodes(), r = ch.basis.r();
+  Eigen::VectorXd local;
+  local_shape(ch, s.q, local);
+  X.resize(3 * n, r + 6);
+  for (int j = 0; j < n; ++j) {
+    for (int k = 0; k < r; ++k)
+      X.block<3, 1>(3 * j, k) = s.R * ch.basis.U.block<3, 1>(3 * j, k) / ch.mode_scale[k];
+    X.block<3, 3>(3 * j, r) = -cross_matrix(s.R * local.segment<3>(3 * j)) / L;
+    X.block<3, 3>(3 * j, r + 3) = Eigen::Matrix3d::Identity();
+  }
+}
+
+// Physics rows of frame f (fr = f + 1) from the exact step derivatives (sensitivity.cpp:
+// step_sensitivity): columns z_{fr-1}, z_{fr-2}, a_f of violation(z_fr, step(...)) as
+// (r + 6) x (2 (r + 6) + m); empty when the step has no exact derivative.
+Eigen::MatrixXd exact_step_block(const Problem& p, double L, const SoftState& start, const SoftState& prev,
+                                 const SoftState& stepped, const FrameRef& z) {
+  const Character& ch = *p.character;
+  const int r = ch.basis.r(), ns = r + 6, m = p.dmp.modes, k = 2 * ns + m, n = ch.lattice.nodes();
+  Eigen::MatrixXd X1 = Eigen::MatrixXd::Zero(3 * n, k), X2 = X1, Q1 = Eigen::MatrixXd::Zero(r, k),
+                  dU = Eigen::MatrixXd::Zero(r, k), Xs;
+  position_derivative(ch, L, start, Xs);
+  X1.leftCols(ns) = Xs;
+  position_derivative(ch, L, prev, Xs);
+  X2.middleCols(ns, ns) = Xs;
+  for (int i = 0; i < r; ++i) Q1(i, i) = 1 / ch.mode_scale[i];
+  for (int i = 0; i < std::min(m, r); ++i) dU(i, 2 * ns + i) = ch.basis.omega2[i] / ch.mode_scale[i];
+  const Eigen::MatrixXd S = step_sensitivity(ch, p.env, p.sim, start, stepped, X1, X2, Q1, dU);
+  if (S.rows() != ns || !S.allFinite()) return Eigen::MatrixXd();
+  // violation = [(q_z - q) s ; L log(R_z R^T) ; c_z - c] with R = exp([dw]) R_stepped:
+  // L log(A exp(-[dw])), A = R_z R_stepped^T, moves by -L Jr^-1(log A) dw.
+  Eigen::MatrixXd D(ns, k);
+  for (int i = 0; i < r; ++i) D.row(i) = -ch.mode_scale[i] * S.row(i);
+  const Eigen::Matrix3d Jri = so3_right_jacobian_inverse(rotation_log(*z.R * stepped.R.transpose()));
+  D.middleRows<3>(r) = -L * Jri * S.middleRows<3>(r + 3);
+  D.middleRows<3>(r + 3) = -S.middleRows<3>(r);
+  return D;
+}
+
 }  // namespace
 
 int spacetime_state_size(const Problem& p) { return p.character->basis.r() + 6; }
@@ -168,7 +218,7 @@ Eigen::VectorXd spacetime_residuals(const Problem& p, const SpacetimeVars& v, do
 }
 
 Eigen::MatrixXd spacetime_jacobian(const Problem& p, const SpacetimeVars& v, double w_physics, double w_dmp,
-                                   double h) {
+                                   double h, JacobianKind kind) {
   const Character& ch = *p.character;
   const int r = ch.basis.r(), ns = r + 6, T = p.frames, m = p.dmp.modes, P = int(v.theta.size());
   const int n = T * (ns + m) + P;
@@ -184,19 +234,37 @@ Eigen::MatrixXd spacetime_jacobian(const Problem& p, const SpacetimeVars& v, dou
     return e;
   };
   // Physics blocks: frame f's violation depends on z_f (no step needed), z_{f-1},
-  // z_{f-2} and a_f (one step per column).
+  // z_{f-2} and a_f: exact step derivatives (one step and one solve per frame), or
+  // one step per column (finite differences).
 #pragma omp parallel for schedule(dynamic, 1)
   for (int f = 0; f < T; ++f) {
     const int fr = f + 1;
     const SoftState base = step_from(p, frame_ref(s0, v, fr - 2), frame_ref(s0, v, fr - 1), v.act.col(f), fr);
     const Eigen::VectorXd r0 = violation(ch, L, frame_ref(s0, v, fr), base);
+    Eigen::MatrixXd D;
+    if (kind == JacobianKind::Sensitivity) {
+      SoftState start = base;  // the step's start: z_{fr-1} with z_{fr-2} as previous
+      const FrameRef a = frame_ref(s0, v, fr - 1), b = frame_ref(s0, v, fr - 2);
+      start.q = *a.q, start.R = *a.R, start.c = *a.c;
+      start.q_prev = *b.q, start.R_prev = *b.R, start.c_prev = *b.c;
+      SoftState prev = start;
+      prev.q = *b.q, prev.R = *b.R, prev.c = *b.c;
+      D = exact_step_block(p, L, start, prev, base, frame_ref(s0, v, fr));
+    }
     std::vector<int> cols;
     for (int g = std::max(1, fr - 2); g <= fr; ++g)
       for (int i = 0; i < ns; ++i) cols.push_back((g - 1) * ns + i);
     for (int k = 0; k < m; ++k) cols.push_back(T * ns + f * m + k);
     for (int col : cols) {
-      const SpacetimeVars vp = spacetime_apply(p, v, unit(col));
       const bool own = col >= f * ns && col < (f + 1) * ns;
+      if (D.size() && !own) {
+        // D's columns: z_{fr-1}, z_{fr-2}, a_f.
+        const int dc = col >= T * ns ? 2 * ns + (col - T * ns - f * m)
+                                     : (col / ns == fr - 2 ? 0 : ns) + col % ns;
+        J.block(f * ns, col, ns, 1) = sp * D.col(dc);
+        continue;
+      }
+      const SpacetimeVars vp = spacetime_apply(p, v, unit(col));
       const SoftState st =
           own ? base : step_from(p, frame_ref(s0, vp, fr - 2), frame_ref(s0, vp, fr - 1), vp.act.col(f), fr);
       J.block(f * ns, col, ns, 1) = sp * (violation(ch, L, frame_ref(s0, vp, fr), st) - r0) / h;
@@ -269,8 +337,9 @@ void spacetime_optimize(const Problem& p, const SpacetimeSettings& s, OptimizerS
   double lambda = s.lambda_initial;
   while (st.iteration < s.max_iterations) {
     if (best <= s.tolerance * f_initial) break;
-    const Eigen::MatrixXd Jd = spacetime_jacobian(p, v, s.w_physics, w_dmp, s.fd_step_m);
-    for (int f = 0; f < T; ++f) rep.steps += 1 + std::min(f, 2) * ns + m;
+    const Eigen::MatrixXd Jd = spacetime_jacobian(p, v, s.w_physics, w_dmp, s.fd_step_m, s.jacobian);
+    const bool exact = s.jacobian == JacobianKind::Sensitivity && !ch.rotation_strain;  // one step + solve per frame
+    for (int f = 0; f < T; ++f) rep.steps += exact ? 1 : 1 + std::min(f, 2) * ns + m;
     const Eigen::SparseMatrix<double> J = Jd.sparseView();
     const Eigen::SparseMatrix<double> JtJ = Eigen::SparseMatrix<double>(J.transpose()) * J;
     const Eigen::VectorXd g = J.transpose() * res;

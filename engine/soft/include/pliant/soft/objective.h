@@ -106,6 +106,18 @@ Eigen::VectorXd initial_theta(const Problem& p);
 // r_out (optional): the rollout's residuals (NaN when a step did not converge).
 Eigen::MatrixXd sensitivity_jacobian(const Problem& p, const Eigen::VectorXd& theta, Eigen::VectorXd* r_out = nullptr);
 
+// Derivatives of one converged reduced_step from `start` (its q, R, c: z_{f-1}; its
+// *_prev: z_{f-2}) to `end` (sensitivity.cpp, implicit function theorem): X1, X2
+// (3N x k) are the derivatives of the start's and previous node positions, Q1 (r x k)
+// of the start's q and dU (r x k) of the control force with respect to k parameters.
+// Returns dz_f/d(parameters) ((r + 6) x k) in reduced_step's tangent (dq, dc, dw),
+// R = exp([dw]) R_f; dx_dz (optional): dx_f/dz_f (3N x (r + 6)). Empty for
+// rotation-strain coordinates. Used by sensitivity_jacobian and spacetime_jacobian.
+Eigen::MatrixXd step_sensitivity(const Character& ch, const Environment& env, const SimParams& sim,
+                                 const SoftState& start, const SoftState& end, const Eigen::MatrixXd& X1,
+                                 const Eigen::MatrixXd& X2, const Eigen::MatrixXd& Q1, const Eigen::MatrixXd& dU,
+                                 Eigen::MatrixXd* dx_dz = nullptr);
+
 // The optimizer's Jacobian for s.jacobian: sensitivity_jacobian where it applies
 // (falls back to finite differences otherwise), empty (= finite differences) for FD.
 JacobianFn problem_jacobian(const Problem& p, const OptimizerSettings& s);

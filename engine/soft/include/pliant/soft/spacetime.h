@@ -10,8 +10,10 @@
 //   task     trajectory_residuals(p, frames, theta) (objective.h)
 // The activation a drives the step through the modal force omega^2 a / s (the same
 // force control_force gives when the DMP's activation saturates to a).
-// Levenberg-Marquardt on the block-banded Jacobian: physics blocks by forward
-// differences of single steps (frames in parallel), DMP blocks analytic in a and by
+// Levenberg-Marquardt on the block-banded Jacobian: physics blocks from the exact
+// derivatives of each converged step (implicit function theorem, sensitivity.cpp
+// step_sensitivity; one step + one solve per frame, frames in parallel) or, with
+// jacobian = FiniteDifference, by forward differences of single steps, DMP blocks analytic in a and by
 // differences of DMP rollouts in theta, task blocks by differences of
 // trajectory_residuals; normal equations J^T J + lambda (diag + eps) solved by
 // Eigen's SimplicialLDLT. Accepted steps lower the merit at fixed weights (monotone).
@@ -51,6 +53,9 @@ struct SpacetimeSettings {
   bool project = true;
   double stall = 0.005;          // relative merit decrease that counts as stalled
   double fd_step_m = 1e-6;       // finite-difference step, metres (or metre-equivalents)
+  // Physics blocks: exact step derivatives (step_sensitivity, one step + one solve per
+  // frame) or forward differences (one step per column). Set from optimizer.jacobian.
+  JacobianKind jacobian = JacobianKind::Sensitivity;
   double dmp_tolerance = 1e-3;   // DMP RMS mismatch, fraction of a_max, to stop raising w_dmp
   double tolerance = 1e-6;       // stop when the re-simulated objective <= tolerance x initial
 };
@@ -92,8 +97,11 @@ Eigen::VectorXd spacetime_residuals(const Problem& p, const SpacetimeVars& v, do
 
 // Jacobian of spacetime_residuals with respect to spacetime_apply's dz (dense; the
 // physics and DMP blocks are banded).
+// kind: physics blocks from the exact step derivatives (Sensitivity; finite
+// differences where a step has none, e.g. rotation-strain coordinates) or by forward
+// differences of single steps.
 Eigen::MatrixXd spacetime_jacobian(const Problem& p, const SpacetimeVars& v, double w_physics, double w_dmp,
-                                   double fd_step_m);
+                                   double fd_step_m, JacobianKind kind = JacobianKind::Sensitivity);
 
 // Continues from st.theta (empty: initial_theta) until st.iteration reaches
 // s.max_iterations (a resumed run rebuilds the trajectory from theta's rollout and
