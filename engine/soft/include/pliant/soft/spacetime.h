@@ -13,8 +13,8 @@
 // Levenberg-Marquardt on the block-banded Jacobian: physics blocks from the exact
 // derivatives of each converged step (implicit function theorem, sensitivity.cpp
 // step_sensitivity; one step + one solve per frame, frames in parallel) or, with
-// jacobian = FiniteDifference, by forward differences of single steps, DMP blocks analytic in a and by
-// differences of DMP rollouts in theta, task blocks by differences of
+// jacobian = FiniteDifference, by forward differences of single steps; DMP blocks
+// analytic in a and by differences of DMP rollouts in theta; task blocks by differences of
 // trajectory_residuals; normal equations J^T J + lambda (diag + eps) solved by
 // Eigen's SimplicialLDLT. Accepted steps lower the merit at fixed weights (monotone).
 // Feasibility projection (`project`, default on): each trial point's states are
