@@ -262,6 +262,7 @@ void optimizers(const std::string& scene, int iterations) {
       SpacetimeSettings ss = m.spacetime;
       ss.max_iterations = os.max_iterations;
       ss.tolerance = os.tolerance;
+      ss.jacobian = os.jacobian;
       // Tuning overrides: SPACETIME_WP, SPACETIME_WD0, SPACETIME_LAMBDA.
       if (const char* e = std::getenv("SPACETIME_WP")) ss.w_physics = std::atof(e);
       if (const char* e = std::getenv("SPACETIME_WD0")) ss.w_dmp_initial = std::atof(e);

@@ -240,6 +240,7 @@ SoftModel soft_compile(const Scene& scene) {
   }
   m.spacetime.max_iterations = m.optimizer.max_iterations;
   m.spacetime.tolerance = m.optimizer.tolerance;
+  m.spacetime.jacobian = m.optimizer.jacobian;  // one key picks both optimizers' derivatives
   // Navigation: gaits (forward, left, right) + RRT* to a goal (navigation.h).
   if (auto nj = root.object("navigation")) {
     NavSettings& nav = m.navigation;

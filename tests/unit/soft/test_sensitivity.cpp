@@ -118,5 +118,7 @@ TEST(Sensitivity, SceneKeySelectsTheJacobian) {
   };
   EXPECT_EQ(compile("sensitivity").optimizer.jacobian, JacobianKind::Sensitivity);
   EXPECT_EQ(compile("finite_difference").optimizer.jacobian, JacobianKind::FiniteDifference);
+  EXPECT_EQ(compile("sensitivity").spacetime.jacobian, JacobianKind::Sensitivity);  // both optimizers
+  EXPECT_EQ(compile("finite_difference").spacetime.jacobian, JacobianKind::FiniteDifference);
   EXPECT_THROW(compile("exact"), InputError);
 }
