@@ -400,6 +400,41 @@ TEST(Contact, BodyPairGradientAndBlocksMatchFiniteDifferences) {
   EXPECT_GE(expect_pair_derivatives(two_bodies("0 0 0", box, "0.01 0.005 0.11", cube)), 1u);
 }
 
+// Box edge across box edge (two boxes on their edges, crosswise): no corner of either
+// is inside the other, the edge-edge contact pushes the upper box up.
+TEST(Contact, EdgeAcrossEdgeGradientMatchesFiniteDifferences) {
+  const std::string ridge_x = "<geom type=\"box\" size=\"0.1 0.03 0.03\" euler=\"45 2 3\"/>";
+  const std::string ridge_y = "<geom type=\"box\" size=\"0.03 0.1 0.03\" euler=\"-4 43 1\"/>";
+  const Model boxes = two_bodies("0 0 0", ridge_x, "0.004 -0.003 0.083", ridge_y);
+  const std::vector<PairContact> c = pair_contacts_at(boxes, state_init(boxes).qpos);
+  ASSERT_EQ(c.size(), 1u);
+  EXPECT_GT(c[0].normal.z(), 0.95);
+  EXPECT_EQ(expect_pair_derivatives(boxes), 1u);
+}
+
+// The upper box rests on the fixed lower one's edge (symmetric, so it balances) at the
+// penalty depth m g / k below the touching height 2 h; without the edge-edge contact
+// it falls through.
+TEST(Contact, CrosswiseBoxesOnEdgesRestAtThePenaltyDepth) {
+  const double h = 0.03 * std::sqrt(2.0);  // a 45-degree box's edge height above its centre
+  const Model m = model_from_mjcf(
+      "<mujoco><worldbody><body name=\"a\"><geom type=\"box\" size=\"0.1 0.03 0.03\" euler=\"45 0 0\"/></body>"
+      "<body name=\"b\" pos=\"0 0 " + std::to_string(2 * h + 0.001) + "\"><freejoint/>"
+      "<geom type=\"box\" size=\"0.03 0.1 0.03\" euler=\"0 45 0\" mass=\"0.5\"/></body></worldbody></mujoco>",
+      "crosswise.xml");
+  SimOptions o;
+  o.dt = 0.01;
+  o.contact.self_collision = true;
+  State s = state_init(m);
+  SimWorkspace ws;
+  for (int i = 0; i < 60; ++i) ASSERT_TRUE(sim_step(m, o, s, ws));
+  EXPECT_LT(s.qvel.lpNorm<Eigen::Infinity>(), 1e-2);
+  EXPECT_EQ(pair_contacts_at(m, s.qpos).size(), 1u);
+  const double ratio = (2 * h - s.qpos[2]) / (m.bodies[2].mass * 9.81 / o.contact.stiffness);
+  EXPECT_NEAR(ratio, 1.0, 0.05);
+  std::printf("crosswise boxes: resting depth / (m g / k) = %.4f\n", ratio);
+}
+
 // Three bodies dropped on a free box that stands on the ground: each comes to rest at
 // the penalty's static depth m g / (n k) (n contacts sharing its weight).
 TEST(Contact, BodiesDroppedOnABoxRestAtThePenaltyDepth) {

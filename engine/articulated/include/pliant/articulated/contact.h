@@ -97,8 +97,9 @@ double geom_bounding_radius(const Geom& g);
 // two segments; parallel overlapping segments: the middle of the overlap, one
 // contact), sphere-box (exact), capsule-box (the capsule's end spheres against the
 // box, the box's corners against the capsule), box-box (each box's corners against
-// the other box). Missed: box edge across box edge or capsule side with no corner or
-// end sphere inside the other (see README, Missing).
+// the other box, plus edge-edge crossings whose edges have no corner inside the other
+// box, along the edge-edge direction). Missed: a capsule's side across a box with
+// neither end sphere nor box corner inside the other (see README, Missing).
 struct PairContact {
   int body_a, body_b;
   Vec3 point;   // world: the deepest point of b's surface (a point of both bodies' lines of action)
