@@ -56,7 +56,9 @@ def smoke_control_rows(cases):
             rows.append((f"Keyframe control {c['case']}: CPU s on one thread",
                          f"now: {c['after_cpu_s']:.1f} s (E {c['after_objective']:.1f})",
                          f"before: {c['before_cpu_s']:.1f} s (E {c['before_objective']:.1f})",
-                         f"{c['before_cpu_s'] / c['after_cpu_s']:.2f}x faster"))
+                         (f"{c['before_cpu_s'] / c['after_cpu_s']:.2f}x faster"
+                          if c['after_cpu_s'] <= c['before_cpu_s'] else
+                          f"{c['after_cpu_s'] / c['before_cpu_s']:.2f}x slower")))
             continue
         if c.get("comparison") == "evaluation_profile":  # one objective + gradient, 1 vs 2 threads
             if "after_2thread_wall_s" in c and "after_1thread_wall_s" in c:
