@@ -104,7 +104,9 @@ void Control::expect_killed_run_resumes_to_same_objective(const nlohmann::json& 
   ASSERT_TRUE(done);
   const auto& m = (*done)["metrics"];
   EXPECT_GE(int(m["resumed_from_iteration"]), kill_at);
-  if (expect_level >= 0) EXPECT_EQ(int(m["resumed_from_level"]), expect_level);
+  if (expect_level >= 0) {
+    EXPECT_EQ(int(m["resumed_from_level"]), expect_level);
+  }
   EXPECT_NEAR(double(m["objective"]), objective, 1e-9 * objective);
 }
 

@@ -50,7 +50,9 @@ TEST(ControlForward, ObstaclesStayEmptyAndMassIsKept) {
   for (int i = 1; i <= 8; ++i) {
     EXPECT_NEAR(std::accumulate(t.rho[i].begin(), t.rho[i].end(), 0.0), m0, 1e-12 * m0);
     for (size_t c = 0; c < 400; ++c)
-      if (m.solid[c]) EXPECT_EQ(t.rho[i][c], 0.0) << "frame " << i << " cell " << c;
+      if (m.solid[c]) {
+        EXPECT_EQ(t.rho[i][c], 0.0) << "frame " << i << " cell " << c;
+      }
   }
 }
 

@@ -98,7 +98,9 @@ TEST(Spacetime, JacobianMatchesCentralDifferences) {
     std::printf("spacetime Jacobian (%s): physics rows off by %.2e of their norm\n",
                 kind == JacobianKind::Sensitivity ? "sensitivity" : "finite_difference", physics_err);
     // Exact blocks: 8.6e-5 (the reference's noise); forward differences 7.8e-4.
-    if (kind == JacobianKind::Sensitivity) EXPECT_LT(physics_err, 3e-4);
+    if (kind == JacobianKind::Sensitivity) {
+      EXPECT_LT(physics_err, 3e-4);
+    }
   }
 }
 
