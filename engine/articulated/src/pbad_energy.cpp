@@ -7,6 +7,33 @@
 #include "sim_internal.h"
 
 namespace pliant::articulated {
+namespace {
+
+// A point force f at x on body b: its wrench, and for the exact Hessian's geometric
+// term its moment x f^T and its sum.
+void add_point_force(SimWorkspace& ws, int b, const Vec3& x, const Vec3& f, bool exact) {
+  ws.w[b] += point_wrench(x, f);
+  if (exact) {
+    ws.moment[b] += x * f.transpose();
+    ws.force[b] += f;
+  }
+}
+
+// Friction on the tangential slip st under normal force fn, as a dissipation
+// potential: dry Coulomb mu fn (sqrt(|st|^2 + eps^2) - eps) or C_k's g/2 |st|^2.
+// Returns the energy; *g is the coefficient of its gradient g st and of its
+// Gauss-Newton Hessian g P_t.
+double slip_friction(const SimOptions& o, double fn, const Vec3& st, double* g) {
+  if (o.contact.friction == FrictionModel::Coulomb) {
+    const double eps = o.contact.slip_eps, r = std::sqrt(st.squaredNorm() + eps * eps);
+    *g = o.contact.mu * fn / r;
+    return o.contact.mu * fn * (r - eps);
+  }
+  *g = o.contact.ck * fn / o.dt;
+  return 0.5 * *g * st.squaredNorm();
+}
+
+}  // namespace
 
 // With derivs: per-body wrenches and blocks in ws.w / ws.h (ws.h_exact), the
 // generalized gradient in ws.grad (sim_internal.h).
@@ -67,41 +94,19 @@ double pbad_energy(const Model& m, const SimOptions& o, const State& s, const Pb
         if (dist < 0) {
           e += 0.5 * kk * dist * dist;
           if (derivs) {
-            ws.w[cp.body] += point_wrench(x, kk * dist * n);
+            add_point_force(ws, cp.body, x, kk * dist * n, exact);
             ws.h[cp.body] += point_hessian(x, kk * n * n.transpose());
-            if (exact) {
-              ws.moment[cp.body] += x * (kk * dist * n).transpose();
-              ws.force[cp.body] += kk * dist * n;
-            }
           }
         }
         const double fn = slot < static_cast<int>(s.normal_force_prev.size()) ? s.normal_force_prev[slot] : 0;
         if (fn <= 0 || o.contact.friction == FrictionModel::None) continue;
         const Mat3 pt = Mat3::Identity() - n * n.transpose();
         const Vec3 st = pt * (x - p.prev_points[i]);
-        if (o.contact.friction == FrictionModel::Coulomb) {
-          const double eps = o.contact.slip_eps, r = std::sqrt(st.squaredNorm() + eps * eps);
-          e += o.contact.mu * fn * (r - eps);
-          if (derivs) {
-            const Vec3 ff = o.contact.mu * fn / r * st;
-            ws.w[cp.body] += point_wrench(x, ff);
-            ws.h[cp.body] += point_hessian(x, (o.contact.mu * fn / r) * pt);
-            if (exact) {
-              ws.moment[cp.body] += x * ff.transpose();
-              ws.force[cp.body] += ff;
-            }
-          }
-        } else {
-          const double g = o.contact.ck * fn / o.dt;
-          e += 0.5 * g * st.squaredNorm();
-          if (derivs) {
-            ws.w[cp.body] += point_wrench(x, g * st);
-            ws.h[cp.body] += point_hessian(x, g * pt);
-            if (exact) {
-              ws.moment[cp.body] += x * (g * st).transpose();
-              ws.force[cp.body] += g * st;
-            }
-          }
+        double g;
+        e += slip_friction(o, fn, st, &g);
+        if (derivs) {
+          add_point_force(ws, cp.body, x, g * st, exact);
+          ws.h[cp.body] += point_hessian(x, g * pt);
         }
       }
     }
@@ -126,17 +131,11 @@ double pbad_energy(const Model& m, const SimOptions& o, const State& s, const Pb
       const Vec3 x = k.xpos[fa.body] + k.xmat[fa.body] * fa.local;
       const Mat3 pt = Mat3::Identity() - fa.normal * fa.normal.transpose();
       const Vec3 st = pt * (x - fa.point);
-      const bool coulomb = o.contact.friction == FrictionModel::Coulomb;
-      const double eps = o.contact.slip_eps, r = std::sqrt(st.squaredNorm() + eps * eps);
-      const double g = coulomb ? o.contact.mu * fa.normal_force / r : o.contact.ck * fa.normal_force / o.dt;
-      e += coulomb ? o.contact.mu * fa.normal_force * (r - eps) : 0.5 * g * st.squaredNorm();
+      double g;
+      e += slip_friction(o, fa.normal_force, st, &g);
       if (derivs) {
-        ws.w[fa.body] += point_wrench(x, g * st);
+        add_point_force(ws, fa.body, x, g * st, exact);
         ws.h[fa.body] += point_hessian(x, g * pt);
-        if (exact) {
-          ws.moment[fa.body] += x * (g * st).transpose();
-          ws.force[fa.body] += g * st;
-        }
       }
     }
   }
@@ -152,15 +151,9 @@ double pbad_energy(const Model& m, const SimOptions& o, const State& s, const Pb
       e += 0.5 * kk * c.depth * c.depth;
       if (!derivs) continue;
       const Vec3 f = kk * c.depth * c.normal;  // force on b; the energy's gradient at b's point is -f
-      ws.w[c.body_b] -= point_wrench(c.point, f);
-      ws.w[c.body_a] += point_wrench(c.point, f);
+      add_point_force(ws, c.body_b, c.point, -f, exact);
+      add_point_force(ws, c.body_a, c.point, f, exact);
       ws.pair_terms.push_back({c.body_a, c.body_b, c.point, c.point, c.normal, kk});
-      if (exact) {
-        ws.moment[c.body_b] -= c.point * f.transpose();
-        ws.force[c.body_b] -= f;
-        ws.moment[c.body_a] += c.point * f.transpose();
-        ws.force[c.body_a] += f;
-      }
     }
     // Friction on the relative slip of the two bodies' material points that met at q_i.
     for (const PairAnchor& pa : p.pair_anchors) {
@@ -169,23 +162,15 @@ double pbad_energy(const Model& m, const SimOptions& o, const State& s, const Pb
       const Vec3 xb = k.xpos[pa.body_b] + k.xmat[pa.body_b] * pa.local_b;
       const Mat3 pt = Mat3::Identity() - pa.normal * pa.normal.transpose();
       const Vec3 st = pt * (xb - xa);
-      const bool coulomb = o.contact.friction == FrictionModel::Coulomb;
-      const double eps = o.contact.slip_eps, r = std::sqrt(st.squaredNorm() + eps * eps);
-      const double g = coulomb ? o.contact.mu * pa.normal_force / r : o.contact.ck * pa.normal_force / o.dt;
-      e += coulomb ? o.contact.mu * pa.normal_force * (r - eps) : 0.5 * g * st.squaredNorm();
+      double g;
+      e += slip_friction(o, pa.normal_force, st, &g);
       if (!derivs) continue;
-      ws.w[pa.body_b] += point_wrench(xb, g * st);
-      ws.w[pa.body_a] -= point_wrench(xa, g * st);
+      add_point_force(ws, pa.body_b, xb, g * st, exact);
+      add_point_force(ws, pa.body_a, xa, -(g * st), exact);
       // g P = g (t1 t1^T + t2 t2^T): two rank-1 terms.
       const Vec3 t1 = pa.normal.unitOrthogonal(), t2 = pa.normal.cross(t1);
       ws.pair_terms.push_back({pa.body_a, pa.body_b, xa, xb, t1, g});
       ws.pair_terms.push_back({pa.body_a, pa.body_b, xa, xb, t2, g});
-      if (exact) {
-        ws.moment[pa.body_b] += xb * (g * st).transpose();
-        ws.force[pa.body_b] += g * st;
-        ws.moment[pa.body_a] -= xa * (g * st).transpose();
-        ws.force[pa.body_a] -= g * st;
-      }
     }
   }
   // Actuator work and joint damping (dissipation potential) in joint space.
