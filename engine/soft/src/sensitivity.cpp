@@ -222,9 +222,8 @@ MatrixXd sensitivity_jacobian(const Problem& p, const VectorXd& theta, VectorXd*
       fp[f] = perturbed(frames[f], sens[f].col(i), h, r);
       fm[f] = perturbed(frames[f], sens[f].col(i), -h, r);
       // Consistent previous states (the shuffle term reads them).
-      const SoftState& prev_p = f ? fp[f - 1] : frames[f];
-      const SoftState& prev_m = f ? fm[f - 1] : frames[f];
       if (f) {
+        const SoftState &prev_p = fp[f - 1], &prev_m = fm[f - 1];
         fp[f].q_prev = prev_p.q, fp[f].R_prev = prev_p.R, fp[f].c_prev = prev_p.c;
         fm[f].q_prev = prev_m.q, fm[f].R_prev = prev_m.R, fm[f].c_prev = prev_m.c;
       }
