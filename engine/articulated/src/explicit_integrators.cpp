@@ -85,27 +85,32 @@ void euler_step(const Model& m, const SimOptions& o, State& s, SimWorkspace& ws)
   ++s.step;
 }
 
+void rk4_advance(const Model& m, const SimOptions& o, const State& s, double h, VecX& q, VecX& v,
+                 SimWorkspace& ws) {
+  VecX a1, a2, a3, a4, qs;
+  accel(m, o, s, q, v, ws, &a1);
+  qs = q;
+  qpos_integrate(m, qs, v, h / 2);
+  const VecX v2 = v + h / 2 * a1;
+  accel(m, o, s, qs, v2, ws, &a2);
+  qs = q;
+  qpos_integrate(m, qs, v2, h / 2);
+  const VecX v3 = v + h / 2 * a2;
+  accel(m, o, s, qs, v3, ws, &a3);
+  qs = q;
+  qpos_integrate(m, qs, v3, h);
+  const VecX v4 = v + h * a3;
+  accel(m, o, s, qs, v4, ws, &a4);
+  qpos_integrate(m, q, (v + 2 * v2 + 2 * v3 + v4) / 6, h);
+  v += h / 6 * (a1 + 2 * a2 + 2 * a3 + a4);
+}
+
 void rk4_step(const Model& m, const SimOptions& o, State& s, SimWorkspace& ws) {
-  const double dt = o.dt;
-  const VecX q0 = s.qpos, v0 = s.qvel;
-  VecX a1, a2, a3, a4;
-  accel(m, o, s, q0, v0, ws, &a1);
-  VecX q = q0;
-  qpos_integrate(m, q, v0, dt / 2);
-  const VecX v2 = v0 + dt / 2 * a1;
-  accel(m, o, s, q, v2, ws, &a2);
-  q = q0;
-  qpos_integrate(m, q, v2, dt / 2);
-  const VecX v3 = v0 + dt / 2 * a2;
-  accel(m, o, s, q, v3, ws, &a3);
-  q = q0;
-  qpos_integrate(m, q, v3, dt);
-  const VecX v4 = v0 + dt * a3;
-  accel(m, o, s, q, v4, ws, &a4);
-  s.qpos = q0;
-  qpos_integrate(m, s.qpos, (v0 + 2 * v2 + 2 * v3 + v4) / 6, dt);
-  s.qvel = v0 + dt / 6 * (a1 + 2 * a2 + 2 * a3 + a4);
-  s.time += dt;
+  VecX q = s.qpos, v = s.qvel;  // accel reads s (actuators) while the stages run
+  rk4_advance(m, o, s, o.dt, q, v, ws);
+  s.qpos = q;
+  s.qvel = v;
+  s.time += o.dt;
   ++s.step;
 }
 

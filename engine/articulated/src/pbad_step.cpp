@@ -32,24 +32,10 @@ void startup_past(const Model& m, const SimOptions& o, const State& s, SimWorksp
   if (o.contact.enabled && (!ws.contacts.empty() || !ws.pair_contacts.empty())) return;  // accel() found contacts at q0
   const int sub = std::max(4, static_cast<int>(std::ceil(dt / 0.01)));
   const double h = -dt / sub;
-  VecX q = s.qpos, v = s.qvel, a1, a2, a3, a4, qs;
+  VecX q = s.qpos, v = s.qvel;
   for (int frame = 1; frame <= frames; ++frame) {
     for (int i = 0; i < sub; ++i) {
-      accel(m, o, s, q, v, ws, &a1);
-      qs = q;
-      qpos_integrate(m, qs, v, h / 2);
-      const VecX v2 = v + h / 2 * a1;
-      accel(m, o, s, qs, v2, ws, &a2);
-      qs = q;
-      qpos_integrate(m, qs, v2, h / 2);
-      const VecX v3 = v + h / 2 * a2;
-      accel(m, o, s, qs, v3, ws, &a3);
-      qs = q;
-      qpos_integrate(m, qs, v3, h);
-      const VecX v4 = v + h * a3;
-      accel(m, o, s, qs, v4, ws, &a4);
-      qpos_integrate(m, q, (v + 2 * v2 + 2 * v3 + v4) / 6, h);
-      v += h / 6 * (a1 + 2 * a2 + 2 * a3 + a4);
+      rk4_advance(m, o, s, h, q, v, ws);
       if (!ws.contacts.empty() || !ws.pair_contacts.empty()) return;  // touched on the way back: keep Taylor
     }
     if (!q.allFinite() || !v.allFinite()) return;

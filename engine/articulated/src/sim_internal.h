@@ -43,5 +43,9 @@ void accel(const Model& m, const SimOptions& o, const State& s, const VecX& q, c
 // One step of semi-implicit Euler / classic RK4 (explicit_integrators.cpp).
 void euler_step(const Model& m, const SimOptions& o, State& s, SimWorkspace& ws);
 void rk4_step(const Model& m, const SimOptions& o, State& s, SimWorkspace& ws);
+// One classic RK4 step of (q, v) by h, in place (h < 0 runs backwards: PBAD's
+// start-up frames). ws.contacts / ws.pair_contacts hold the last stage's contacts.
+void rk4_advance(const Model& m, const SimOptions& o, const State& s, double h, VecX& q, VecX& v,
+                 SimWorkspace& ws);
 
 }  // namespace pliant::articulated
