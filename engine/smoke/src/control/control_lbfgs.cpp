@@ -23,7 +23,6 @@
 namespace pliant::smoke {
 namespace {
 
-
 // Iterations the relative-decrease stop looks back (see control_solve_lbfgs).
 constexpr int kStopPast = 3;
 
