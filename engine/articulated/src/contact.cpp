@@ -6,6 +6,14 @@
 #include <map>
 
 namespace pliant::articulated {
+namespace {
+
+// Corner c (bit i set: + side on axis i) of a box with half sizes `half`, in its frame.
+Vec3 box_corner(const Vec3& half, int c) {
+  return Vec3((c & 1 ? 1 : -1) * half[0], (c & 2 ? 1 : -1) * half[1], (c & 4 ? 1 : -1) * half[2]);
+}
+
+}  // namespace
 
 std::vector<Vec3> mesh_contact_samples(const MeshShape& mesh) {
   std::vector<Vec3> out(mesh.vertices.begin(), mesh.vertices.end());
@@ -48,11 +56,7 @@ std::vector<ContactPoint> contact_points(const Model& m) {
         for (int s : {-1, 1}) pts.push_back({g.body, g.pos + r.col(2) * (s * g.size[1]), g.size[0]});
         break;
       case GeomType::Box:
-        for (int c = 0; c < 8; ++c) {
-          const Vec3 corner((c & 1 ? 1 : -1) * g.size[0], (c & 2 ? 1 : -1) * g.size[1],
-                            (c & 4 ? 1 : -1) * g.size[2]);
-          pts.push_back({g.body, g.pos + r * corner, 0.0});
-        }
+        for (int c = 0; c < 8; ++c) pts.push_back({g.body, g.pos + r * box_corner(g.size, c), 0.0});
         break;
       case GeomType::Mesh:  // vertices plus edge and face samples
         for (const Vec3& v : mesh_contact_samples(*g.mesh)) pts.push_back({g.body, g.pos + r * v, 0.0});
@@ -182,8 +186,7 @@ void mesh_feature_contacts(const Model& m, const Kinematics& k, const std::vecto
       const Mat3 gr = k.xmat[g.body] * g.quat.toRotationMatrix();
       const Vec3 gp = k.xpos[g.body] + k.xmat[g.body] * g.pos;
       for (int f = 0; f < nfeat; ++f) {
-        const Vec3 corner((f & 1 ? 1 : -1) * ob.size[0], (f & 2 ? 1 : -1) * ob.size[1], (f & 4 ? 1 : -1) * ob.size[2]);
-        const Vec3 c = ob.type == GeomType::Box ? Vec3(ob.pos + ob.quat * corner) : ob.pos;
+        const Vec3 c = ob.type == GeomType::Box ? Vec3(ob.pos + ob.quat * box_corner(ob.size, f)) : ob.pos;
         const double radius = ob.type == GeomType::Sphere ? ob.size[0] : 0.0;
         Vec3 n;
         const double d = mesh_distance(*g.mesh, gr.transpose() * (c - gp), &n) - radius;
@@ -272,11 +275,7 @@ void point_against(const Placed& s, int body, const Vec3& x, double radius, std:
 }
 
 void corners_against(const Placed& box, const Placed& s, std::vector<PairContact>* out) {
-  for (int f = 0; f < 8; ++f) {
-    const Vec3 corner((f & 1 ? 1 : -1) * box.g->size[0], (f & 2 ? 1 : -1) * box.g->size[1],
-                      (f & 4 ? 1 : -1) * box.g->size[2]);
-    point_against(s, box.g->body, box.c + box.r * corner, 0.0, out);
-  }
+  for (int f = 0; f < 8; ++f) point_against(s, box.g->body, box.c + box.r * box_corner(box.g->size, f), 0.0, out);
 }
 
 void end_spheres_against(const Placed& cap, const Placed& s, std::vector<PairContact>* out) {
@@ -319,15 +318,13 @@ void capsule_capsule(const Placed& a, const Placed& b, std::vector<PairContact>*
 }
 
 // A box's 12 edges in world: start points, full-length directions, and whether either
-// end corner is inside box `other` (corners as in corners_against: bit i = + side on axis i).
+// end corner is inside box `other` (corners as in box_corner).
 void box_edges(const Placed& b, const Placed& other, Vec3* p, Vec3* d, bool* corner_inside) {
   const Vec3& sz = b.g->size;
   bool in[8];
   Vec3 n;
-  for (int f = 0; f < 8; ++f) {
-    const Vec3 corner((f & 1 ? 1 : -1) * sz[0], (f & 2 ? 1 : -1) * sz[1], (f & 4 ? 1 : -1) * sz[2]);
-    in[f] = shape_distance(GeomType::Box, other.g->size, other.c, other.r, b.c + b.r * corner, &n) < 0;
-  }
+  for (int f = 0; f < 8; ++f)
+    in[f] = shape_distance(GeomType::Box, other.g->size, other.c, other.r, b.c + b.r * box_corner(sz, f), &n) < 0;
   int k = 0;
   for (int ax = 0; ax < 3; ++ax)
     for (int e = 0; e < 4; ++e, ++k) {
