@@ -13,9 +13,12 @@
 #include <ctime>
 #include <limits>
 #include <map>
+#include <algorithm>
+#include <array>
 
 #include "control_coarse_to_fine.h"
 #include "control_forward_model.h"
+#include "control_trace.h"
 
 namespace pliant::smoke::bench {
 namespace {
@@ -102,6 +105,7 @@ struct LbfgsResult {
   int restarts = 0;
   FaceSeries force;
   nlohmann::json history;
+  std::vector<std::array<double, 2>> trace;  // the whole history, for the milestones
 };
 
 // One continuous L-BFGS run from `start` (memory 10, LBFGS++'s Armijo backtracking, as
@@ -156,6 +160,7 @@ LbfgsResult run_lbfgs(const ControlModel& m, const FaceSeries& start, double c0,
   r.force.assign(obj.T, std::vector<float>(nf));
   for (int i = 0; i < obj.T; ++i)
     for (size_t e = 0; e < nf; ++e) r.force[i][e] = float(b[Eigen::Index(size_t(i) * nf + e)]);
+  for (const auto& p : obj.history) r.trace.push_back({p[0].get<double>(), p[1].get<double>()});
   // Thin the history to at most ~60 points (keep the first and last).
   const auto& h = obj.history;
   const size_t stride = std::max<size_t>(1, h.size() / 60);
@@ -169,6 +174,37 @@ nlohmann::json keyframes_json(const ControlMetrics& cm) {
   nlohmann::json k = nlohmann::json::array();
   for (const auto& x : cm.keyframes) k.push_back({{"frame", x.frame}, {"iou", x.iou}, {"relative_l2", x.relative_l2}});
   return k;
+}
+
+// CPU seconds at which a best-so-far trace first reaches E <= target; < 0: never.
+double time_to(const std::vector<std::array<double, 2>>& trace, double target) {
+  for (const auto& p : trace)
+    if (p[1] <= target) return p[0];
+  return -1;
+}
+
+// Time to shared milestones (intermediate objectives), Pliant's trace against the
+// baseline's: the worse of the two final objectives (both reach it) and multiples of E*.
+// speedup = L-BFGS time / Pliant's; null where a side never gets there.
+nlohmann::json milestones_json(const std::vector<std::array<double, 2>>& pliant,
+                               const std::vector<std::array<double, 2>>& lbfgs, double e_star, double lbfgs_best) {
+  nlohmann::json out = nlohmann::json::array();
+  if (pliant.empty()) return out;  // Pliant from an earlier run (--pliant-given): no trace
+  const double worse = std::max(pliant.back()[1], lbfgs_best);
+  const std::pair<const char*, double> ms[] = {{"worse_final", worse}, {"2.00 E*", 2.0 * e_star}, {"1.50 E*", 1.5 * e_star},
+                                               {"1.25 E*", 1.25 * e_star}, {"1.10 E*", 1.1 * e_star}, {"1.01 E*", 1.01 * e_star}};
+  for (const auto& [label, E] : ms) {
+    const double tp = time_to(pliant, E), tl = time_to(lbfgs, E);
+    auto num = [](double t) { return t >= 0 ? nlohmann::json(t) : nlohmann::json(); };
+    out.push_back({{"milestone", label},
+                   {"objective", E},
+                   {"pliant_s", num(tp)},
+                   {"lbfgs_s", num(tl)},
+                   {"speedup", tp > 0 && tl >= 0 ? nlohmann::json(tl / tp) : nlohmann::json()}});
+    std::fprintf(stderr, "  milestone %-11s E %-10.6g Pliant %7.1f s  L-BFGS %7.1f s  speedup %s\n", label, E, tp, tl,
+                 tp > 0 && tl >= 0 ? std::to_string(tl / tp).c_str() : "-");
+  }
+  return out;
 }
 
 }  // namespace
@@ -196,6 +232,7 @@ void converged_comparison(const std::string& name, const ControlModel& m, const 
   std::map<std::pair<int, int>, Bucket> buckets;
   double last_cpu = c0;
   ControlCallbacks cb;
+  cb.clock = process_cpu_s;  // the objective trace in CPU seconds, as the baselines' histories
   cb.on_iteration = [&](const ControlState& st) {
     const double now = process_cpu_s();
     if (st.level == 0 && !st.objective_history.empty()) admm_history.push_back({now - c0, st.objective_history.back()});
@@ -238,9 +275,11 @@ void converged_comparison(const std::string& name, const ControlModel& m, const 
   std::fprintf(stderr, "%s: Pliant E* %.6g IoU min %.3f in %.1f s cpu (%.1f s wall, load %.1f)\n", name.c_str(),
                e_star, pm.iou_min, pliant_cpu, pliant_wall, load_average());
   const double budget = o.budget_factor * pliant_cpu;
+  const std::vector<std::array<double, 2>> pliant_trace = given ? std::vector<std::array<double, 2>>{} : s.objective_trace;
 
   auto row = [&](const char* label, const LbfgsResult& r, double coarse_s) {
     const ControlMetrics lm = control_evaluate(m, r.force);
+    const nlohmann::json milestones = milestones_json(pliant_trace, r.trace, e_star, r.best);
     nlohmann::json j = {{"case", name + " converged " + label},
                         {"comparison", "converged"},
                         {"baseline", label},
@@ -272,6 +311,10 @@ void converged_comparison(const std::string& name, const ControlModel& m, const 
                         {"lbfgs_history", r.history},
                         {"speedup", pliant_cpu > 0 ? r.time_s / pliant_cpu : 0.0},
                         {"speedup_is_lower_bound", !r.reached},
+                        // Pliant's best-so-far trace on the scene's grid ([CPU s, E], <= 60
+                        // points) and the time to shared intermediate objectives.
+                        {"pliant_trace", control_detail::decimate_trace(pliant_trace, 60)},
+                        {"milestones", milestones},
                         {"load_average_1min", load_average()},
                         {"peak_mb", [] {
                            rusage ru{};

@@ -1,14 +1,21 @@
 // control_solve_lbfgs's chunks (control/control_lbfgs.cpp, ControlModel::lbfgs_chunk): the
 // scene key is parsed and range-checked, the chunk length sets how many iterations run
 // between checkpoints, and a run resumed from any chunk's checkpoint ends where the
-// uninterrupted run ends. (Gradients: tests/unit/smoke_control.)
+// uninterrupted run ends; the best-so-far objective trace (control_trace.h) is monotone,
+// starts at the first evaluation and survives a checkpoint. (Gradients: tests/unit/smoke_control.)
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
+#include <functional>
+#include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "pliant/core/error.h"
 #include "pliant/core/scene.h"
+#include "control/control_trace.h"
 #include "pliant/smoke/control.h"
 
 namespace pliant::smoke {
@@ -85,6 +92,97 @@ TEST(ControlLbfgsChunk, ResumeFromAChunkCheckpointMatches) {
   ASSERT_EQ(resumed.force.size(), full.force.size());
   for (size_t t = 0; t < full.force.size(); ++t) EXPECT_EQ(resumed.force[t], full.force[t]) << "frame " << t;
   EXPECT_EQ(resumed.objective_history, full.objective_history);
+}
+
+// A clock that ticks once per reading: deterministic trace times.
+std::function<double()> trace_test_ticks() {
+  auto n = std::make_shared<double>(0.0);
+  return [n] { return *n += 1.0; };
+}
+
+void expect_trace_monotone(const std::vector<std::array<double, 2>>& t) {
+  for (size_t i = 1; i < t.size(); ++i) {
+    EXPECT_GE(t[i][0], t[i - 1][0]) << "point " << i;
+    EXPECT_LT(t[i][1], t[i - 1][1]) << "point " << i;
+  }
+}
+
+// L-BFGS: the trace starts at the first evaluation (the forces at rest), only falls, ends at
+// the run's best objective, and a run resumed from a chunk's checkpoint keeps the
+// checkpoint's trace and clock and ends at the same point as the uninterrupted run.
+TEST(ControlLbfgsTrace, MonotoneFromTheFirstEvaluationAndResumable) {
+  ControlModel m = control_compile(scene_with(R"(, "lbfgs_chunk": 6)"));
+  const double E0 = control_objective(m, control_init(m).force, nullptr);
+  Progress progress;
+  std::vector<std::vector<uint8_t>> saved;
+  ControlCallbacks cb;
+  cb.clock = trace_test_ticks();
+  cb.on_iteration = [&](const ControlState& st) { saved.push_back(control_state_serialize(st)); };
+  ControlState full = control_init(m);
+  control_solve_lbfgs(m, full, progress, cb);
+  const auto& t = full.objective_trace;
+  ASSERT_GE(t.size(), 3u);
+  EXPECT_NEAR(t.front()[1], E0, 1e-12 * E0);
+  EXPECT_EQ(t.front()[0], 1.0);  // one tick after the clock started
+  expect_trace_monotone(t);
+  EXPECT_EQ(t.back()[1], *std::min_element(full.objective_history.begin(), full.objective_history.end()));
+  EXPECT_GE(full.trace_s, t.back()[0]);
+  // Checkpoint round trip, then resume.
+  ASSERT_GE(saved.size(), 2u);
+  ControlState ck = control_state_deserialize(saved[saved.size() - 2]);
+  ASSERT_FALSE(ck.objective_trace.empty());
+  const std::vector<std::array<double, 2>> prefix(t.begin(), t.begin() + ck.objective_trace.size());
+  EXPECT_EQ(ck.objective_trace, prefix);
+  EXPECT_GT(ck.trace_s, 0.0);
+  EXPECT_EQ(control_state_deserialize(control_state_serialize(full)).objective_trace, t);
+  ControlState resumed = ck;
+  ControlCallbacks rcb;
+  rcb.clock = trace_test_ticks();
+  control_solve_lbfgs(m, resumed, progress, rcb);
+  expect_trace_monotone(resumed.objective_trace);
+  ASSERT_GT(resumed.objective_trace.size(), ck.objective_trace.size());
+  EXPECT_GT(resumed.objective_trace[ck.objective_trace.size()][0], ck.trace_s);
+  EXPECT_EQ(resumed.objective_trace.back()[1], t.back()[1]);
+  // A version 3 checkpoint (before the trace) still loads, with an empty trace.
+  std::vector<uint8_t> v3 = saved.front();
+  const ControlState first = control_state_deserialize(v3);
+  v3.resize(v3.size() - 16 - 16 * first.objective_trace.size());
+  v3[4] = 3;
+  const ControlState old = control_state_deserialize(v3);
+  EXPECT_TRUE(old.objective_trace.empty());
+  EXPECT_EQ(old.trace_s, 0.0);
+  EXPECT_EQ(old.force, first.force);
+  // A trace that rises is damage.
+  ControlState bad = full;
+  bad.objective_trace.push_back({bad.trace_s + 1, bad.objective_trace.back()[1] + 1});
+  EXPECT_THROW(control_state_deserialize(control_state_serialize(bad)), std::runtime_error);
+}
+
+// ADMM: its starting forces and outer iterations are trace points, then the polish's
+// evaluations; the trace ends at the best of all of them. Decimation keeps the ends.
+TEST(ControlLbfgsTrace, AdmmIterationsAndPolishShareTheTrace) {
+  ControlModel m = control_compile(scene_with(""));
+  m.method = ControlMethod::Admm;
+  m.max_iterations = 3;
+  m.polish_iterations = 4;
+  const double E0 = control_objective(m, control_init(m).force, nullptr);
+  Progress progress;
+  ControlCallbacks cb;
+  cb.clock = trace_test_ticks();
+  ControlState s = control_init(m);
+  control_solve_admm(m, s, progress, cb);
+  const auto& t = s.objective_trace;
+  ASSERT_GE(t.size(), 2u);
+  EXPECT_NEAR(t.front()[1], E0, 1e-12 * E0);
+  expect_trace_monotone(t);
+  double best = t.front()[1];
+  for (double e : s.objective_history) best = std::min(best, e);
+  EXPECT_EQ(t.back()[1], best);
+  const auto d = control_detail::decimate_trace(t, 2);
+  ASSERT_EQ(d.size(), 2u);
+  EXPECT_EQ(d.front(), t.front());
+  EXPECT_EQ(d.back(), t.back());
+  EXPECT_EQ(control_detail::decimate_trace(t, 1000), t);
 }
 
 }  // namespace

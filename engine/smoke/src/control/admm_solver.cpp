@@ -10,6 +10,7 @@
 #include "ao_solver.h"
 #include "control_coarse_to_fine.h"
 #include "control_forward_model.h"
+#include "control_trace.h"
 #include "nso_solver.h"
 #include "spacetime_multigrid_transfer.h"
 
@@ -76,6 +77,7 @@ void admm_run(const ControlModel& m, ControlState& s, Progress& progress, const 
   // re-simulation, 0.4 GB of state (and of every checkpoint), 1.3 GB of series below and
   // the NSO's multigrid (2.6 GB, now built on first use anyway).
   if (s.iteration >= m.max_iterations) return;
+  control_detail::TraceClock trace(s, cb);
   // Small grids on one thread (fork/join dominates there on a loaded machine).
   control_detail::SerialBelow serial(model_grid(m.sim).cells() * size_t(std::max(T, 1)), kSpacetimeOmpMinWork);
   control_detail::ForwardOps ops(m, control_detail::kControlPressureTolerance);
@@ -104,7 +106,9 @@ void admm_run(const ControlModel& m, ControlState& s, Progress& progress, const 
   for (double e : s.objective_history) best = std::min(best, e);
   if (sized(s.force)) {
     control_detail::SerialBelow serial_e(0, 1);
-    best = std::min(best, control_detail::objective_d(m, ops, to_d(s.force), nullptr));
+    const double start = control_detail::objective_d(m, ops, to_d(s.force), nullptr);
+    trace.add(start);  // the level's first point: its starting forces (rest or prolonged)
+    best = std::min(best, start);
   }
   AoSolver ao(m, ops);
   NsoSolver nso(m, ops);
@@ -161,6 +165,7 @@ void admm_run(const ControlModel& m, ControlState& s, Progress& progress, const 
     it.objective = control_detail::objective_d(m, ops, f, nullptr);
     serial_f.reset();
     it.forces_s = seconds_since(t2);
+    trace.add(it.objective);
     // The output forces are the best re-simulated ones so far (ADMM is not monotone in E).
     if (it.objective <= best || !sized(s.force)) s.force = to_f(f), best = std::min(best, it.objective);
     s.velocity = to_f(u);
@@ -177,6 +182,7 @@ void admm_run(const ControlModel& m, ControlState& s, Progress& progress, const 
     s.wall_s += seconds_since(t0);
     ++s.iteration;
     if (stats) stats->push_back(it);
+    trace.sync();
     // Checkpoint first, then report: whoever sees the progress event can rely on the
     // checkpoint being in the take (as in control_lbfgs.cpp).
     if (cb.on_iteration) cb.on_iteration(s);

@@ -68,6 +68,7 @@ bool control_coarse_to_fine(const ControlModel& m, ControlState& s, int levels, 
   if (chain.size() < 2) return false;
   const int T = m.sim.frames;
   FaceSeries force;
+  double trace_s = s.trace_s;  // the solver clock goes on through the levels (control_trace.h)
   const int first = resume_level ? s.level : int(chain.size()) - 1;
   for (int l = first; l >= 1; --l) {
     ControlModel cm = chain[l];
@@ -87,9 +88,11 @@ bool control_coarse_to_fine(const ControlModel& m, ControlState& s, int levels, 
     } else {
       cs = control_init(cm);
       if (!force.empty()) cs.force = force;
+      cs.trace_s = trace_s;
     }
     cs.level = l;
     ControlCallbacks level_cb;
+    level_cb.clock = cb.clock;
     int level_iterations = 0;
     level_cb.on_iteration = [&](const ControlState& st) {
       ++level_iterations;
@@ -97,6 +100,7 @@ bool control_coarse_to_fine(const ControlModel& m, ControlState& s, int levels, 
       if (cb.on_iteration) cb.on_iteration(st);  // the level's checkpoint (st.level = l)
     };
     solve_level(cm, cs, level_cb);
+    trace_s = cs.trace_s;
     if (cb.on_preview) emit_preview(cm, cs, cb);
     // Prolong the forces to the next finer level.
     const SpacetimeGrid fg(model_grid(chain[l - 1].sim), 1), cg(model_grid(cm.sim), 1);
@@ -109,6 +113,7 @@ bool control_coarse_to_fine(const ControlModel& m, ControlState& s, int levels, 
   }
   s = control_init(m);
   s.force = force;
+  s.trace_s = trace_s;
   return true;
 }
 

@@ -18,6 +18,7 @@
 
 #include "control_coarse_to_fine.h"
 #include "control_forward_model.h"
+#include "control_trace.h"
 #include "pliant/core/error.h"
 
 namespace pliant::smoke {
@@ -41,6 +42,7 @@ struct LbfgsObjective {
   double best_f = std::numeric_limits<double>::infinity();
   Eigen::VectorXd best_x;
   std::vector<double>* history = nullptr;
+  control_detail::TraceClock* trace = nullptr;  // every evaluation (it keeps the new bests)
   long evaluations = 0;
 
   // No cache of the last evaluation: every chunk starts with a fresh one (resumed runs must
@@ -55,6 +57,7 @@ struct LbfgsObjective {
     }
     const double E = control_detail::objective_d(m, ops, f.data(), g.data());
     ++evaluations;
+    trace->add(E);
     if (E < best_f) {
       best_f = E;
       best_x = x;
@@ -82,9 +85,11 @@ void control_solve_lbfgs(const ControlModel& m, ControlState& s, Progress& progr
     if (s.force[i].size() != nf) throw std::invalid_argument("control_solve_lbfgs: state does not match the model");
     for (size_t e = 0; e < nf; ++e) x[Eigen::Index(size_t(i) * nf + e)] = s.force[i][e];
   }
+  control_detail::TraceClock trace(s, cb);
   LbfgsObjective obj(m, ops, progress, T, nf);
   obj.best_x = x;
   obj.history = &s.objective_history;
+  obj.trace = &trace;
   progress.stage(m.stage_label.empty() ? "lbfgs" : "lbfgs " + m.stage_label, m.max_iterations);
 
   while (s.iteration < m.max_iterations && !s.lbfgs_stopped) {
@@ -146,6 +151,7 @@ void control_solve_lbfgs(const ControlModel& m, ControlState& s, Progress& progr
                            std::abs(previous - fx) <= m.tolerance * std::max(std::abs(fx), 1e-300);
     // In the state, so a run resumed from this checkpoint stops here too.
     s.lbfgs_stopped = stalled || converged;
+    trace.sync();
     // Checkpoint first, then report: whoever sees the progress event can rely on
     // the checkpoint being in the take.
     if (cb.on_iteration) cb.on_iteration(s);

@@ -4,6 +4,9 @@
 //   4 x FaceSeries (force, velocity, split, dual): u32 frames, per frame u64 n + n f32
 //   3 x double series (objective, primal residual, dual residual): u64 n + n f64
 //   i32 phase f64 nso_damping (version >= 2), i32 level u8 lbfgs_stopped (version >= 3)
+//   f64 trace_s, u64 n + n x (f64 seconds, f64 E) objective trace (version >= 4; older
+//   checkpoints load with an empty trace from 0 s: their runs predate it)
+#include <cmath>
 #include <cstring>
 #include <stdexcept>
 #include <string>
@@ -16,7 +19,8 @@ namespace pliant::smoke {
 namespace {
 
 constexpr uint32_t kMagic = 0x53434c50;  // "PLCS"
-constexpr uint32_t kVersion = 3;  // 2: phase and NSO damping; 3: coarse-to-fine level, L-BFGS stop
+// 2: phase and NSO damping; 3: coarse-to-fine level, L-BFGS stop; 4: objective trace
+constexpr uint32_t kVersion = 4;
 
 template <class T>
 void put(std::vector<uint8_t>& b, const T& v) {
@@ -93,6 +97,8 @@ std::vector<uint8_t> control_state_serialize(const ControlState& s) {
   put<double>(b, s.nso_damping);
   put<int32_t>(b, s.level);
   put<uint8_t>(b, s.lbfgs_stopped ? 1 : 0);
+  put<double>(b, s.trace_s);
+  put_array(b, s.objective_trace);
   return b;
 }
 
@@ -118,6 +124,16 @@ ControlState control_state_deserialize(const std::vector<uint8_t>& bytes) {
     const uint8_t stopped = r.get<uint8_t>();
     if (stopped > 1) r.bad("bad L-BFGS stop flag");
     s.lbfgs_stopped = stopped == 1;
+  }
+  if (version >= 4) {
+    s.trace_s = r.get<double>();
+    if (!(s.trace_s >= 0 && std::isfinite(s.trace_s))) r.bad("bad trace time");
+    s.objective_trace = r.get_array<std::array<double, 2>>();
+    for (size_t i = 0; i < s.objective_trace.size(); ++i) {
+      const auto& p = s.objective_trace[i];
+      if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || (i > 0 && !(p[1] < s.objective_trace[i - 1][1])))
+        r.bad("objective trace point " + std::to_string(i) + " not finite or not decreasing");
+    }
   }
   if (r.pos != bytes.size()) r.bad("trailing bytes");
   return s;

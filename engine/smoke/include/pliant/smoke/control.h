@@ -129,6 +129,13 @@ struct ControlState {
   // L-BFGS (baseline or polish) stopped by its own rule (converged or stalled) before
   // its iteration cap: a run resumed from this state stops as the uninterrupted one did.
   bool lbfgs_stopped = false;
+  // Best-so-far objective of this level, [seconds, E] at every evaluation that lowered it
+  // (L-BFGS evaluations, ADMM outer iterations and the level's starting forces): seconds
+  // on the solver clock (ControlCallbacks::clock) since the run started, coarse levels'
+  // time included; the points themselves are this level's (a coarse level's E is on its
+  // own grid). trace_s: solver-clock seconds spent up to this state (resume goes on there).
+  std::vector<std::array<double, 2>> objective_trace;
+  double trace_s = 0;
 };
 ControlState control_init(const ControlModel& m);  // zero forces, rest fluid
 std::vector<uint8_t> control_state_serialize(const ControlState& s);
@@ -140,6 +147,9 @@ ControlState control_state_deserialize(const std::vector<uint8_t>& bytes);  // t
 struct ControlCallbacks {
   std::function<void(const ControlState&)> on_iteration;
   std::function<void(const GridDims&, const std::vector<std::vector<float>>&)> on_preview;
+  // Seconds for ControlState::objective_trace (only differences are used); empty: the
+  // steady clock (wall). The bench passes process CPU seconds.
+  std::function<double()> clock;
 };
 
 // Both run until tolerance, max_iterations or cancellation (progress.check_cancelled()).
