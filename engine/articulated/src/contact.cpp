@@ -233,6 +233,11 @@ double geom_bounding_radius(const Geom& g) {
     case GeomType::Sphere: return g.size[0];
     case GeomType::Capsule: return g.size[0] + g.size[1];
     case GeomType::Box: return g.size.norm();
+    case GeomType::Mesh: {
+      double r = 0;
+      for (const Vec3& v : g.mesh->vertices) r = std::max(r, v.norm());
+      return r;
+    }
     default: return 0;
   }
 }
@@ -240,7 +245,24 @@ double geom_bounding_radius(const Geom& g) {
 std::vector<GeomPair> contact_geom_pairs(const Model& m) {
   std::vector<GeomPair> out;
   const auto collides = [](const Geom& g) {
-    return g.body != 0 && (g.type == GeomType::Sphere || g.type == GeomType::Capsule || g.type == GeomType::Box);
+    return g.body != 0 && (g.type == GeomType::Sphere || g.type == GeomType::Capsule || g.type == GeomType::Box ||
+                           g.type == GeomType::Mesh);
+  };
+  const auto is_explicit = [&m](int i, int j) {
+    for (const ContactPair& p : m.contact_pairs)
+      if ((p.geom1 == i && p.geom2 == j) || (p.geom1 == j && p.geom2 == i)) return true;
+    return false;
+  };
+  // Mesh samples once per mesh geom, shared by its pairs.
+  std::vector<std::shared_ptr<const std::vector<Vec3>>> samples(m.geoms.size());
+  const auto pair_of = [&](int i, int j) {
+    GeomPair p{i, j, geom_bounding_radius(m.geoms[i]) + geom_bounding_radius(m.geoms[j]), false, -1, nullptr};
+    for (int g : {i, j})
+      if (m.geoms[g].type == GeomType::Mesh) {
+        if (!samples[g]) samples[g] = std::make_shared<const std::vector<Vec3>>(mesh_contact_samples(*m.geoms[g].mesh));
+        p.mesh_samples = samples[g];
+      }
+    return p;
   };
   for (size_t i = 0; i < m.geoms.size(); ++i) {
     const Geom& ga = m.geoms[i];
@@ -248,12 +270,20 @@ std::vector<GeomPair> contact_geom_pairs(const Model& m) {
     for (size_t j = i + 1; j < m.geoms.size(); ++j) {
       const Geom& gb = m.geoms[j];
       if (!collides(gb) || ga.body == gb.body) continue;
+      if (ga.type == GeomType::Mesh && gb.type == GeomType::Mesh) continue;
       if (m.bodies[ga.body].parent == gb.body || m.bodies[gb.body].parent == ga.body) continue;
       if (!((ga.contype & gb.conaffinity) || (gb.contype & ga.conaffinity))) continue;
       const std::array<int, 2> key{std::min(ga.body, gb.body), std::max(ga.body, gb.body)};
       if (std::find(m.contact_exclude.begin(), m.contact_exclude.end(), key) != m.contact_exclude.end()) continue;
-      out.push_back({static_cast<int>(i), static_cast<int>(j), geom_bounding_radius(ga) + geom_bounding_radius(gb)});
+      if (is_explicit(static_cast<int>(i), static_cast<int>(j))) continue;  // listed below, with its own friction
+      out.push_back(pair_of(static_cast<int>(i), static_cast<int>(j)));
     }
+  }
+  for (const ContactPair& cp : m.contact_pairs) {
+    GeomPair p = pair_of(cp.geom1, cp.geom2);
+    p.explicit_pair = true;
+    p.mu = cp.mu;
+    out.push_back(p);
   }
   return out;
 }
@@ -398,23 +428,61 @@ void edges_across(const Placed& a, const Placed& b, std::vector<PairContact>* ou
   }
 }
 
+// Point x of body `body` (a sphere of radius `radius` about it) against mesh geom
+// `mesh`'s signed distance: a contact on the mesh's body (a) and `body` (b), normal
+// out of the mesh (as mesh_feature_contacts, with the mesh as the other body).
+void point_against_mesh(const Placed& mesh, int body, const Vec3& x, double radius, std::vector<PairContact>* out) {
+  Vec3 n;
+  const double d = mesh_distance(*mesh.g->mesh, mesh.r.transpose() * (x - mesh.c), &n) - radius;
+  if (d >= 0) return;
+  const Vec3 nw = mesh.r * n;
+  out->push_back({mesh.g->body, body, x - radius * nw, nw, -d});
+}
+
+// Mesh against a sphere, capsule or box `s`: the sphere's centre against the mesh
+// (exact); a capsule's end spheres / a box's corners against the mesh, and the mesh's
+// contact samples against the capsule / box (each sample a point of the mesh's body).
+void mesh_against(const Placed& mesh, const std::vector<Vec3>& samples, const Placed& s, std::vector<PairContact>* out) {
+  const Geom& g = *s.g;
+  switch (g.type) {
+    case GeomType::Sphere: point_against_mesh(mesh, g.body, s.c, g.size[0], out); return;
+    case GeomType::Capsule:
+      for (int e : {-1, 1}) point_against_mesh(mesh, g.body, s.c + s.r.col(2) * (e * g.size[1]), g.size[0], out);
+      break;
+    case GeomType::Box:
+      for (int f = 0; f < 8; ++f) point_against_mesh(mesh, g.body, s.c + s.r * box_corner(g.size, f), 0.0, out);
+      break;
+    default: return;
+  }
+  for (const Vec3& v : samples) point_against(s, mesh.g->body, mesh.c + mesh.r * v, 0.0, out);
+}
+
 }  // namespace
 
 void find_pair_contacts(const Model& m, const Kinematics& k, const std::vector<GeomPair>& pairs,
-                        std::vector<PairContact>* out) {
+                        std::vector<PairContact>* out, bool self_collision) {
   out->clear();
   for (const GeomPair& pr : pairs) {
+    if (!self_collision && !pr.explicit_pair) continue;
     const Geom &g0 = m.geoms[pr.a], &g1 = m.geoms[pr.b];
     Placed a{&g0, k.xpos[g0.body] + k.xmat[g0.body] * g0.pos, Mat3()};
     Placed b{&g1, k.xpos[g1.body] + k.xmat[g1.body] * g1.pos, Mat3()};
     if ((a.c - b.c).squaredNorm() >= pr.reach * pr.reach) continue;  // bounding spheres apart
     a.r = k.xmat[g0.body] * g0.quat.toRotationMatrix();
     b.r = k.xmat[g1.body] * g1.quat.toRotationMatrix();
-    // Order by type (sphere < capsule < box) so each combination has one case.
+    const size_t first = out->size();
+    // Order by type (sphere < capsule < box < mesh) so each combination has one case.
     const Placed* lo = &a;
     const Placed* hi = &b;
-    const auto rank = [](GeomType t) { return t == GeomType::Sphere ? 0 : t == GeomType::Capsule ? 1 : 2; };
+    const auto rank = [](GeomType t) {
+      return t == GeomType::Sphere ? 0 : t == GeomType::Capsule ? 1 : t == GeomType::Box ? 2 : 3;
+    };
     if (rank(hi->g->type) < rank(lo->g->type)) std::swap(lo, hi);
+    if (hi->g->type == GeomType::Mesh) {  // (mesh-mesh pairs are never listed)
+      mesh_against(*hi, *pr.mesh_samples, *lo, out);
+      for (size_t i = first; i < out->size(); ++i) (*out)[i].mu = pr.mu;
+      continue;
+    }
     const int pair = rank(lo->g->type) * 3 + rank(hi->g->type);
     switch (pair) {
       case 0: case 1: case 2:  // sphere against sphere, capsule, box: exact
@@ -432,6 +500,8 @@ void find_pair_contacts(const Model& m, const Kinematics& k, const std::vector<G
         break;
       default: break;
     }
+    if (pr.mu >= 0)
+      for (size_t i = first; i < out->size(); ++i) (*out)[i].mu = pr.mu;
   }
 }
 

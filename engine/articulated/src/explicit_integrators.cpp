@@ -22,7 +22,7 @@ void explicit_forces(const Model& m, const SimOptions& o, const State& s, const 
   ws.pair_contacts.clear();
   if (!o.contact.enabled) return;
   if (!ws.points.empty() && !ws.obstacles.empty()) find_contacts(m, k, ws.points, ws.obstacles, &ws.contacts);
-  if (o.contact.self_collision) find_pair_contacts(m, k, ws.pairs, &ws.pair_contacts);
+  if (pair_contact_on(m, o.contact)) find_pair_contacts(m, k, ws.pairs, &ws.pair_contacts, o.contact.self_collision);
   if (ws.contacts.empty() && ws.pair_contacts.empty()) return;
   const int nb = static_cast<int>(m.bodies.size());
   std::vector<Vec6> v(nb), w(nb, Vec6::Zero());
@@ -34,27 +34,27 @@ void explicit_forces(const Model& m, const SimOptions& o, const State& s, const 
   }
   // Spring-damper normal force and regularised friction on the point's velocity
   // (relative to the other body's material point for body-body contacts).
-  const auto contact_force = [&](const Vec3& vp, const Vec3& n, double depth) {
+  const auto contact_force = [&](const Vec3& vp, const Vec3& n, double depth, double mu) {
     const double vn = vp.dot(n);
     const double fn = std::max(0.0, o.contact.stiffness * depth - o.contact.damping * vn);
     const Vec3 vt = vp - vn * n;
     Vec3 ft = Vec3::Zero();
     if (o.contact.friction == FrictionModel::Coulomb) {
       const double eps = o.contact.slip_eps / o.dt;
-      ft = -o.contact.mu * fn * vt / std::sqrt(vt.squaredNorm() + eps * eps);
+      ft = -mu * fn * vt / std::sqrt(vt.squaredNorm() + eps * eps);
     } else if (o.contact.friction == FrictionModel::Ck) {
       ft = -o.contact.ck * fn * vt;
     }
     return Vec3(fn * n + ft);
   };
   for (Contact& c : ws.contacts) {
-    c.force = contact_force(v[c.body].tail<3>() + v[c.body].head<3>().cross(c.point), c.normal, c.depth);
+    c.force = contact_force(v[c.body].tail<3>() + v[c.body].head<3>().cross(c.point), c.normal, c.depth, o.contact.mu);
     w[c.body] += point_wrench(c.point, c.force);
   }
   for (const PairContact& c : ws.pair_contacts) {
     const Vec3 va = v[c.body_a].tail<3>() + v[c.body_a].head<3>().cross(c.point);
     const Vec3 vb = v[c.body_b].tail<3>() + v[c.body_b].head<3>().cross(c.point);
-    const Vec3 f = contact_force(vb - va, c.normal, c.depth);
+    const Vec3 f = contact_force(vb - va, c.normal, c.depth, c.mu < 0 ? o.contact.mu : c.mu);
     w[c.body_b] += point_wrench(c.point, f);
     w[c.body_a] -= point_wrench(c.point, f);
   }

@@ -61,6 +61,32 @@ ArticulatedScene articulated_compile(const Scene& scene) {
     o.contact.limit_stiffness = c->number("limit_stiffness", o.contact.limit_stiffness, 0);
     // Body-body contact (off by default: older scenes keep their trajectories).
     o.contact.self_collision = c->boolean("self_collision", false);
+    // Explicit pairs, geoms by name (as MJCF's <contact><pair>): always touch, whatever
+    // self_collision, contype/conaffinity or exclude say; "mu" overrides contact.mu.
+    for (JsonReader& pr : c->objects("pairs")) {
+      ContactPair cp;
+      int* ids[2] = {&cp.geom1, &cp.geom2};
+      const char* keys[2] = {"geom1", "geom2"};
+      for (int i = 0; i < 2; ++i) {
+        const std::string name = pr.required_string(keys[i]);
+        *ids[i] = -1;
+        std::vector<std::string> names;
+        for (size_t g = 0; g < m.geoms.size(); ++g) {
+          if (m.geoms[g].name.empty()) continue;
+          names.push_back(m.geoms[g].name);
+          if (m.geoms[g].name == name) *ids[i] = static_cast<int>(g);
+        }
+        if (*ids[i] < 0) {
+          const std::string near = nearest_name(name, names);
+          pr.fail(keys[i], "no geom named \"" + name + "\"" + (near.empty() ? "" : "; did you mean \"" + near + "\"?"));
+        }
+      }
+      const std::string problem = contact_pair_problem(m, cp.geom1, cp.geom2);
+      if (!problem.empty()) pr.fail("geom2", problem);
+      if (pr.has("mu")) cp.mu = pr.number("mu", 0, 0);
+      pr.finish();
+      a.model.contact_pairs.push_back(cp);
+    }
     c->finish();
   }
   if (auto jl = r.object("joint_limits")) {
@@ -144,7 +170,7 @@ Record articulated_frame_record(const Model& m, const SimOptions& o, const State
     for (double v : {x.x(), x.y(), x.z(), q.w(), q.x(), q.y(), q.z()}) pose.data.push_back(static_cast<float>(v));
   }
   // Obstacle contacts, then body-body ones (force on the body the normal pushes).
-  const size_t npair = o.contact.enabled && o.contact.self_collision ? ws.pair_contacts.size() : 0;
+  const size_t npair = pair_contact_on(m, o.contact) ? ws.pair_contacts.size() : 0;
   Field contacts{"contacts", {static_cast<uint32_t>(ws.contacts.size() + npair), 6}, {}};
   for (const Contact& c : ws.contacts) {
     const Vec3 f = o.contact.stiffness * c.depth * c.normal;

@@ -450,15 +450,50 @@ void geom_set_mesh(Geom& g, const std::shared_ptr<const MeshShape>& shape) {
   g.pos += g.quat * centre;
 }
 
-// <contact>: <exclude body1 body2> (body pairs that never touch); <pair> and
-// anything else rejected (Pliant's contact has its own stiffness and friction).
+// <contact><pair geom1 geom2 [friction]>: an explicit pair (Model::contact_pairs),
+// friction's first (sliding) value its Coulomb coefficient; condim and margin ignored
+// as on geoms, solref/solimp/gap rejected as on geoms.
+void read_contact_pair(Ctx& c, const XmlElement& e, const std::string& path) {
+  check_attrs(c, e, path, {"name", "geom1", "geom2", "friction", "condim", "margin"});
+  ContactPair pair;
+  int* ids[2] = {&pair.geom1, &pair.geom2};
+  const char* keys[2] = {"geom1", "geom2"};
+  for (int i = 0; i < 2; ++i) {
+    const auto* name = e.attr(keys[i]);
+    if (!name) throw InputError(c.file, path + "/@" + keys[i], "<pair> needs geom1 and geom2");
+    *ids[i] = -1;
+    std::vector<std::string> names;
+    for (size_t g = 0; g < c.m.geoms.size(); ++g) {
+      if (c.m.geoms[g].name.empty()) continue;
+      names.push_back(c.m.geoms[g].name);
+      if (c.m.geoms[g].name == *name) *ids[i] = static_cast<int>(g);
+    }
+    if (*ids[i] < 0) {
+      const std::string near = nearest_name(*name, names);
+      throw InputError(c.file, path + "/@" + keys[i],
+                       "no geom named \"" + *name + "\"" + (near.empty() ? "" : "; did you mean \"" + near + "\"?"));
+    }
+  }
+  const std::string problem = contact_pair_problem(c.m, pair.geom1, pair.geom2);
+  if (!problem.empty()) throw InputError(c.file, path + "/@geom2", problem);
+  if (e.attr("friction")) pair.mu = numbers(c, e, path, "friction", 1, 5)[0];
+  if (e.attr("friction") && pair.mu < 0) throw InputError(c.file, path + "/@friction", "must be >= 0");
+  c.m.contact_pairs.push_back(pair);
+}
+
+// <contact>: <exclude body1 body2> (body pairs that never touch) and <pair>; anything
+// else rejected.
 void read_contact(Ctx& c, const XmlElement& e, const std::string& path) {
   check_attrs(c, e, path, {});
   for (size_t k = 0; k < e.children.size(); ++k) {
     const XmlElement& ch = e.children[k];
     const std::string cp = child_path(path, e, k);
+    if (ch.name == "pair") {
+      read_contact_pair(c, ch, cp);
+      continue;
+    }
     if (ch.name != "exclude")
-      throw InputError(c.file, cp, "unsupported element <" + ch.name + "> in <contact> (only <exclude> is supported)");
+      throw InputError(c.file, cp, "unsupported element <" + ch.name + "> in <contact> (only <exclude> and <pair> are supported)");
     check_attrs(c, ch, cp, {"name", "body1", "body2"});
     int ids[2];
     const char* keys[2] = {"body1", "body2"};

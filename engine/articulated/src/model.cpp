@@ -189,6 +189,18 @@ void model_finalize(Model& m, const std::vector<bool>& has_inertial) {
       throw std::invalid_argument("body \"" + m.bodies[b].name + "\" has joints but no mass");
 }
 
+std::string contact_pair_problem(const Model& m, int g1, int g2) {
+  const Geom &a = m.geoms[g1], &b = m.geoms[g2];
+  if (g1 == g2) return "a geom cannot pair with itself";
+  if (a.body == 0 || b.body == 0)
+    return "pairs with world geoms are not supported (world geoms are obstacles: they touch every geom whose "
+           "contype or conaffinity is nonzero)";
+  if (a.body == b.body) return "both geoms belong to one body";
+  if (a.type == GeomType::Plane || b.type == GeomType::Plane) return "planes on moving bodies take no part in contact";
+  if (a.type == GeomType::Mesh && b.type == GeomType::Mesh) return "mesh-mesh contact is not supported";
+  return "";
+}
+
 std::string chain_mjcf(int links, double link_length, double radius) {
   std::ostringstream s;
   s.precision(17);

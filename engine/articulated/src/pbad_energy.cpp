@@ -22,12 +22,13 @@ void add_point_force(SimWorkspace& ws, int b, const Vec3& x, const Vec3& f, bool
 // Friction on the tangential slip st under normal force fn, as a dissipation
 // potential: dry Coulomb mu fn (sqrt(|st|^2 + eps^2) - eps) or C_k's g/2 |st|^2.
 // Returns the energy; *g is the coefficient of its gradient g st and of its
-// Gauss-Newton Hessian g P_t.
-double slip_friction(const SimOptions& o, double fn, const Vec3& st, double* g) {
+// Gauss-Newton Hessian g P_t. mu: Coulomb coefficient (an explicit pair's, else the
+// scene's).
+double slip_friction(const SimOptions& o, double fn, const Vec3& st, double* g, double mu) {
   if (o.contact.friction == FrictionModel::Coulomb) {
     const double eps = o.contact.slip_eps, r = std::sqrt(st.squaredNorm() + eps * eps);
-    *g = o.contact.mu * fn / r;
-    return o.contact.mu * fn * (r - eps);
+    *g = mu * fn / r;
+    return mu * fn * (r - eps);
   }
   *g = o.contact.ck * fn / o.dt;
   return 0.5 * *g * st.squaredNorm();
@@ -103,7 +104,7 @@ double pbad_energy(const Model& m, const SimOptions& o, const State& s, const Pb
         const Mat3 pt = Mat3::Identity() - n * n.transpose();
         const Vec3 st = pt * (x - p.prev_points[i]);
         double g;
-        e += slip_friction(o, fn, st, &g);
+        e += slip_friction(o, fn, st, &g, o.contact.mu);
         if (derivs) {
           add_point_force(ws, cp.body, x, g * st, exact);
           ws.h[cp.body] += point_hessian(x, g * pt);
@@ -132,7 +133,7 @@ double pbad_energy(const Model& m, const SimOptions& o, const State& s, const Pb
       const Mat3 pt = Mat3::Identity() - fa.normal * fa.normal.transpose();
       const Vec3 st = pt * (x - fa.point);
       double g;
-      e += slip_friction(o, fa.normal_force, st, &g);
+      e += slip_friction(o, fa.normal_force, st, &g, o.contact.mu);
       if (derivs) {
         add_point_force(ws, fa.body, x, g * st, exact);
         ws.h[fa.body] += point_hessian(x, g * pt);
@@ -145,7 +146,7 @@ double pbad_energy(const Model& m, const SimOptions& o, const State& s, const Pb
     // blocks cannot express (dropping the a-b block cost 19 LM iterations per step in
     // the pile scene), so its Gauss-Newton matrix goes to the solver as rank-1 terms
     // (ws.pair_terms, added by Woodbury's identity); the gradient is exact.
-    find_pair_contacts(m, k, ws.pairs, &ws.pair_contacts);
+    find_pair_contacts(m, k, ws.pairs, &ws.pair_contacts, o.contact.self_collision);
     const double kk = o.contact.stiffness;
     for (const PairContact& c : ws.pair_contacts) {
       e += 0.5 * kk * c.depth * c.depth;
@@ -163,7 +164,7 @@ double pbad_energy(const Model& m, const SimOptions& o, const State& s, const Pb
       const Mat3 pt = Mat3::Identity() - pa.normal * pa.normal.transpose();
       const Vec3 st = pt * (xb - xa);
       double g;
-      e += slip_friction(o, pa.normal_force, st, &g);
+      e += slip_friction(o, pa.normal_force, st, &g, pa.mu < 0 ? o.contact.mu : pa.mu);
       if (!derivs) continue;
       add_point_force(ws, pa.body_b, xb, g * st, exact);
       add_point_force(ws, pa.body_a, xa, -(g * st), exact);

@@ -102,8 +102,8 @@ Energy state_energy(const Model& m, const SimOptions& o, const State& s, SimWork
   if (o.contact.enabled) {
     find_contacts(m, ws.kin, ws.points, ws.obstacles, &ws.contacts);
     for (const Contact& c : ws.contacts) e.potential += 0.5 * o.contact.stiffness * c.depth * c.depth;
-    if (o.contact.self_collision) {
-      find_pair_contacts(m, ws.kin, ws.pairs, &ws.pair_contacts);
+    if (pair_contact_on(m, o.contact)) {
+      find_pair_contacts(m, ws.kin, ws.pairs, &ws.pair_contacts, o.contact.self_collision);
       for (const PairContact& c : ws.pair_contacts) e.potential += 0.5 * o.contact.stiffness * c.depth * c.depth;
     }
   }

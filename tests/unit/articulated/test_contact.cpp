@@ -582,5 +582,114 @@ TEST(Contact, BodyPairFiltersParentChildBitmaskAndExclude) {
   EXPECT_EQ(contact_geom_pairs(open).size(), 5u);
 }
 
+// ---- Explicit pairs (Model::contact_pairs) ----
+
+// A ball on a slide joint above a fixed box body, both contype = conaffinity = 0 and
+// self_collision off: only the explicit pair makes them touch; it rests at m g / k.
+TEST(Contact, ExplicitPairCollidesWithContypeZeroAndRestsAtThePenaltyDepth) {
+  Model m = model_from_mjcf(R"(<mujoco><worldbody>
+    <body name="base"><geom name="base" type="box" size="0.2 0.2 0.05" contype="0" conaffinity="0"/></body>
+    <body name="ball" pos="0 0 0.101"><joint type="slide" axis="0 0 1"/>
+      <geom name="ball" size="0.05" mass="1" contype="0" conaffinity="0"/></body>
+    </worldbody><contact><pair geom1="ball" geom2="base"/></contact></mujoco>)", "pair.xml");
+  SimOptions o;
+  o.dt = 0.01;
+  o.contact.friction = FrictionModel::None;
+  ASSERT_FALSE(o.contact.self_collision);
+  const auto drop = [&](const Model& model, bool self_collision) {
+    SimOptions oo = o;
+    oo.contact.self_collision = self_collision;
+    State s = state_init(model);
+    SimWorkspace ws;
+    for (int i = 0; i < 80; ++i) EXPECT_TRUE(sim_step(model, oo, s, ws));
+    return 0.101 + s.qpos[0];
+  };
+  const double k = o.contact.stiffness;
+  EXPECT_NEAR((0.1 - drop(m, false)) / (9.81 / k), 1.0, 0.02);
+  EXPECT_EQ(contact_geom_pairs(m).size(), 1u);
+  Model unpaired = m;
+  unpaired.contact_pairs.clear();
+  EXPECT_LT(drop(unpaired, true), 0);  // contype 0: falls through, self-collision or not
+}
+
+// A box sliding on a fixed box body stops after v0^2 / (2 mu g) with the explicit
+// pair's friction (0.2), not the scene's (0.5).
+TEST(Contact, ExplicitPairFrictionReplacesTheScenes) {
+  const Model m = model_from_mjcf(R"(<mujoco><worldbody>
+    <body name="base"><geom name="base" type="box" size="0.5 0.2 0.05"/></body>
+    <body name="box"><freejoint/><geom name="box" type="box" size="0.05 0.05 0.05" mass="1"/></body>
+    </worldbody><contact><pair geom1="base" geom2="box" friction="0.2 0.2"/></contact></mujoco>)", "slide.xml");
+  SimOptions o;
+  o.dt = 0.01;
+  o.contact.mu = 0.5;
+  State s = state_init(m);
+  s.qpos[0] = -0.3;
+  s.qpos[2] = 0.1 - 9.81 / (4 * o.contact.stiffness);
+  s.qvel[0] = 0.5;
+  SimWorkspace ws;
+  for (int i = 0; i < 40; ++i) ASSERT_TRUE(sim_step(m, o, s, ws));
+  const double analytic = 0.25 / (2 * 0.2 * 9.81);
+  EXPECT_NEAR((s.qpos[0] + 0.3) / analytic, 1.0, 0.03);
+  EXPECT_LT(std::abs(s.qvel[0]), 1e-3);
+}
+
+// ---- Mesh geoms in body-body contact ----
+
+// Body a: a free box mesh (half sizes 0.1 0.07 0.05, tilted); body b: a free geom.
+size_t expect_mesh_pair_derivatives(const std::string& pos_b, const std::string& geom_b) {
+  const std::string obj = test::write_box_obj("pliant_mesh_pair", 0.1, 0.07, 0.05);
+  const Model m = model_from_mjcf("<mujoco><option gravity=\"0 0 -9.81\"/><asset><mesh name=\"m\" file=\"" + obj +
+                                      "\"/></asset><worldbody><body name=\"a\"><freejoint/>"
+                                      "<geom type=\"mesh\" mesh=\"m\" euler=\"5 -8 12\"/></body><body name=\"b\" pos=\"" +
+                                      pos_b + "\"><freejoint/>" + geom_b + "</body></worldbody></mujoco>",
+                                  "mesh_pair.xml");
+  std::filesystem::remove(obj);
+  return expect_pair_derivatives(m);
+}
+
+TEST(Contact, MeshPairGradientMatchesFiniteDifferences) {
+  // Sphere centre against the mesh (exact: one contact).
+  EXPECT_EQ(expect_mesh_pair_derivatives("0.02 0.01 0.09", "<geom type=\"sphere\" size=\"0.05\"/>"), 1u);
+  // A tilted cube's lowest corner in the mesh's top face, mesh samples inside the cube.
+  EXPECT_GE(expect_mesh_pair_derivatives("0.01 0.005 0.11", "<geom type=\"box\" size=\"0.04 0.04 0.04\" euler=\"30 40 20\"/>"), 1u);
+  // A capsule's end sphere dipping into the mesh's top face.
+  EXPECT_GE(expect_mesh_pair_derivatives("0.01 0 0.12", "<geom type=\"capsule\" size=\"0.03 0.08\" euler=\"20 35 10\"/>"), 1u);
+}
+
+// A mesh cube on a slide joint rests on a fixed box body (its bottom face's samples
+// share the weight: each at m g / (n k)), a ball rests on a fixed mesh block (its
+// centre against the mesh: m g / k).
+TEST(Contact, MeshBodiesRestOnABoxAndUnderABallAtThePenaltyDepth) {
+  const std::string obj = test::write_box_obj("pliant_mesh_pair_rest", 0.05, 0.05, 0.05);
+  const Model m = model_from_mjcf(
+      "<mujoco><asset><mesh name=\"cube\" file=\"" + obj + "\"/></asset><worldbody>"
+      "<body name=\"base\"><geom type=\"box\" size=\"0.3 0.3 0.05\"/></body>"
+      "<body name=\"cube\" pos=\"-0.15 0 0.101\"><joint type=\"slide\" axis=\"0 0 1\"/><geom type=\"mesh\" mesh=\"cube\" mass=\"1\"/></body>"
+      "<body name=\"block\" pos=\"0.6 0 0\"><geom type=\"mesh\" mesh=\"cube\"/></body>"
+      "<body name=\"ball\" pos=\"0.6 0 0.101\"><joint type=\"slide\" axis=\"0 0 1\"/><geom size=\"0.05\" mass=\"1\"/></body>"
+      "</worldbody></mujoco>",
+      "mesh_rest.xml");
+  std::filesystem::remove(obj);
+  SimOptions o;
+  o.dt = 0.01;
+  o.contact.friction = FrictionModel::None;
+  o.contact.self_collision = true;
+  State s = state_init(m);
+  SimWorkspace ws;
+  for (int i = 0; i < 80; ++i) ASSERT_TRUE(sim_step(m, o, s, ws));
+  EXPECT_LT(s.qvel.lpNorm<Eigen::Infinity>(), 1e-2);
+  const std::vector<PairContact> c = pair_contacts_at(m, s.qpos);
+  const double kk = o.contact.stiffness;
+  int on_base = 0, on_block = 0;
+  for (const PairContact& pc : c) (pc.body_b == 4 ? on_block : on_base) += 1;
+  EXPECT_GT(on_base, 4);  // corners plus edge and face samples
+  EXPECT_EQ(on_block, 1);
+  for (const PairContact& pc : c) {
+    EXPECT_NEAR(pc.normal.z(), 1.0, 1e-6);  // pushes the upper body (b) up
+    const int n = pc.body_b == 4 ? 1 : on_base;
+    EXPECT_NEAR(pc.depth / (9.81 / (n * kk)), 1.0, 0.02) << pc.body_a << " " << pc.body_b;
+  }
+}
+
 }  // namespace
 }  // namespace pliant::articulated

@@ -123,5 +123,40 @@ TEST(Job, PileSceneBodiesRestOnEachOther) {
   EXPECT_GT(ws.pair_contacts.size(), 3u);
 }
 
+// Scene "contact": {"pairs": [...]}: geoms by name into Model::contact_pairs (on
+// without self_collision); unknown names and impossible pairs name the pair's field.
+TEST(Job, ContactPairsAreReadByGeomNameAndBadOnesNameThePair) {
+  nlohmann::json j = {{"pliant", 1},
+                      {"kind", "articulated"},
+                      {"model",
+                       {{"bodies",
+                         {{{"name", "a"}, {"joints", {{{"type", "free"}}}}, {"geoms", {{{"name", "ga"}, {"type", "sphere"}, {"size", {0.1}}, {"contype", 0}}}}},
+                          {{"name", "b"}, {"joints", {{{"type", "free"}}}}, {"geoms", {{{"name", "gb"}, {"type", "box"}, {"size", {0.1, 0.1, 0.1}}}}}}}}}},
+                      {"contact", {{"pairs", {{{"geom1", "ga"}, {"geom2", "gb"}, {"mu", 0.2}}}}}}};
+  const ArticulatedScene a = articulated_compile(scene_of(j));
+  EXPECT_FALSE(a.options.contact.self_collision);
+  ASSERT_EQ(a.model.contact_pairs.size(), 1u);
+  EXPECT_EQ(a.model.contact_pairs[0].geom1, 0);
+  EXPECT_EQ(a.model.contact_pairs[0].geom2, 1);
+  EXPECT_EQ(a.model.contact_pairs[0].mu, 0.2);
+  EXPECT_TRUE(pair_contact_on(a.model, a.options.contact));
+  const auto error_at = [](const nlohmann::json& bad) {
+    try {
+      articulated_compile(scene_of(bad));
+    } catch (const InputError& e) {
+      return e.pointer() + " | " + e.problem();
+    }
+    return std::string("no error");
+  };
+  nlohmann::json bad = j;
+  bad["contact"]["pairs"][0]["geom2"] = "gbb";
+  EXPECT_EQ(error_at(bad), "/contact/pairs/0/geom2 | no geom named \"gbb\"; did you mean \"gb\"?");
+  bad["contact"]["pairs"][0]["geom2"] = "ga";
+  EXPECT_EQ(error_at(bad), "/contact/pairs/0/geom2 | a geom cannot pair with itself");
+  bad = j;
+  bad["contact"]["pairs"][0].erase("geom1");
+  EXPECT_EQ(error_at(bad).rfind("/contact/pairs/0/geom1", 0), 0u);
+}
+
 }  // namespace
 }  // namespace pliant::articulated

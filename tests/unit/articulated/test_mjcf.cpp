@@ -162,7 +162,7 @@ TEST(Mjcf, UnsupportedPhysicsNamesTheElementAndHarmlessPartsAreIgnored) {
             std::string::npos);
   EXPECT_NE(error_of(b + "<equality><weld body1=\"a\"/></equality></mujoco>").find("/mujoco/equality[0] | unsupported element <equality>"),
             std::string::npos);
-  EXPECT_NE(error_of(b + "<contact><pair geom1=\"g\" geom2=\"h\"/></contact></mujoco>").find("/mujoco/contact[0]/pair[0] | unsupported element <pair>"),
+  EXPECT_NE(error_of(b + "<contact><bogus/></contact></mujoco>").find("/mujoco/contact[0]/bogus[0] | unsupported element <bogus>"),
             std::string::npos);
   EXPECT_NE(error_of("<mujoco><option><flag gravity=\"disable\"/></option></mujoco>").find("/mujoco/option[0]/flag[0] | unsupported element <flag>"),
             std::string::npos);
@@ -210,6 +210,37 @@ TEST(Mjcf, ContactExcludeAndMasksAreReadAndMalformedOnesNameTheElement) {
             std::string::npos);
   EXPECT_EQ(error_of("<mujoco><worldbody><body><geom size=\"0.1\" contype=\"1.5\"/></body></worldbody></mujoco>"),
             "/mujoco/worldbody[0]/body[0]/geom[0]/@contype | must be a non-negative integer");
+}
+
+// <contact><pair>: explicit pairs by geom name, friction's first value kept, condim
+// and margin ignored (as on geoms), solver parameters rejected; errors name the pair.
+TEST(Mjcf, ContactPairsAreReadAndMalformedOnesNameThePair) {
+  const std::string b = "<mujoco><worldbody><body name=\"a\"><freejoint/><geom name=\"ga\" size=\"0.1\" contype=\"0\" conaffinity=\"0\"/>"
+                        "<geom name=\"ga2\" size=\"0.1\"/></body>"
+                        "<body name=\"b\"><freejoint/><geom name=\"gb\" size=\"0.1\"/></body><geom name=\"floor\" type=\"plane\"/></worldbody>";
+  const Model m = model_from_mjcf(
+      b + "<contact><pair name=\"p\" geom1=\"gb\" geom2=\"ga\" friction=\"0.3 0.3 0.005\" condim=\"3\" margin=\"0.01\"/>"
+          "<pair geom1=\"ga2\" geom2=\"gb\"/></contact></mujoco>",
+      "a.xml");
+  ASSERT_EQ(m.contact_pairs.size(), 2u);
+  EXPECT_EQ(m.contact_pairs[0].geom1, 2);
+  EXPECT_EQ(m.contact_pairs[0].geom2, 0);
+  EXPECT_EQ(m.contact_pairs[0].mu, 0.3);
+  EXPECT_LT(m.contact_pairs[1].mu, 0);  // the scene's
+  EXPECT_EQ(error_of(b + "<contact><pair geom1=\"ga\"/></contact></mujoco>"),
+            "/mujoco/contact[0]/pair[0]/@geom2 | <pair> needs geom1 and geom2");
+  EXPECT_EQ(error_of(b + "<contact><exclude body1=\"a\" body2=\"b\"/><pair geom1=\"ga\" geom2=\"gbb\"/></contact></mujoco>"),
+            "/mujoco/contact[0]/pair[0]/@geom2 | no geom named \"gbb\"; did you mean \"gb\"?");
+  EXPECT_EQ(error_of(b + "<contact><pair geom1=\"ga\" geom2=\"ga2\"/></contact></mujoco>"),
+            "/mujoco/contact[0]/pair[0]/@geom2 | both geoms belong to one body");
+  EXPECT_NE(error_of(b + "<contact><pair geom1=\"ga\" geom2=\"floor\"/></contact></mujoco>")
+                .find("/mujoco/contact[0]/pair[0]/@geom2 | pairs with world geoms are not supported"),
+            std::string::npos);
+  EXPECT_EQ(error_of(b + "<contact><pair geom1=\"ga\" geom2=\"gb\" friction=\"-1\"/></contact></mujoco>"),
+            "/mujoco/contact[0]/pair[0]/@friction | must be >= 0");
+  EXPECT_NE(error_of(b + "<contact><pair geom1=\"ga\" geom2=\"gb\" solref=\"0.02 1\"/></contact></mujoco>")
+                .find("/mujoco/contact[0]/pair[0]/@solref | unsupported attribute"),
+            std::string::npos);
 }
 
 TEST(Mjcf, MalformedOrientationsAndFromtoNameTheField) {

@@ -13,6 +13,7 @@
 // Explicit integrators use the same laws on velocities (coulomb regularised with
 // slip speed eps/dt).
 #pragma once
+#include <memory>
 #include <vector>
 
 #include "pliant/articulated/dynamics.h"
@@ -78,18 +79,28 @@ void find_contacts(const Model& m, const Kinematics& k, const std::vector<Contac
 void mesh_feature_contacts(const Model& m, const Kinematics& k, const std::vector<int>& obs,
                            std::vector<Contact>* out);
 
-// ---- Body-body contact (ContactOptions::self_collision) ----
-// Candidate geom pairs, found once per model: sphere, capsule and box geoms of two
-// different moving bodies that are not parent and child, not excluded
-// (Model::contact_exclude) and pass MuJoCo's contype/conaffinity bitmask rule. Mesh
-// geoms take no part. Per step each pair is culled by bounding spheres (reach = sum
-// of the radii): O(G^2) pairs, fine for the tens of geoms of a pile or a walker.
+// ---- Body-body contact (ContactOptions::self_collision, Model::contact_pairs) ----
+// Candidate geom pairs, found once per model: sphere, capsule, box and mesh geoms of
+// two different moving bodies that are not parent and child, not excluded
+// (Model::contact_exclude) and pass MuJoCo's contype/conaffinity bitmask rule
+// (mesh-mesh excluded), then the model's explicit pairs (Model::contact_pairs), which
+// skip every filter and replace a filtered duplicate. Per step each pair is culled by
+// bounding spheres (reach = sum of the radii): O(G^2) pairs, fine for the tens of
+// geoms of a pile or a walker.
 struct GeomPair {
-  int a, b;      // geom indices, a < b
+  int a, b;      // geom indices (a < b for filtered pairs; explicit: as written)
   double reach;  // bounding radius of a + of b (about each geom's centre)
+  bool explicit_pair = false;  // from Model::contact_pairs: on without self_collision
+  double mu = -1;              // friction coefficient; < 0: the scene's
+  // A mesh geom's contact samples (mesh_contact_samples, geom frame), if a or b is one.
+  std::shared_ptr<const std::vector<Vec3>> mesh_samples;
 };
 std::vector<GeomPair> contact_geom_pairs(const Model& m);
 double geom_bounding_radius(const Geom& g);
+// Whether body-body contact runs at all: on with self_collision, or for explicit pairs.
+inline bool pair_contact_on(const Model& m, const ContactOptions& c) {
+  return c.enabled && (c.self_collision || !m.contact_pairs.empty());
+}
 
 // A body-body contact: penalty k/2 depth^2, force k depth normal on body_b at point,
 // the opposite on body_a. Pair types: sphere-sphere, sphere-capsule (exact, sphere
@@ -98,17 +109,21 @@ double geom_bounding_radius(const Geom& g);
 // contact), sphere-box (exact), capsule-box (the capsule's end spheres against the
 // box, the box's corners against the capsule), box-box (each box's corners against
 // the other box, plus edge-edge crossings whose edges have no corner inside the other
-// box, along the edge-edge direction). Missed: a capsule's side across a box with
+// box, along the edge-edge direction), mesh-sphere (the sphere's centre against the
+// mesh's signed distance), mesh-capsule and mesh-box (the mesh's contact samples
+// against the capsule / box, and the capsule's end spheres / the box's corners against
+// the mesh; as the obstacle path does). Missed: a capsule's side across a box with
 // neither end sphere nor box corner inside the other (see README, Missing).
 struct PairContact {
   int body_a, body_b;
   Vec3 point;   // world: the deepest point of b's surface (a point of both bodies' lines of action)
   Vec3 normal;  // unit, pushes body_b away from body_a
   double depth; // > 0
+  double mu = -1;  // the pair's friction coefficient; < 0: the scene's
 };
 // Active contacts of the pairs at kinematics k (out is cleared; no allocation once
-// its capacity suffices).
+// its capacity suffices). self_collision false: explicit pairs only.
 void find_pair_contacts(const Model& m, const Kinematics& k, const std::vector<GeomPair>& pairs,
-                        std::vector<PairContact>* out);
+                        std::vector<PairContact>* out, bool self_collision = true);
 
 }  // namespace pliant::articulated

@@ -90,6 +90,15 @@ struct Body {
   int dof_begin = 0, dof_count = 0;
 };
 
+// An explicit contact pair (MJCF <contact><pair geom1 geom2 [friction]>, scene
+// "contact": {"pairs": [...]}): the two geoms always touch, whatever their
+// contype/conaffinity, an exclude or a parent-child relation say, and whether or not
+// ContactOptions::self_collision is on (as MuJoCo's <pair>). Geoms of two different
+// moving bodies, not both meshes.
+struct ContactPair {
+  int geom1 = 0, geom2 = 0;
+  double mu = -1;  // Coulomb coefficient of this pair; < 0: the scene's contact.mu
+};
 struct Actuator {
   std::string name;
   int joint = 0;
@@ -112,6 +121,7 @@ struct Model {
   // Body pairs that never touch each other (MJCF <contact><exclude body1 body2>,
   // JSON "exclude"), smaller index first.
   std::vector<std::array<int, 2>> contact_exclude;
+  std::vector<ContactPair> contact_pairs;  // explicit pairs, always on
 };
 
 // Fills joint addresses, body dof ranges, dof_body and qpos0, and the mass
@@ -119,6 +129,9 @@ struct Model {
 // formulas: sphere, capsule = cylinder + two hemispheres, box). Throws
 // std::invalid_argument on an inconsistent tree (callers turn it into InputError).
 void model_finalize(Model& m, const std::vector<bool>& has_inertial);
+
+// Why geoms g1 and g2 cannot form a ContactPair ("" if they can).
+std::string contact_pair_problem(const Model& m, int g1, int g2);
 
 // Mass and inertia (about its centre, geom frame) of one geom.
 void geom_mass_properties(const Geom& g, double* mass, Mat3* inertia);

@@ -92,6 +92,7 @@ struct PairAnchor {
   int body_a, body_b;
   Vec3 local_a, local_b, normal;
   double normal_force;
+  double mu = -1;  // an explicit pair's Coulomb coefficient; < 0: the scene's
 };
 
 struct PbadStep {
@@ -106,7 +107,7 @@ struct PbadStep {
   bool any_damping = false, any_limits = false;
   bool any_mesh_features = false;  // a moving mesh and a static box or sphere (contact.h)
   std::vector<FeatureAnchor> feature_anchors;  // their contacts at q_i (friction)
-  bool any_pairs = false;  // self_collision on and candidate geom pairs exist
+  bool any_pairs = false;  // self_collision on or explicit pairs, and candidate geom pairs exist
   std::vector<PairAnchor> pair_anchors;  // body-body contacts at q_i (friction)
   double grad_tol = 0;
   std::vector<VecX> s_hist, y_hist;  // L-BFGS pairs
