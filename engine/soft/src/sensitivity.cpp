@@ -21,6 +21,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <omp.h>
 #include <vector>
 
 #include "pliant/soft/objective.h"
@@ -54,48 +55,81 @@ void drag_derivatives(const Environment& env, const Vector3d& a, const Vector3d&
   }
 }
 
-// The state perturbed along the tangent direction e = (dq, dc, dw) scaled by h.
-SoftState perturbed(const SoftState& s, const Eigen::Ref<const VectorXd>& e, double h, int r) {
-  SoftState t = s;
-  t.q += h * e.head(r);
-  t.c += h * e.segment<3>(r);
-  t.R = rotation_exp(h * e.segment<3>(r + 3)) * s.R;
-  return t;
+// Buffers of one step's sensitivity, per thread and reused by every step and every
+// Jacobian (sizes change only with the character or the parameter count), so a
+// rollout's steps allocate nothing once the first Jacobian has sized them.
+struct StepSensitivityWork {
+  VectorXd x, xp, local, g_el;
+  SoftState prev;
+  StepTargets T;
+  MatrixXd J, HJ, H, H_el, Sqw, W, rhs, S;
+  std::vector<Matrix3d> Gx;                  // dG_j/dx_{f-1} per node
+  std::vector<Matrix3d> drag_a, drag_b, drag_u;  // per boundary face: dF/dA, dF/dB, dF/dv
+  Eigen::LDLT<MatrixXd> ldlt;
+};
+
+StepSensitivityWork& step_sensitivity_work() {
+  thread_local StepSensitivityWork w;
+  return w;
 }
 
-}  // namespace
+// Eigen runs a large enough GEMM on all of omp_get_max_threads() threads; for these
+// products (tens of columns) the fork/join and its per-call buffers cost more than
+// the product (a 2-thread Jacobian was 4x slower than a 1-thread one). This sets the
+// calling thread's OpenMP thread count (an ICV, so other threads are not affected)
+// to 1 while it lives; the explicit column loops below ask for `threads` instead.
+class SerialEigenProducts {
+ public:
+  SerialEigenProducts() : threads(omp_get_max_threads()) { omp_set_num_threads(1); }
+  ~SerialEigenProducts() { omp_set_num_threads(threads); }
+  SerialEigenProducts(const SerialEigenProducts&) = delete;
+  SerialEigenProducts& operator=(const SerialEigenProducts&) = delete;
+  const int threads;
+};
 
-MatrixXd step_sensitivity(const Character& ch, const Environment& env, const SimParams& sim, const SoftState& start,
-                          const SoftState& s, const MatrixXd& X1, const MatrixXd& X2, const MatrixXd& Q1,
-                          const MatrixXd& dU, MatrixXd* dx_dz) {
-  if (ch.rotation_strain) return MatrixXd();
+// Column blocks of the n right-hand sides: fixed width, so every column sees the same
+// products whatever the thread count (results do not depend on it), and threads only
+// where the work (3N x k per step) pays for a fork/join.
+constexpr int kColumnBlock = 8;
+int column_threads(int threads, long rows, int columns) {
+  const long work = rows * columns;
+  if (threads <= 1 || columns <= kColumnBlock || work < 200000) return 1;
+  return std::min(threads, (columns + kColumnBlock - 1) / kColumnBlock);
+}
+
+// The step's sensitivity into w.S ((r + 6) x k) and w.J (dx_f/dz_f); threads: how
+// many the column blocks may use.
+void step_sensitivity_into(const Character& ch, const Environment& env, const SimParams& sim, const SoftState& start,
+                           const SoftState& s, const MatrixXd& X1, const MatrixXd& X2, const MatrixXd& Q1,
+                           const MatrixXd& dU, int threads, StepSensitivityWork& w) {
   const Lattice& lat = ch.lattice;
   const int n = lat.nodes(), r = ch.basis.r(), dof = r + 6, nt = int(X1.cols());
   const double dt = sim.dt_s, idt2 = 1 / (dt * dt), eps = env.friction_eps_m_per_s * dt;
   const double beta = sim.modal_damping_s / dt;
   const MatrixXd& U = ch.basis.U;
   // The step's data, as reduced_step builds it from the start state.
-  VectorXd x, xp, local, g_el;
-  node_positions(ch, start, x);
-  SoftState sp = start;
-  sp.q = start.q_prev, sp.R = start.R_prev, sp.c = start.c_prev;
-  node_positions(ch, sp, xp);
-  StepTargets T;
-  make_targets(ch, env, dt, x, xp, T);
-  MatrixXd J(3 * n, dof), HJ(3 * n, dof), H(dof, dof), H_el, W(3 * n, nt);
+  node_positions(ch, start, w.x);
+  w.prev.q = start.q_prev, w.prev.R = start.R_prev, w.prev.c = start.c_prev;
+  node_positions(ch, w.prev, w.xp);
+  const VectorXd &x = w.x, &xp = w.xp, &local = w.local;
+  const StepTargets& T = w.T;
+  make_targets(ch, env, dt, x, xp, w.T);
+  w.J.resize(3 * n, dof), w.HJ.resize(3 * n, dof), w.W.resize(3 * n, nt), w.rhs.resize(dof, nt), w.S.resize(dof, nt);
+  w.Gx.resize(n);
+  MatrixXd &J = w.J, &HJ = w.HJ, &H = w.H;
 
   // Exact Hessian at the converged z_f.
-  local_shape(ch, s.q, local);
-  elastic_reduced(lat, ch.lame, local, ch.cubature, U, &g_el, &H_el);
+  local_shape(ch, s.q, w.local);
+  elastic_reduced(lat, ch.lame, local, ch.cubature, U, &w.g_el, &w.H_el);
   Matrix3d Sww = Matrix3d::Zero();
-  MatrixXd Sqw = MatrixXd::Zero(r, 3);
-  W.setZero();
+  w.Sqw.setZero(r, 3);
   for (int j = 0; j < n; ++j) {
     const double m = lat.node_mass_kg[j];
     const Vector3d yj = s.R * local.segment<3>(3 * j), xj = yj + s.c;
     Vector3d G = m * idt2 * (xj - T.xt.segment<3>(3 * j));
     Matrix3d Hn = m * idt2 * Matrix3d::Identity();
-    Matrix3d Gx = -2 * m * idt2 * Matrix3d::Identity();  // dG/dx_{f-1}
+    Matrix3d& Gx = w.Gx[j];  // dG/dx_{f-1}
+    Gx = -2 * m * idt2 * Matrix3d::Identity();
     if (touches(env, T, j, xj)) {
       node_environment(env, T, m, j, xj, eps, &G, &Hn);
       if (T.mu_lambda[j] > 0) {
@@ -120,89 +154,177 @@ MatrixXd step_sensitivity(const Character& ch, const Environment& env, const Sim
     HJ.middleRows(3 * j, 3).noalias() = Hn * J.middleRows(3 * j, 3);
     // Second derivatives of x_j(q, c, w) contracted with the node force G.
     Sww += 0.5 * (yj * G.transpose() + G * yj.transpose()) - G.dot(yj) * Matrix3d::Identity();
-    for (int k = 0; k < r; ++k) Sqw.row(k) += J.block<3, 1>(3 * j, k).cross(G).transpose();
-    W.middleRows(3 * j, 3).noalias() = Gx * X1.middleRows(3 * j, 3) + m * idt2 * X2.middleRows(3 * j, 3);
+    for (int k = 0; k < r; ++k) w.Sqw.row(k) += J.block<3, 1>(3 * j, k).cross(G).transpose();
   }
+  H.resize(dof, dof);
   H.noalias() = J.transpose() * HJ;
-  H.topLeftCorner(r, r) += H_el;
+  H.topLeftCorner(r, r) += w.H_el;
   H.topLeftCorner(r, r).diagonal() += beta * ch.basis.omega2;
   H.block<3, 3>(r + 3, r + 3) += Sww;
-  H.block(0, r + 3, r, 3) += Sqw;
-  H.block(r + 3, 0, 3, r) += Sqw.transpose();
+  H.block(0, r + 3, r, 3) += w.Sqw;
+  H.block(r + 3, 0, 3, r) += w.Sqw.transpose();
+  w.ldlt.compute(H);
   // Drag: the target moves by dt^2 F / (4 m) per face node, so G_j gets -F / 4 and
-  // its derivatives through the face's area vector (x_{f-1}) and velocity.
-  if (env.water) {
-    const double dt_inv4 = 0.25 / dt;
-    for (const auto& fc : lat.boundary_faces) {
-      const Vector3d A = x.segment<3>(3 * fc[2]) - x.segment<3>(3 * fc[0]);
-      const Vector3d B = x.segment<3>(3 * fc[3]) - x.segment<3>(3 * fc[1]);
-      const Vector3d a = 0.5 * A.cross(B);
-      Vector3d vel = Vector3d::Zero();
-      for (int c = 0; c < 4; ++c) vel += dt_inv4 * (x.segment<3>(3 * fc[c]) - xp.segment<3>(3 * fc[c]));
-      Matrix3d dFda, dFdU;
-      drag_derivatives(env, a, vel, dFda, dFdU);
-      // da = 0.5 (dA x B + A x dB) = 0.5 (-[B] dA + [A] dB)
-      const Matrix3d Bx = 0.5 * cross_matrix(B), Ax = 0.5 * cross_matrix(A);
-      MatrixXd dF = dFda * (-Bx * (X1.middleRows(3 * fc[2], 3) - X1.middleRows(3 * fc[0], 3)) +
-                            Ax * (X1.middleRows(3 * fc[3], 3) - X1.middleRows(3 * fc[1], 3)));
-      MatrixXd dv = MatrixXd::Zero(3, nt);
-      for (int c = 0; c < 4; ++c) dv += dt_inv4 * (X1.middleRows(3 * fc[c], 3) - X2.middleRows(3 * fc[c], 3));
-      dF.noalias() += dFdU * dv;
-      for (int c = 0; c < 4; ++c) W.middleRows(3 * fc[c], 3) -= 0.25 * dF;
-    }
+  // its derivatives through the face's area vector (x_{f-1}) and velocity. Per face
+  // dF = dF/dA dA + dF/dB dB + dF/dv dv, with A, B the face's diagonals.
+  const double dt_inv4 = 0.25 / dt;
+  const int faces = env.water ? int(lat.boundary_faces.size()) : 0;
+  w.drag_a.resize(faces), w.drag_b.resize(faces), w.drag_u.resize(faces);
+  for (int f = 0; f < faces; ++f) {
+    const auto& fc = lat.boundary_faces[f];
+    const Vector3d A = x.segment<3>(3 * fc[2]) - x.segment<3>(3 * fc[0]);
+    const Vector3d B = x.segment<3>(3 * fc[3]) - x.segment<3>(3 * fc[1]);
+    Vector3d vel = Vector3d::Zero();
+    for (int c = 0; c < 4; ++c) vel += dt_inv4 * (x.segment<3>(3 * fc[c]) - xp.segment<3>(3 * fc[c]));
+    Matrix3d dFda;
+    drag_derivatives(env, 0.5 * A.cross(B), vel, dFda, w.drag_u[f]);
+    // da = 0.5 (dA x B + A x dB) = 0.5 (-[B] dA + [A] dB)
+    w.drag_a[f] = dFda * (-0.5 * cross_matrix(B));
+    w.drag_b[f] = dFda * (0.5 * cross_matrix(A));
   }
-  MatrixXd rhs = J.transpose() * W;
-  rhs.topRows(r) -= (beta * ch.basis.omega2).asDiagonal() * Q1;
-  rhs.topRows(r) -= dU;
-  MatrixXd S = -H.ldlt().solve(rhs);
-  if (dx_dz) *dx_dz = std::move(J);
-  return S;
+
+  // The k right-hand sides, by column blocks: W = dG/dx_{f-1} X1 + dG/dx_{f-2} X2,
+  // rhs = J^T W - (damping) Q1 - dU, S = -H^{-1} rhs.
+  const int blocks = (nt + kColumnBlock - 1) / kColumnBlock;
+  const Eigen::VectorXd& om2 = ch.basis.omega2;
+#pragma omp parallel for schedule(static) num_threads(threads) if (threads > 1)
+  for (int b = 0; b < blocks; ++b) {
+    const int c0 = b * kColumnBlock, nc = std::min(kColumnBlock, nt - c0);
+    auto Wb = w.W.middleCols(c0, nc);
+    for (int j = 0; j < n; ++j) {
+      Wb.middleRows<3>(3 * j).noalias() = w.Gx[j] * X1.block(3 * j, c0, 3, nc);
+      Wb.middleRows<3>(3 * j) += lat.node_mass_kg[j] * idt2 * X2.block(3 * j, c0, 3, nc);
+    }
+    // Fixed-capacity 3 x nc blocks: on the stack, no allocation per face.
+    using Block3 = Eigen::Matrix<double, 3, Eigen::Dynamic, 0, 3, kColumnBlock>;
+    Block3 dA(3, nc), dB(3, nc), dv(3, nc), dF(3, nc);
+    for (int f = 0; f < faces; ++f) {
+      const auto& fc = lat.boundary_faces[f];
+      dv.setZero();
+      for (int c = 0; c < 4; ++c) dv += dt_inv4 * (X1.block(3 * fc[c], c0, 3, nc) - X2.block(3 * fc[c], c0, 3, nc));
+      dA = X1.block(3 * fc[2], c0, 3, nc) - X1.block(3 * fc[0], c0, 3, nc);
+      dB = X1.block(3 * fc[3], c0, 3, nc) - X1.block(3 * fc[1], c0, 3, nc);
+      dF.noalias() = w.drag_a[f] * dA;
+      dF.noalias() += w.drag_b[f] * dB;
+      dF.noalias() += w.drag_u[f] * dv;
+      for (int c = 0; c < 4; ++c) Wb.middleRows<3>(3 * fc[c]) -= 0.25 * dF;
+    }
+    auto rb = w.rhs.middleCols(c0, nc);
+    rb.noalias() = J.transpose() * Wb;
+    rb.topRows(r) -= (beta * om2).asDiagonal() * Q1.middleCols(c0, nc);
+    rb.topRows(r) -= dU.middleCols(c0, nc);
+    auto Sb = w.S.middleCols(c0, nc);
+    Sb.noalias() = w.ldlt.solve(rb);
+    Sb = -Sb;
+  }
 }
+
+}  // namespace
+
+MatrixXd step_sensitivity(const Character& ch, const Environment& env, const SimParams& sim, const SoftState& start,
+                          const SoftState& s, const MatrixXd& X1, const MatrixXd& X2, const MatrixXd& Q1,
+                          const MatrixXd& dU, MatrixXd* dx_dz) {
+  if (ch.rotation_strain) return MatrixXd();
+  SerialEigenProducts serial;
+  StepSensitivityWork& w = step_sensitivity_work();
+  step_sensitivity_into(ch, env, sim, start, s, X1, X2, Q1, dU, serial.threads, w);
+  if (dx_dz) *dx_dz = w.J;
+  return w.S;
+}
+
+namespace {
+
+// Buffers of one Jacobian (rollout frames, per-frame sensitivities, the DMP run on the
+// unit vectors), per thread and reused by the next Jacobian of the same size.
+struct JacobianWork {
+  std::vector<SoftState> frames;
+  std::vector<MatrixXd> sens;  // dz_f/dtheta per frame (dof x nt)
+  std::vector<DmpState> unit_dmp;
+  std::vector<VectorXd> unit_theta;
+  MatrixXd X1, X2, Q1, dudt, unit_y;
+  VectorXd u;
+  SoftState s, start;
+};
+
+JacobianWork& jacobian_work() {
+  thread_local JacobianWork w;
+  return w;
+}
+
+// frames perturbed along column i of the sensitivities (t = z + h dz/dtheta_i), with
+// consistent previous states (the shuffle term reads them); out keeps its buffers.
+void perturbed_frames(const std::vector<SoftState>& frames, const std::vector<MatrixXd>& sens, int i, double h, int r,
+                      std::vector<SoftState>& out) {
+  out.resize(frames.size());
+  for (size_t f = 0; f < frames.size(); ++f) {
+    SoftState& t = out[f];
+    t = frames[f];
+    const auto e = sens[f].col(i);
+    t.q += h * e.head(r);
+    t.c += h * e.segment<3>(r);
+    t.R = rotation_exp(h * e.segment<3>(r + 3)) * frames[f].R;
+    if (f) t.q_prev = out[f - 1].q, t.R_prev = out[f - 1].R, t.c_prev = out[f - 1].c;
+  }
+}
+
+}  // namespace
 
 MatrixXd sensitivity_jacobian(const Problem& p, const VectorXd& theta, VectorXd* r_out) {
   const Character& ch = *p.character;
   if (ch.rotation_strain) return MatrixXd();  // finite differences (optimizer.h)
+  const SerialEigenProducts serial;
   const Lattice& lat = ch.lattice;
   const int n = lat.nodes(), r = ch.basis.r(), nt = int(theta.size()), modes = p.dmp.modes;
+  const int F = p.frames, mr = std::min(modes, r);
   const double dt = p.sim.dt_s, a_max = max_activation_m(ch, p.dmp);
+  const int threads = column_threads(serial.threads, 3L * n, nt);
 
-  SoftState s = initial_state(ch, p.start_offset_m, Vector3d::Zero(), dt);
+  JacobianWork& w = jacobian_work();
+  StepSensitivityWork& sw = step_sensitivity_work();
+  SoftState& s = w.s;
+  s = initial_state(ch, p.start_offset_m, Vector3d::Zero(), dt);
   DmpState dmp = dmp_init(p.dmp);
-  std::vector<DmpState> unit_dmp(nt, dmp);
-  std::vector<VectorXd> unit_theta(nt, VectorXd::Zero(nt));
-  for (int i = 0; i < nt; ++i) unit_theta[i][i] = 1;
-
-  std::vector<SoftState> frames;
-  std::vector<MatrixXd> sens;  // dz_f/dtheta per frame (dof x nt)
-  frames.reserve(p.frames), sens.reserve(p.frames);
-  MatrixXd X1 = MatrixXd::Zero(3 * n, nt), X2 = X1;  // dx/dtheta of frames f-1, f-2
-  MatrixXd Q1 = MatrixXd::Zero(r, nt);               // dq/dtheta of frame f-1
-  VectorXd u;
-  MatrixXd dudt(r, nt), J;
+  w.unit_dmp.resize(nt);
+  w.unit_theta.resize(nt);
+  for (int i = 0; i < nt; ++i) {
+    w.unit_dmp[i] = dmp;
+    w.unit_theta[i].setZero(nt);
+    w.unit_theta[i][i] = 1;
+  }
+  w.frames.resize(F), w.sens.resize(F);
+  w.X1.setZero(3 * n, nt), w.X2.setZero(3 * n, nt);  // dx/dtheta of frames f-1, f-2
+  w.Q1.setZero(r, nt);                                // dq/dtheta of frame f-1
+  w.dudt.resize(r, nt), w.unit_y.resize(mr, nt);
   int unconverged = 0;
 
-  for (int f = 0; f < p.frames; ++f) {
-    const VectorXd y = dmp_step(p.dmp, theta, dt, dmp);
-    control_force(ch, y, a_max, u);
-    dudt.setZero();
-    for (int i = 0; i < nt; ++i) {
-      const VectorXd& yi = dmp_step(p.dmp, unit_theta[i], dt, unit_dmp[i]);
-      for (int k = 0; k < std::min(modes, r); ++k) {
-        const double th = std::tanh(y[k] / a_max);
-        dudt(k, i) = ch.basis.omega2[k] * (1 - th * th) / ch.mode_scale[k] * yi[k];
-      }
+  for (int f = 0; f < F; ++f) {
+    const VectorXd& y = dmp_step(p.dmp, theta, dt, dmp);
+    control_force(ch, y, a_max, w.u);
+    // dy/dtheta: the DMP (linear in theta) run on the unit vectors.
+#pragma omp parallel for schedule(static) num_threads(threads) if (threads > 1)
+    for (int i = 0; i < nt; ++i) w.unit_y.col(i) = dmp_step(p.dmp, w.unit_theta[i], dt, w.unit_dmp[i]).head(mr);
+    w.dudt.setZero();
+    for (int k = 0; k < mr; ++k) {
+      const double th = std::tanh(y[k] / a_max);
+      w.dudt.row(k) = (ch.basis.omega2[k] * (1 - th * th) / ch.mode_scale[k]) * w.unit_y.row(k);
     }
-    const SoftState start = s;
+    w.start = s;
     StepStats st;
-    reduced_step(ch, p.env, p.sim, u, s, &st);
+    reduced_step(ch, p.env, p.sim, w.u, s, &st);
     if (!st.converged) ++unconverged;
-    MatrixXd S = step_sensitivity(ch, p.env, p.sim, start, s, X1, X2, Q1, dudt, &J);
-    X2.swap(X1);
-    X1.noalias() = J * S;
-    Q1 = S.topRows(r);
-    frames.push_back(s);
-    sens.push_back(std::move(S));
+    step_sensitivity_into(ch, p.env, p.sim, w.start, s, w.X1, w.X2, w.Q1, w.dudt, threads, sw);
+    w.X2.swap(w.X1);
+    const int blocks = (nt + kColumnBlock - 1) / kColumnBlock;
+#pragma omp parallel for schedule(static) num_threads(threads) if (threads > 1)
+    for (int b = 0; b < blocks; ++b) {
+      const int c0 = b * kColumnBlock, nc = std::min(kColumnBlock, nt - c0);
+      w.X1.middleCols(c0, nc).noalias() = sw.J * sw.S.middleCols(c0, nc);
+    }
+    w.Q1 = sw.S.topRows(r);
+    w.frames[f] = s;
+    w.sens[f] = sw.S;
   }
+  const std::vector<SoftState>& frames = w.frames;
 
   // dr/dtheta = sum_f dr/dz_f dz_f/dtheta + dr/dtheta|direct: central differences of
   // the frames -> residuals map along each column, a perturbation of ~1e-5 cells.
@@ -210,28 +332,25 @@ MatrixXd sensitivity_jacobian(const Problem& p, const VectorXd& theta, VectorXd*
   MatrixXd Jr(r0.size(), nt);
   double radius = 0;
   for (int j = 0; j < n; ++j) radius = std::max(radius, ch.rest_local.segment<3>(3 * j).norm());
-  std::vector<SoftState> fp(frames.size()), fm(frames.size());
-  for (int i = 0; i < nt; ++i) {
-    double scale = 1e-300;
-    for (const MatrixXd& S : sens) {
-      for (int k = 0; k < r; ++k) scale = std::max(scale, std::abs(S(k, i)) * ch.mode_scale[k]);
-      scale = std::max({scale, S.col(i).segment<3>(r).norm(), S.col(i).segment<3>(r + 3).norm() * radius});
-    }
-    const double h = std::max(1e-5 * lat.cell_size_m / scale, 0.0);
-    for (size_t f = 0; f < frames.size(); ++f) {
-      fp[f] = perturbed(frames[f], sens[f].col(i), h, r);
-      fm[f] = perturbed(frames[f], sens[f].col(i), -h, r);
-      // Consistent previous states (the shuffle term reads them).
-      if (f) {
-        const SoftState &prev_p = fp[f - 1], &prev_m = fm[f - 1];
-        fp[f].q_prev = prev_p.q, fp[f].R_prev = prev_p.R, fp[f].c_prev = prev_p.c;
-        fm[f].q_prev = prev_m.q, fm[f].R_prev = prev_m.R, fm[f].c_prev = prev_m.c;
+#pragma omp parallel num_threads(threads) if (threads > 1)
+  {
+    thread_local std::vector<SoftState> fp, fm;
+#pragma omp for schedule(static)
+    for (int i = 0; i < nt; ++i) {
+      double scale = 1e-300;
+      for (int f = 0; f < F; ++f) {
+        const MatrixXd& S = w.sens[f];
+        for (int k = 0; k < r; ++k) scale = std::max(scale, std::abs(S(k, i)) * ch.mode_scale[k]);
+        scale = std::max({scale, S.col(i).segment<3>(r).norm(), S.col(i).segment<3>(r + 3).norm() * radius});
       }
+      const double h = std::max(1e-5 * lat.cell_size_m / scale, 0.0);
+      perturbed_frames(frames, w.sens, i, h, r, fp);
+      perturbed_frames(frames, w.sens, i, -h, r, fm);
+      const VectorXd rp = trajectory_residuals(p, fp, theta), rm = trajectory_residuals(p, fm, theta);
+      Jr.col(i) = (rp - rm) / (2 * h);
+      // Direct dependence: the effort block (the last nt residuals) is sqrt(w) theta.
+      Jr(r0.size() - nt + i, i) += std::sqrt(p.obj.w_effort);
     }
-    const VectorXd rp = trajectory_residuals(p, fp, theta), rm = trajectory_residuals(p, fm, theta);
-    Jr.col(i) = (rp - rm) / (2 * h);
-    // Direct dependence: the effort block (the last nt residuals) is sqrt(w) theta.
-    Jr(r0.size() - nt + i, i) += std::sqrt(p.obj.w_effort);
   }
   if (r_out) {
     *r_out = r0;

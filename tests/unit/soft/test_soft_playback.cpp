@@ -213,3 +213,29 @@ TEST(SoftPlayback, RotationStrainPlaybackFrameAllocatesNothing) {
   EXPECT_GT(iterations, 6);  // more than one Newton iteration per frame: the lagged path ran
   EXPECT_GT(pb.state.q.norm(), 0);
 }
+
+// Forward sensitivities (sensitivity.cpp): the per-thread step and Jacobian buffers
+// are sized by the first Jacobian of a size; a later Jacobian allocates only per call
+// (its result, the residual vectors of the central-difference pass), never per step:
+// 12 frames allocate as often as 6. Here and not in test_sensitivity.cpp because the
+// allocation counter is included by one file of the binary.
+TEST(SoftPlayback, SensitivityJacobianStepsAllocateNothing) {
+  const soft::SoftModel m = worm_model();
+  const Eigen::VectorXd theta = Eigen::VectorXd::Constant(m.problem.dmp.parameters(), 0.3);
+  soft::Problem shorter = m.problem, longer = m.problem;
+  shorter.frames = 6, longer.frames = 12;
+  Eigen::MatrixXd J6 = soft::sensitivity_jacobian(shorter, theta);
+  const long n6 = pliant::test::count_allocations([&] { J6 = soft::sensitivity_jacobian(shorter, theta); });
+  Eigen::MatrixXd J12 = soft::sensitivity_jacobian(longer, theta);
+  const long n12 = pliant::test::count_allocations([&] { J12 = soft::sensitivity_jacobian(longer, theta); });
+#ifdef PLIANT_MALLOC_COUNT
+  EXPECT_EQ(n12, n6);
+  // Per call: the result and, per column, two residual evaluations (each builds its
+  // start state and residual vector); 44 measured with 6 parameters.
+  EXPECT_LT(n6, 8 * theta.size() + 16);
+#else
+  (void)n6, (void)n12;
+#endif
+  EXPECT_TRUE(J6.allFinite());
+  EXPECT_GT(J12.norm(), 0);
+}
