@@ -14,7 +14,10 @@
 // start, phase independent of theta), so dy_f/dtheta comes from the DMP run on the
 // unit vectors. Kept constant (their derivatives dropped): the CCD planes' stiffness
 // (active only for targets deeper than a quarter cell), the friction normal of
-// sphere obstacles and the curvature of sphere contact. The objective's own map from
+// sphere obstacles and the curvature of sphere contact. Rotation-strain coordinates:
+// dx/dq = R Jq(q) (the map's Jacobian) in J, and the map's curvature contracted with
+// the local nodal force dE_el/dl + R^T G (rotation_strain_curvature, the term the
+// step's Newton adds too) in the q-q block. The objective's own map from
 // frames to residuals (no simulation) is differentiated by central differences
 // along each column's state perturbation (its error ~1e-10, far below the checks).
 #include <Eigen/Dense>
@@ -24,7 +27,9 @@
 #include <omp.h>
 #include <vector>
 
+#include "pliant/soft/fem.h"
 #include "pliant/soft/objective.h"
+#include "pliant/soft/rotation_strain.h"
 #include "step_targets.h"
 
 namespace pliant::soft {
@@ -59,8 +64,9 @@ void drag_derivatives(const Environment& env, const Vector3d& a, const Vector3d&
 // Jacobian (sizes change only with the character or the parameter count), so a
 // rollout's steps allocate nothing once the first Jacobian has sized them.
 struct StepSensitivityWork {
-  VectorXd x, xp, local, g_el;
+  VectorXd x, xp, local, g_el, gl;
   SoftState prev;
+  MatrixXd Jq, Tc;  // rotation strain: dlocal/dq, the map's curvature
   StepTargets T;
   MatrixXd J, HJ, H, H_el, Sqw, W, rhs, S;
   std::vector<Matrix3d> Gx;                  // dG_j/dx_{f-1} per node
@@ -118,9 +124,15 @@ void step_sensitivity_into(const Character& ch, const Environment& env, const Si
   w.Gx.resize(n);
   MatrixXd &J = w.J, &HJ = w.HJ, &H = w.H;
 
-  // Exact Hessian at the converged z_f.
-  local_shape(ch, s.q, w.local);
-  elastic_reduced(lat, ch.lame, local, ch.cubature, U, &w.g_el, &w.H_el);
+  // Exact Hessian at the converged z_f. Rotation strain: dlocal/dq = Jq(q) in place
+  // of U, and the map's curvature below.
+  const RotationStrain* rs = ch.rotation_strain.get();
+  local_shape(ch, s.q, w.local, rs ? &w.Jq : nullptr);
+  const MatrixXd& Jq = rs ? w.Jq : U;
+  elastic_reduced(lat, ch.lame, local, ch.cubature, Jq, &w.g_el, &w.H_el);
+  if (rs) {
+    elastic_energy(lat, ch.lame, local, ch.cubature, &w.gl, nullptr);  // dE_el/dlocal
+  }
   Matrix3d Sww = Matrix3d::Zero();
   w.Sqw.setZero(r, 3);
   for (int j = 0; j < n; ++j) {
@@ -148,7 +160,8 @@ void step_sensitivity_into(const Character& ch, const Environment& env, const Si
         Gx += -Hf + g1 * dmu.transpose();
       }
     }
-    J.block(3 * j, 0, 3, r).noalias() = s.R * U.middleRows(3 * j, 3);
+    if (rs) w.gl.segment<3>(3 * j) += s.R.transpose() * G;  // + the node force, in local axes
+    J.block(3 * j, 0, 3, r).noalias() = s.R * Jq.middleRows(3 * j, 3);
     J.block<3, 3>(3 * j, r) = Matrix3d::Identity();
     J.block<3, 3>(3 * j, r + 3) = -cross_matrix(yj);
     HJ.middleRows(3 * j, 3).noalias() = Hn * J.middleRows(3 * j, 3);
@@ -160,6 +173,15 @@ void step_sensitivity_into(const Character& ch, const Environment& env, const Si
   H.noalias() = J.transpose() * HJ;
   H.topLeftCorner(r, r) += w.H_el;
   H.topLeftCorner(r, r).diagonal() += beta * ch.basis.omega2;
+  if (rs && r > 0) {
+    // sum_j (dE/dlocal_j) . d2 local_j / dq2, the term Gauss-Newton drops (the step's
+    // Newton adds the same one, rotation_strain_curvature).
+    if (rs->reduced)
+      rotation_strain_reduced_curvature(*rs->reduced, s.q, w.gl, w.Tc);
+    else
+      rotation_strain_curvature(lat, *rs, s.q, w.gl, w.Tc);
+    H.topLeftCorner(r, r) += w.Tc;
+  }
   H.block<3, 3>(r + 3, r + 3) += Sww;
   H.block(0, r + 3, r, 3) += w.Sqw;
   H.block(r + 3, 0, 3, r) += w.Sqw.transpose();
@@ -224,7 +246,6 @@ void step_sensitivity_into(const Character& ch, const Environment& env, const Si
 MatrixXd step_sensitivity(const Character& ch, const Environment& env, const SimParams& sim, const SoftState& start,
                           const SoftState& s, const MatrixXd& X1, const MatrixXd& X2, const MatrixXd& Q1,
                           const MatrixXd& dU, MatrixXd* dx_dz) {
-  if (ch.rotation_strain) return MatrixXd();
   SerialEigenProducts serial;
   StepSensitivityWork& w = step_sensitivity_work();
   step_sensitivity_into(ch, env, sim, start, s, X1, X2, Q1, dU, serial.threads, w);
@@ -271,7 +292,6 @@ void perturbed_frames(const std::vector<SoftState>& frames, const std::vector<Ma
 
 MatrixXd sensitivity_jacobian(const Problem& p, const VectorXd& theta, VectorXd* r_out) {
   const Character& ch = *p.character;
-  if (ch.rotation_strain) return MatrixXd();  // finite differences (optimizer.h)
   const SerialEigenProducts serial;
   const Lattice& lat = ch.lattice;
   const int n = lat.nodes(), r = ch.basis.r(), nt = int(theta.size()), modes = p.dmp.modes;
@@ -360,7 +380,7 @@ MatrixXd sensitivity_jacobian(const Problem& p, const VectorXd& theta, VectorXd*
 }
 
 JacobianFn problem_jacobian(const Problem& p, const OptimizerSettings& s) {
-  if (s.jacobian != JacobianKind::Sensitivity || p.character->rotation_strain) return {};
+  if (s.jacobian != JacobianKind::Sensitivity) return {};
   const Problem* pp = &p;
   return [pp](const VectorXd& th, const VectorXd&) {
     MatrixXd J = sensitivity_jacobian(*pp, th);

@@ -135,6 +135,9 @@ void position_derivative(const Character& ch, double L, const SoftState& s, Eige
 Eigen::MatrixXd exact_step_block(const Problem& p, double L, const SoftState& start, const SoftState& prev,
                                  const SoftState& stepped, const FrameRef& z) {
   const Character& ch = *p.character;
+  // position_derivative is written for the linear map (dx/dq = R U): rotation-strain
+  // steps keep the difference blocks.
+  if (ch.rotation_strain) return Eigen::MatrixXd();
   const int r = ch.basis.r(), ns = r + 6, m = p.dmp.modes, k = 2 * ns + m, n = ch.lattice.nodes();
   Eigen::MatrixXd X1 = Eigen::MatrixXd::Zero(3 * n, k), X2 = X1, Q1 = Eigen::MatrixXd::Zero(r, k),
                   dU = Eigen::MatrixXd::Zero(r, k), Xs;

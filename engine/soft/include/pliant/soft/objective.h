@@ -101,8 +101,9 @@ Eigen::VectorXd initial_theta(const Problem& p);
 
 // Exact Jacobian dr/dtheta of residuals(p, theta) by forward sensitivities
 // (sensitivity.cpp: implicit function theorem on every converged step, all columns
-// from one rollout and one LDLT per step). Linear and POD bases; returns an empty
-// matrix for rotation-strain coordinates (callers fall back to finite differences).
+// from one rollout and one LDLT per step). Linear, POD and rotation-strain bases
+// (the map's Jacobian and curvature in the step's Hessian). Buffers are per thread
+// and reused (no allocation per step once sized); Eigen's own threading is off inside.
 // r_out (optional): the rollout's residuals (NaN when a step did not converge).
 Eigen::MatrixXd sensitivity_jacobian(const Problem& p, const Eigen::VectorXd& theta, Eigen::VectorXd* r_out = nullptr);
 
@@ -111,8 +112,8 @@ Eigen::MatrixXd sensitivity_jacobian(const Problem& p, const Eigen::VectorXd& th
 // (3N x k) are the derivatives of the start's and previous node positions, Q1 (r x k)
 // of the start's q and dU (r x k) of the control force with respect to k parameters.
 // Returns dz_f/d(parameters) ((r + 6) x k) in reduced_step's tangent (dq, dc, dw),
-// R = exp([dw]) R_f; dx_dz (optional): dx_f/dz_f (3N x (r + 6)). Empty for
-// rotation-strain coordinates. Used by sensitivity_jacobian and spacetime_jacobian.
+// R = exp([dw]) R_f; dx_dz (optional): dx_f/dz_f (3N x (r + 6)). Used by
+// sensitivity_jacobian and spacetime_jacobian (linear and POD bases only there).
 Eigen::MatrixXd step_sensitivity(const Character& ch, const Environment& env, const SimParams& sim,
                                  const SoftState& start, const SoftState& end, const Eigen::MatrixXd& X1,
                                  const Eigen::MatrixXd& X2, const Eigen::MatrixXd& Q1, const Eigen::MatrixXd& dU,
