@@ -335,14 +335,34 @@ void segment_closest(const Vec3& p0, const Vec3& d0, const Vec3& p1, const Vec3&
   *t_out = t;
 }
 
+// Capsule against capsule, energy k/2 (d_c^2 + sum_e d_e^2 - max_e d_e^2): d_c the
+// segments' closest-points depth, d_e the depth of each of the four end spheres
+// against the other capsule. The closest points minimise the distance, so d_c >= d_e,
+// with equality when they sit at an end (clamped; always so for near-parallel
+// overlapping axes): there the energy is sum_e d_e^2, the overlap's end spheres (two
+// contacts where the axes lie side by side, so a capsule lying on another cannot rock
+// about one point); with both closest points interior (axes crossing) the crossing's
+// contact plus every end sphere but the deepest. One formula everywhere, so the energy
+// is continuous (and C1 where the closest point reaches an end: it tends to that end
+// sphere's contact); exactly parallel axes count as clamped.
 void capsule_capsule(const Placed& a, const Placed& b, std::vector<PairContact>* out) {
   const Vec3 pa = a.c - a.r.col(2) * a.g->size[1], pb = b.c - b.r.col(2) * b.g->size[1];
   const Vec3 da = a.r.col(2) * (2 * a.g->size[1]), db = b.r.col(2) * (2 * b.g->size[1]);
+  const size_t first = out->size();
+  end_spheres_against(a, b, out);
+  end_spheres_against(b, a, out);
+  const double dd = da.dot(db);
+  if (da.squaredNorm() * db.squaredNorm() - dd * dd <= 1e-12 * da.squaredNorm() * db.squaredNorm()) return;  // parallel
   double s, t;
   segment_closest(pa, da, pb, db, &s, &t);
+  if (!(s > 0 && s < 1 && t > 0 && t < 1)) return;  // clamped: an end sphere's contact
   const Vec3 xa = pa + s * da, xb = pb + t * db;
   const double len = (xb - xa).norm(), d = len - a.g->size[0] - b.g->size[0];
   if (d >= 0) return;
+  size_t deepest = first;
+  for (size_t i = first + 1; i < out->size(); ++i)
+    if ((*out)[i].depth > (*out)[deepest].depth) deepest = i;
+  if (deepest < out->size()) out->erase(out->begin() + static_cast<long>(deepest));
   const Vec3 n = len > 1e-12 ? Vec3((xb - xa) / len) : Vec3(a.r.col(0));
   out->push_back({a.g->body, b.g->body, xb - b.g->size[0] * n, n, -d});
 }
