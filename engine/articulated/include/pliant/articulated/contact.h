@@ -104,9 +104,10 @@ inline bool pair_contact_on(const Model& m, const ContactOptions& c) {
 
 // A body-body contact: penalty k/2 depth^2, force k depth normal on body_b at point,
 // the opposite on body_a. Pair types: sphere-sphere, sphere-capsule (exact, sphere
-// centre against the other's signed distance), capsule-capsule (closest points of the
-// two segments; parallel overlapping segments: the middle of the overlap, one
-// contact), sphere-box (exact), capsule-box (the capsule's end spheres against the
+// centre against the other's signed distance), capsule-capsule (the segments' closest
+// points when interior to both, plus every end sphere against the other capsule but the
+// deepest: side by side, the overlap's two ends; energy continuous, contact.cpp),
+// sphere-box (exact), capsule-box (the capsule's end spheres against the
 // box, the box's corners against the capsule), box-box (each box's corners against
 // the other box, plus edge-edge crossings whose edges have no corner inside the other
 // box, along the edge-edge direction), mesh-sphere (the sphere's centre against the
