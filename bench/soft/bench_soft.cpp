@@ -26,6 +26,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 #include <thread>
+#include <omp.h>
 
 #include "pliant/core/scene.h"
 #include "pliant/geom/triangle_mesh.h"
@@ -38,6 +39,14 @@ using Clock = std::chrono::steady_clock;
 
 namespace {
 
+// OpenMP threads a parallel region would use (OMP_NUM_THREADS).
+int omp_threads() {
+  int n = 1;
+#pragma omp parallel
+#pragma omp single
+  n = omp_get_num_threads();
+  return n;
+}
 double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 // CPU seconds of this process (all threads): on a shared, loaded machine the wall
 // clock counts other people's work too; with OMP_NUM_THREADS=1 frames per CPU second
@@ -375,18 +384,24 @@ void optimizers(const std::string& scene, int iterations) {
 // One rollout Jacobian at the optimizer's starting point: forward differences (the
 // optimizer's, n rollouts next to the given r0) vs forward sensitivities (one
 // rollout + one solve per step), both against central differences (2n rollouts).
-void jacobian(const std::string& scene) {
-  SoftModel m = load(scene);
+// basis: "" keeps the scene's; "rotation_strain" switches the character to it.
+void jacobian(const std::string& scene, const std::string& basis = "") {
+  Scene sc = load_scene(std::string(PLIANT_ASSETS_DIR) + "/scenes/" + scene);
+  if (!basis.empty()) sc.doc["character"]["basis"] = basis;
+  SoftModel m = soft_compile(sc);
+  soft_bind(m);
   const Problem& p = m.problem;
   const Eigen::VectorXd theta = initial_theta(p);
   const ResidualFn rf = [&p](const Eigen::VectorXd& th) { return residuals(p, th); };
   const Eigen::VectorXd r0 = rf(theta);
   double c0 = cpu_s();
+  auto t0 = Clock::now();
   const Eigen::MatrixXd Jfd = fd_jacobian(rf, theta, r0, m.optimizer.fd_step);
-  const double cpu_fd = cpu_s() - c0;
+  const double cpu_fd = cpu_s() - c0, wall_fd = since(t0);
   c0 = cpu_s();
+  t0 = Clock::now();
   const Eigen::MatrixXd Js = sensitivity_jacobian(p, theta);
-  const double cpu_sens = cpu_s() - c0;
+  const double cpu_sens = cpu_s() - c0, wall_sens = since(t0);
   c0 = cpu_s();
   const double rollout_cpu = (rf(theta), cpu_s() - c0);
   Eigen::MatrixXd Jc(r0.size(), theta.size());
@@ -397,7 +412,10 @@ void jacobian(const std::string& scene) {
     Jc.col(i) = (rf(tp) - rf(tm)) / (2 * h);
   }
   const double scale = Jc.cwiseAbs().maxCoeff();
-  emit({{"case", "jacobian_" + scene.substr(0, scene.find('.'))},
+  emit({{"case", "jacobian_" + scene.substr(0, scene.find('.')) + (basis.empty() ? "" : "_" + basis)},
+        {"threads", omp_threads()},
+        {"wall_s_finite_difference", wall_fd},
+        {"wall_s_sensitivity", wall_sens},
         {"parameters", theta.size()},
         {"residuals", r0.size()},
         {"frames", p.frames},
@@ -509,9 +527,10 @@ int main(int argc, char** argv) {
   if (want("jacobian")) {
     jacobian("soft_t_jump.json");
     if (const char* e = std::getenv("JACOBIAN_SCENE")) {
-      jacobian(e);
+      jacobian(e, std::getenv("JACOBIAN_BASIS") ? std::getenv("JACOBIAN_BASIS") : "");
     } else if (!quick) {
       jacobian("spider_walk.json"), jacobian("fish_swim.json"), jacobian("soft_worm_crawl.json");
+      jacobian("spider_walk.json", "rotation_strain");
     }
   }
   if (want("optimize")) optimizers("soft_worm_crawl.json", quick ? 3 : 15);
