@@ -24,12 +24,12 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <omp.h>
 #include <vector>
 
 #include "pliant/soft/fem.h"
 #include "pliant/soft/objective.h"
 #include "pliant/soft/rotation_strain.h"
+#include "serial_eigen.h"
 #include "step_targets.h"
 
 namespace pliant::soft {
@@ -78,20 +78,6 @@ StepSensitivityWork& step_sensitivity_work() {
   thread_local StepSensitivityWork w;
   return w;
 }
-
-// Eigen runs a large enough GEMM on all of omp_get_max_threads() threads; for these
-// products (tens of columns) the fork/join and its per-call buffers cost more than
-// the product (a 2-thread Jacobian was 4x slower than a 1-thread one). This sets the
-// calling thread's OpenMP thread count (an ICV, so other threads are not affected)
-// to 1 while it lives; the explicit column loops below ask for `threads` instead.
-class SerialEigenProducts {
- public:
-  SerialEigenProducts() : threads(omp_get_max_threads()) { omp_set_num_threads(1); }
-  ~SerialEigenProducts() { omp_set_num_threads(threads); }
-  SerialEigenProducts(const SerialEigenProducts&) = delete;
-  SerialEigenProducts& operator=(const SerialEigenProducts&) = delete;
-  const int threads;
-};
 
 // Column blocks of the n right-hand sides: fixed width, so every column sees the same
 // products whatever the thread count (results do not depend on it), and threads only

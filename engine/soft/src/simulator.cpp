@@ -11,6 +11,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "serial_eigen.h"
 #include "step_targets.h"
 
 namespace pliant::soft {
@@ -85,6 +86,7 @@ void reduced_step(const Character& ch, const Environment& env, const SimParams& 
   const MatrixXd& U = ch.basis.U;
   const VectorXd& om2 = ch.basis.omega2;
   const bool rs = ch.rotation_strain != nullptr;
+  const SerialEigenProducts serial;  // small products: Eigen's own threads cost more (serial_eigen.h)
   StepWork& w = step_work();
   positions_of(ch, s.q, s.R, s.c, w.local, w.x);
   positions_of(ch, s.q_prev, s.R_prev, s.c_prev, w.local, w.xp);
