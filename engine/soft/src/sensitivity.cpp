@@ -234,7 +234,8 @@ MatrixXd step_sensitivity(const Character& ch, const Environment& env, const Sim
                           const MatrixXd& dU, MatrixXd* dx_dz) {
   SerialEigenProducts serial;
   StepSensitivityWork& w = step_sensitivity_work();
-  step_sensitivity_into(ch, env, sim, start, s, X1, X2, Q1, dU, serial.threads, w);
+  const int threads = column_threads(serial.threads, 3L * ch.lattice.nodes(), int(X1.cols()));
+  step_sensitivity_into(ch, env, sim, start, s, X1, X2, Q1, dU, threads, w);
   if (dx_dz) *dx_dz = w.J;
   return w.S;
 }
