@@ -217,8 +217,9 @@ TEST(SoftPlayback, RotationStrainPlaybackFrameAllocatesNothing) {
 // Forward sensitivities (sensitivity.cpp): the per-thread step and Jacobian buffers
 // are sized by the first Jacobian of a size; a later Jacobian allocates only per call
 // (its result, the residual vectors of the central-difference pass), never per step:
-// 12 frames allocate as often as 6. Here and not in test_sensitivity.cpp because the
-// allocation counter is included by one file of the binary.
+// 12 frames allocate as often as 6, with linear and rotation-strain coordinates. Here
+// and not in test_sensitivity.cpp because the allocation counter is included by one
+// file of the binary.
 TEST(SoftPlayback, SensitivityJacobianStepsAllocateNothing) {
   const soft::SoftModel m = worm_model();
   const Eigen::VectorXd theta = Eigen::VectorXd::Constant(m.problem.dmp.parameters(), 0.3);
@@ -238,4 +239,20 @@ TEST(SoftPlayback, SensitivityJacobianStepsAllocateNothing) {
 #endif
   EXPECT_TRUE(J6.allFinite());
   EXPECT_GT(J12.norm(), 0);
+  // Rotation-strain coordinates: the map's Jacobian and curvature buffers too.
+  soft::SoftModel rsm = worm_model();
+  soft::enable_rotation_strain(rsm.character);
+  soft::soft_bind(rsm);
+  soft::Problem rs6 = rsm.problem, rs12 = rsm.problem;
+  rs6.frames = 6, rs12.frames = 12;
+  J6 = soft::sensitivity_jacobian(rs6, theta);
+  const long r6 = pliant::test::count_allocations([&] { J6 = soft::sensitivity_jacobian(rs6, theta); });
+  J12 = soft::sensitivity_jacobian(rs12, theta);
+  const long r12 = pliant::test::count_allocations([&] { J12 = soft::sensitivity_jacobian(rs12, theta); });
+#ifdef PLIANT_MALLOC_COUNT
+  EXPECT_EQ(r12, r6);
+#else
+  (void)r6, (void)r12;
+#endif
+  EXPECT_TRUE(J12.allFinite());
 }
