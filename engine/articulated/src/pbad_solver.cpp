@@ -103,15 +103,65 @@ bool final_correction(const Model& m, const SimOptions& o, PbadStep& p, SimWorks
   return true;
 }
 
-// Generalized force of a unit force dir at xb on body b and -dir at xa on body a
-// (their ancestors' dofs only; world-frame motion subspaces).
-void pair_column(const Model& m, const Kinematics& k, const PairTerm& t, Eigen::Ref<VecX> u) {
+// Generalized force of wrench wb on body b and wa on body a (their ancestors' dofs
+// only; world-frame motion subspaces).
+void pair_column(const Model& m, const Kinematics& k, const WrenchTerm& t, Eigen::Ref<VecX> u) {
   u.setZero();
-  const Vec6 wb = point_wrench(t.point_b, t.dir), wa = point_wrench(t.point_a, -t.dir);
   for (int b = t.body_b; b != 0; b = m.bodies[b].parent)
-    for (int d = m.bodies[b].dof_begin; d < m.bodies[b].dof_begin + m.bodies[b].dof_count; ++d) u[d] += k.cdof[d].dot(wb);
+    for (int d = m.bodies[b].dof_begin; d < m.bodies[b].dof_begin + m.bodies[b].dof_count; ++d) u[d] += k.cdof[d].dot(t.wb);
   for (int b = t.body_a; b != 0; b = m.bodies[b].parent)
-    for (int d = m.bodies[b].dof_begin; d < m.bodies[b].dof_begin + m.bodies[b].dof_count; ++d) u[d] += k.cdof[d].dot(wa);
+    for (int d = m.bodies[b].dof_begin; d < m.bodies[b].dof_begin + m.bodies[b].dof_count; ++d) u[d] += k.cdof[d].dot(t.wa);
+}
+
+// ws.pair_terms as wrench terms (a unit force dir at point_b on b, -dir at point_a on
+// a). Where one body pair has more than kMaxTermsPerBodyPair terms (a mesh face or a
+// box face lying on another body: tens of contacts), their sum
+// M = sum w (wa; wb)(wa; wb)^T (12 x 12, bodies in index order) replaces them by its
+// pivoted LDL^T factors, M = sum_i D_i l_i l_i^T, at most 12 terms: the Woodbury solve
+// costs O(terms^3), and the LM matrix is the same up to round-off. Otherwise the terms
+// keep their order (and the solve its last bits).
+void build_wrench_terms(SimWorkspace& ws) {
+  ws.wrench_terms.clear();
+  ws.term_groups.clear();
+  int most = 0;
+  for (const PairTerm& t : ws.pair_terms) {
+    const int a = std::min(t.body_a, t.body_b), b = std::max(t.body_a, t.body_b);
+    auto g = std::find_if(ws.term_groups.begin(), ws.term_groups.end(),
+                          [&](const std::array<int, 3>& x) { return x[0] == a && x[1] == b; });
+    if (g == ws.term_groups.end()) g = ws.term_groups.insert(ws.term_groups.end(), {a, b, 0});
+    most = std::max(most, ++(*g)[2]);
+  }
+  const auto wrench_term = [](const PairTerm& t) {
+    return WrenchTerm{t.body_a, t.body_b, point_wrench(t.point_a, -t.dir), point_wrench(t.point_b, t.dir), t.weight};
+  };
+  if (most <= kMaxTermsPerBodyPair) {
+    for (const PairTerm& t : ws.pair_terms) ws.wrench_terms.push_back(wrench_term(t));
+    return;
+  }
+  using Mat12 = Eigen::Matrix<double, 12, 12>;
+  using Vec12 = Eigen::Matrix<double, 12, 1>;
+  for (const std::array<int, 3>& g : ws.term_groups) {
+    if (g[2] <= kMaxTermsPerBodyPair) {
+      for (const PairTerm& t : ws.pair_terms)
+        if (std::min(t.body_a, t.body_b) == g[0] && std::max(t.body_a, t.body_b) == g[1])
+          ws.wrench_terms.push_back(wrench_term(t));
+      continue;
+    }
+    Mat12 sum = Mat12::Zero();
+    for (const PairTerm& t : ws.pair_terms) {
+      if (std::min(t.body_a, t.body_b) != g[0] || std::max(t.body_a, t.body_b) != g[1]) continue;
+      const WrenchTerm w = wrench_term(t);
+      Vec12 v;
+      v << (t.body_a == g[0] ? w.wa : w.wb), (t.body_a == g[0] ? w.wb : w.wa);
+      sum.selfadjointView<Eigen::Lower>().rankUpdate(v, t.weight);
+    }
+    const Eigen::LDLT<Mat12, Eigen::Lower> ldlt(sum.selfadjointView<Eigen::Lower>());
+    const Mat12 l = ldlt.transpositionsP().transpose() * Mat12(ldlt.matrixL());
+    const Vec12 d = ldlt.vectorD();
+    const double dmax = d.maxCoeff();
+    for (int i = 0; i < 12; ++i)
+      if (d[i] > 1e-14 * dmax) ws.wrench_terms.push_back({g[0], g[1], l.col(i).head<6>(), l.col(i).tail<6>(), d[i]});
+  }
 }
 
 // Solves the leading n x n block of c (overwritten) for rhs in place: Gaussian
@@ -145,8 +195,9 @@ void dense_solve(Eigen::MatrixXd& c, int n, VecX& rhs) {
 
 bool lm_solve(const Model& m, const std::vector<Mat6>& blocks, const VecX& rhs, VecX* x, SimWorkspace& ws) {
   const bool pd = tree_solve(m, ws.kin, blocks, ws.arm, rhs, x, &ws.tree);
-  const int nt = static_cast<int>(ws.pair_terms.size());
-  if (nt == 0) return pd;
+  if (ws.pair_terms.empty()) return pd;
+  build_wrench_terms(ws);
+  const int nt = static_cast<int>(ws.wrench_terms.size());
   if (ws.pair_u.rows() != m.nv || ws.pair_u.cols() < nt) {  // capacity grows, never shrinks
     const int cap = std::max(nt, static_cast<int>(ws.pair_u.cols()) * 2);
     ws.pair_u.resize(m.nv, cap);
@@ -155,14 +206,14 @@ bool lm_solve(const Model& m, const std::vector<Mat6>& blocks, const VecX& rhs, 
     ws.pair_alpha.resize(cap);
   }
   for (int t = 0; t < nt; ++t) {  // A^-1 u with A's elimination from the solve above
-    pair_column(m, ws.kin, ws.pair_terms[t], ws.pair_u.col(t));
+    pair_column(m, ws.kin, ws.wrench_terms[t], ws.pair_u.col(t));
     ws.pair_col = ws.pair_u.col(t);
     tree_resolve(m, ws.kin, ws.pair_col, &ws.pair_sol, &ws.tree);
     ws.pair_y.col(t) = ws.pair_sol;
   }
   for (int i = 0; i < nt; ++i) {
     for (int j = 0; j < nt; ++j) ws.pair_cap(i, j) = ws.pair_u.col(i).dot(ws.pair_y.col(j));
-    ws.pair_cap(i, i) += 1 / ws.pair_terms[i].weight;
+    ws.pair_cap(i, i) += 1 / ws.wrench_terms[i].weight;
     ws.pair_alpha[i] = ws.pair_u.col(i).dot(*x);
   }
   dense_solve(ws.pair_cap, nt, ws.pair_alpha);

@@ -637,11 +637,12 @@ TEST(Contact, ExplicitPairFrictionReplacesTheScenes) {
 // ---- Mesh geoms in body-body contact ----
 
 // Body a: a free box mesh (half sizes 0.1 0.07 0.05, tilted); body b: a free geom.
-size_t expect_mesh_pair_derivatives(const std::string& pos_b, const std::string& geom_b) {
+size_t expect_mesh_pair_derivatives(const std::string& pos_b, const std::string& geom_b,
+                                    const std::string& mesh_euler = "5 -8 12") {
   const std::string obj = test::write_box_obj("pliant_mesh_pair", 0.1, 0.07, 0.05);
   const Model m = model_from_mjcf("<mujoco><option gravity=\"0 0 -9.81\"/><asset><mesh name=\"m\" file=\"" + obj +
                                       "\"/></asset><worldbody><body name=\"a\"><freejoint/>"
-                                      "<geom type=\"mesh\" mesh=\"m\" euler=\"5 -8 12\"/></body><body name=\"b\" pos=\"" +
+                                      "<geom type=\"mesh\" mesh=\"m\" euler=\"" + mesh_euler + "\"/></body><body name=\"b\" pos=\"" +
                                       pos_b + "\"><freejoint/>" + geom_b + "</body></worldbody></mujoco>",
                                   "mesh_pair.xml");
   std::filesystem::remove(obj);
@@ -655,6 +656,11 @@ TEST(Contact, MeshPairGradientMatchesFiniteDifferences) {
   EXPECT_GE(expect_mesh_pair_derivatives("0.01 0.005 0.11", "<geom type=\"box\" size=\"0.04 0.04 0.04\" euler=\"30 40 20\"/>"), 1u);
   // A capsule's end sphere dipping into the mesh's top face.
   EXPECT_GE(expect_mesh_pair_derivatives("0.01 0 0.12", "<geom type=\"capsule\" size=\"0.03 0.08\" euler=\"20 35 10\"/>"), 1u);
+  // The mesh's bottom face lying on a larger box: its samples give more than
+  // kMaxTermsPerBodyPair terms, merged per body pair in lm_solve (pbad_solver.cpp);
+  // the LM matrix's body-body part still equals the finite-difference one.
+  EXPECT_GT(expect_mesh_pair_derivatives("0.01 0.005 -0.097", "<geom type=\"box\" size=\"0.2 0.2 0.05\" euler=\"0.05 -0.03 0\"/>", "0 0 0"),
+            static_cast<size_t>(kMaxTermsPerBodyPair));
 }
 
 // A mesh cube on a slide joint rests on a fixed box body (its bottom face's samples

@@ -158,5 +158,34 @@ TEST(Job, ContactPairsAreReadByGeomNameAndBadOnesNameThePair) {
   EXPECT_EQ(error_at(bad).rfind("/contact/pairs/0/geom1", 0), 0u);
 }
 
+// The explicit-pair scene: after 1 s the ball (masks that meet nobody's) rests on the
+// box through its pair, the mesh tile on the box, the rod on the fixed rail on two
+// contacts, level.
+TEST(Job, PairsSceneBallTileAndRodRest) {
+  const Scene sc = load_scene(std::filesystem::path(PLIANT_ASSETS_DIR) / "scenes" / "articulated_pairs.json");
+  const ArticulatedScene a = articulated_compile(sc);
+  ASSERT_EQ(a.model.contact_pairs.size(), 1u);
+  State s = a.initial;
+  SimWorkspace ws;
+  double iterations = 0;
+  for (int i = 0; i < 100; ++i) {
+    StepInfo info;
+    ASSERT_TRUE(sim_step(a.model, a.options, s, ws, &info));
+    iterations += info.iterations;
+  }
+  Kinematics k;
+  kinematics(a.model, s.qpos, &k);
+  int rod_contacts = 0;
+  for (const PairContact& c : ws.pair_contacts) rod_contacts += c.body_b == 5 || c.body_a == 5;
+  std::printf("pairs scene: %zu body-body contacts, rod on rail %d, %.2f LM iterations per step\n",
+              ws.pair_contacts.size(), rod_contacts, iterations / 100);
+  EXPECT_NEAR(k.xpos[3].z(), 0.08 + 0.04, 2e-3);   // ball on the box top
+  EXPECT_NEAR(k.xpos[2].z(), 0.08 + 0.01, 2e-3);   // tile on the box top
+  EXPECT_NEAR(k.xpos[5].z(), 0.05 + 0.05, 2e-3);   // rod on the rail
+  EXPECT_EQ(rod_contacts, 2);
+  EXPECT_LT(std::abs(k.xmat[5].col(2).z()), 1e-3);  // level
+  EXPECT_LT(iterations / 100, 4);
+}
+
 }  // namespace
 }  // namespace pliant::articulated

@@ -124,6 +124,16 @@ struct PairTerm {
   Vec3 point_a, point_b, dir;
   double weight;
 };
+// A term as lm_solve uses it: weight * u u^T, u the generalized force of wrench wb on
+// body_b and wa on body_a (world frame). A body pair with more than
+// kMaxTermsPerBodyPair terms has them merged into at most 12 (their sum is a 12 x 12
+// matrix in the two bodies' wrench space, factored by pivoted LDL^T).
+struct WrenchTerm {
+  int body_a, body_b;
+  Vec6 wa, wb;
+  double weight;
+};
+constexpr int kMaxTermsPerBodyPair = 12;
 
 // Per-trajectory scratch (no allocation once warm).
 struct SimWorkspace {
@@ -147,6 +157,8 @@ struct SimWorkspace {
   std::vector<GeomPair> pairs;       // body-body candidates (contact_geom_pairs), cached
   std::vector<PairContact> pair_contacts;
   std::vector<PairTerm> pair_terms;  // at the last evaluation with derivatives
+  std::vector<WrenchTerm> wrench_terms;  // lm_solve's (pair_terms, merged per body pair)
+  std::vector<std::array<int, 3>> term_groups;  // body pairs of pair_terms: a, b, count
   Eigen::MatrixXd pair_u, pair_y, pair_cap;  // columns u, A^-1 u, capacitance (capacity grows)
   VecX pair_col, pair_sol, pair_alpha;
   std::vector<int> obstacles;
