@@ -108,17 +108,14 @@ TEST(Sensitivity, OptimizerWithSensitivityJacobianLowersTheObjective) {
 // curvature (contracted with the elastic and node forces) in the Hessian. The
 // rollouts' Newton noise is larger here (lagged map Jacobian), so h = 1e-3 (error
 // 1.5e-5; 1.3e-4 at h = 1e-4, 1/h noise). Without the curvature: 6.1% error. The
-// reduced map (cubature remainder, difference curvature): 5.0e-5 at h = 3e-4.
+// reduced map (cubature remainder, difference curvature) gives 5.0e-5 at h = 3e-4;
+// not checked here (0.37 s more: its reconstruction's training).
 TEST(Sensitivity, RotationStrainMatchesCentralDifferences) {
   SoftModel m = t_model(R"({"type": "ground", "friction": 0.8})", "[0, 0, 0]", 6, true);
   enable_rotation_strain(m.character);
   m.optimizer.jacobian = JacobianKind::Sensitivity;
   EXPECT_TRUE(bool(problem_jacobian(m.problem, m.optimizer)));
   EXPECT_LT(relative_jacobian_error(m.problem, active_theta(m.problem), 1e-3), 1e-4);
-  SoftModel red = t_model(R"({"type": "ground", "friction": 0.8})", "[0, 0, 0]", 6, true);
-  enable_rotation_strain(red.character, true);
-  soft_bind(red);
-  EXPECT_LT(relative_jacobian_error(red.problem, active_theta(red.problem), 3e-4), 1e-4);
 }
 
 TEST(Sensitivity, SceneKeySelectsTheJacobian) {
