@@ -149,7 +149,7 @@ int main(int argc, char** argv) {
   }
   const double window = quick ? 15.0 : 60.0;
   const std::vector<Case> cases = {
-      {"fluid_letters_128x40_admm", "smoke_fluid_letters.json", 0},
+      {"fluid_letters_128x40_admm", "smoke_fluid_letters.json", 0, ""},
       {"circle_to_letter_128x40_lbfgs", "smoke_circle_to_letter.json", 128, "lbfgs"},
   };
   fs::path work = fs::temp_directory_path() / ("pliant-bench-editor-" + std::to_string(::getpid()));
