@@ -498,27 +498,26 @@ void find_pair_contacts(const Model& m, const Kinematics& k, const std::vector<G
       return t == GeomType::Sphere ? 0 : t == GeomType::Capsule ? 1 : t == GeomType::Box ? 2 : 3;
     };
     if (rank(hi->g->type) < rank(lo->g->type)) std::swap(lo, hi);
-    if (hi->g->type == GeomType::Mesh) {  // (mesh-mesh pairs are never listed)
-      mesh_against(*hi, *pr.mesh_samples, *lo, out);
-      for (size_t i = first; i < out->size(); ++i) (*out)[i].mu = pr.mu;
-      continue;
-    }
     const int pair = rank(lo->g->type) * 3 + rank(hi->g->type);
-    switch (pair) {
-      case 0: case 1: case 2:  // sphere against sphere, capsule, box: exact
-        point_against(*hi, lo->g->body, lo->c, lo->g->size[0], out);
-        break;
-      case 4: capsule_capsule(*lo, *hi, out); break;
-      case 5:  // capsule-box
-        end_spheres_against(*lo, *hi, out);
-        corners_against(*hi, *lo, out);
-        break;
-      case 8:  // box-box: corners, then edges crossing with neither edge's corners inside
-        corners_against(*lo, *hi, out);
-        corners_against(*hi, *lo, out);
-        edges_across(*lo, *hi, out);
-        break;
-      default: break;
+    if (hi->g->type == GeomType::Mesh) {  // against a sphere, capsule or box (mesh-mesh pairs are never listed)
+      mesh_against(*hi, *pr.mesh_samples, *lo, out);
+    } else {
+      switch (pair) {
+        case 0: case 1: case 2:  // sphere against sphere, capsule, box: exact
+          point_against(*hi, lo->g->body, lo->c, lo->g->size[0], out);
+          break;
+        case 4: capsule_capsule(*lo, *hi, out); break;
+        case 5:  // capsule-box
+          end_spheres_against(*lo, *hi, out);
+          corners_against(*hi, *lo, out);
+          break;
+        case 8:  // box-box: corners, then edges crossing with neither edge's corners inside
+          corners_against(*lo, *hi, out);
+          corners_against(*hi, *lo, out);
+          edges_across(*lo, *hi, out);
+          break;
+        default: break;
+      }
     }
     if (pr.mu >= 0)
       for (size_t i = first; i < out->size(); ++i) (*out)[i].mu = pr.mu;

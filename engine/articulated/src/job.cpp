@@ -68,18 +68,9 @@ ArticulatedScene articulated_compile(const Scene& scene) {
       int* ids[2] = {&cp.geom1, &cp.geom2};
       const char* keys[2] = {"geom1", "geom2"};
       for (int i = 0; i < 2; ++i) {
-        const std::string name = pr.required_string(keys[i]);
-        *ids[i] = -1;
-        std::vector<std::string> names;
-        for (size_t g = 0; g < m.geoms.size(); ++g) {
-          if (m.geoms[g].name.empty()) continue;
-          names.push_back(m.geoms[g].name);
-          if (m.geoms[g].name == name) *ids[i] = static_cast<int>(g);
-        }
-        if (*ids[i] < 0) {
-          const std::string near = nearest_name(name, names);
-          pr.fail(keys[i], "no geom named \"" + name + "\"" + (near.empty() ? "" : "; did you mean \"" + near + "\"?"));
-        }
+        std::string why;
+        *ids[i] = geom_named(m, pr.required_string(keys[i]), &why);
+        if (*ids[i] < 0) pr.fail(keys[i], why);
       }
       const std::string problem = contact_pair_problem(m, cp.geom1, cp.geom2);
       if (!problem.empty()) pr.fail("geom2", problem);

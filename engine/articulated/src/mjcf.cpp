@@ -461,18 +461,9 @@ void read_contact_pair(Ctx& c, const XmlElement& e, const std::string& path) {
   for (int i = 0; i < 2; ++i) {
     const auto* name = e.attr(keys[i]);
     if (!name) throw InputError(c.file, path + "/@" + keys[i], "<pair> needs geom1 and geom2");
-    *ids[i] = -1;
-    std::vector<std::string> names;
-    for (size_t g = 0; g < c.m.geoms.size(); ++g) {
-      if (c.m.geoms[g].name.empty()) continue;
-      names.push_back(c.m.geoms[g].name);
-      if (c.m.geoms[g].name == *name) *ids[i] = static_cast<int>(g);
-    }
-    if (*ids[i] < 0) {
-      const std::string near = nearest_name(*name, names);
-      throw InputError(c.file, path + "/@" + keys[i],
-                       "no geom named \"" + *name + "\"" + (near.empty() ? "" : "; did you mean \"" + near + "\"?"));
-    }
+    std::string why;
+    *ids[i] = geom_named(c.m, *name, &why);
+    if (*ids[i] < 0) throw InputError(c.file, path + "/@" + keys[i], why);
   }
   const std::string problem = contact_pair_problem(c.m, pair.geom1, pair.geom2);
   if (!problem.empty()) throw InputError(c.file, path + "/@geom2", problem);
@@ -500,18 +491,11 @@ void read_contact(Ctx& c, const XmlElement& e, const std::string& path) {
     for (int i = 0; i < 2; ++i) {
       const auto* name = ch.attr(keys[i]);
       if (!name) throw InputError(c.file, cp + "/@" + keys[i], "<exclude> needs body1 and body2");
-      ids[i] = -1;
-      std::vector<std::string> names;
-      for (size_t b = 1; b < c.m.bodies.size(); ++b) {
-        names.push_back(c.m.bodies[b].name);
-        if (c.m.bodies[b].name == *name) ids[i] = static_cast<int>(b);
-      }
-      if (ids[i] < 0) {
-        const std::string near = nearest_name(*name, names);
+      std::string why;
+      ids[i] = body_named(c.m, *name, &why);
+      if (ids[i] < 0)
         throw InputError(c.file, cp + "/@" + keys[i],
-                         "no body named \"" + *name + "\"" + (near.empty() ? "" : "; did you mean \"" + near + "\"?") +
-                             (*name == "world" ? " (excluding the world's obstacles is not supported)" : ""));
-      }
+                         why + (*name == "world" ? " (excluding the world's obstacles is not supported)" : ""));
     }
     if (ids[0] == ids[1]) throw InputError(c.file, cp + "/@body2", "a body cannot be excluded from itself");
     c.m.contact_exclude.push_back({std::min(ids[0], ids[1]), std::max(ids[0], ids[1])});

@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "pliant/articulated/model.h"
+#include "pliant/core/json_reader.h"  // nearest_name
 
 namespace pliant::articulated {
 
@@ -187,6 +188,36 @@ void model_finalize(Model& m, const std::vector<bool>& has_inertial) {
   for (size_t b = 1; b < m.bodies.size(); ++b)
     if (!(m.bodies[b].mass > 0) && m.bodies[b].dof_count > 0)
       throw std::invalid_argument("body \"" + m.bodies[b].name + "\" has joints but no mass");
+}
+
+namespace {
+std::string no_such_name(const char* kind, const std::string& name, const std::vector<std::string>& names) {
+  const std::string near = nearest_name(name, names);
+  return std::string("no ") + kind + " named \"" + name + "\"" + (near.empty() ? "" : "; did you mean \"" + near + "\"?");
+}
+}  // namespace
+
+int geom_named(const Model& m, const std::string& name, std::string* why) {
+  int id = -1;
+  std::vector<std::string> names;
+  for (size_t g = 0; g < m.geoms.size(); ++g) {
+    if (m.geoms[g].name.empty()) continue;
+    names.push_back(m.geoms[g].name);
+    if (m.geoms[g].name == name) id = static_cast<int>(g);
+  }
+  if (id < 0) *why = no_such_name("geom", name, names);
+  return id;
+}
+
+int body_named(const Model& m, const std::string& name, std::string* why) {
+  int id = -1;
+  std::vector<std::string> names;
+  for (size_t b = 1; b < m.bodies.size(); ++b) {
+    names.push_back(m.bodies[b].name);
+    if (m.bodies[b].name == name) id = static_cast<int>(b);
+  }
+  if (id < 0) *why = no_such_name("body", name, names);
+  return id;
 }
 
 std::string contact_pair_problem(const Model& m, int g1, int g2) {

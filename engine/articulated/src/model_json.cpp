@@ -178,17 +178,9 @@ Model model_from_json(JsonReader& r, const std::filesystem::path& base_dir) {
       int ids[2];
       const char* keys[2] = {"body1", "body2"};
       for (int i = 0; i < 2; ++i) {
-        const std::string name = x.required_string(keys[i]);
-        ids[i] = -1;
-        std::vector<std::string> names;
-        for (size_t b = 1; b < m.bodies.size(); ++b) {
-          names.push_back(m.bodies[b].name);
-          if (m.bodies[b].name == name) ids[i] = static_cast<int>(b);
-        }
-        if (ids[i] < 0) {
-          const std::string near = nearest_name(name, names);
-          x.fail(keys[i], "no body named \"" + name + "\"" + (near.empty() ? "" : "; did you mean \"" + near + "\"?"));
-        }
+        std::string why;
+        ids[i] = body_named(m, x.required_string(keys[i]), &why);
+        if (ids[i] < 0) x.fail(keys[i], why);
       }
       if (ids[0] == ids[1]) x.fail("body2", "a body cannot be excluded from itself");
       x.finish();

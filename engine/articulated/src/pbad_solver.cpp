@@ -123,12 +123,15 @@ void pair_column(const Model& m, const Kinematics& k, const WrenchTerm& t, Eigen
 void build_wrench_terms(SimWorkspace& ws) {
   ws.wrench_terms.clear();
   ws.term_groups.clear();
+  const auto in_group = [](const PairTerm& t, const std::array<int, 3>& g) {
+    return std::min(t.body_a, t.body_b) == g[0] && std::max(t.body_a, t.body_b) == g[1];
+  };
   int most = 0;
   for (const PairTerm& t : ws.pair_terms) {
-    const int a = std::min(t.body_a, t.body_b), b = std::max(t.body_a, t.body_b);
     auto g = std::find_if(ws.term_groups.begin(), ws.term_groups.end(),
-                          [&](const std::array<int, 3>& x) { return x[0] == a && x[1] == b; });
-    if (g == ws.term_groups.end()) g = ws.term_groups.insert(ws.term_groups.end(), {a, b, 0});
+                          [&](const std::array<int, 3>& x) { return in_group(t, x); });
+    if (g == ws.term_groups.end())
+      g = ws.term_groups.insert(ws.term_groups.end(), {std::min(t.body_a, t.body_b), std::max(t.body_a, t.body_b), 0});
     most = std::max(most, ++(*g)[2]);
   }
   const auto wrench_term = [](const PairTerm& t) {
@@ -143,13 +146,12 @@ void build_wrench_terms(SimWorkspace& ws) {
   for (const std::array<int, 3>& g : ws.term_groups) {
     if (g[2] <= kMaxTermsPerBodyPair) {
       for (const PairTerm& t : ws.pair_terms)
-        if (std::min(t.body_a, t.body_b) == g[0] && std::max(t.body_a, t.body_b) == g[1])
-          ws.wrench_terms.push_back(wrench_term(t));
+        if (in_group(t, g)) ws.wrench_terms.push_back(wrench_term(t));
       continue;
     }
     Mat12 sum = Mat12::Zero();
     for (const PairTerm& t : ws.pair_terms) {
-      if (std::min(t.body_a, t.body_b) != g[0] || std::max(t.body_a, t.body_b) != g[1]) continue;
+      if (!in_group(t, g)) continue;
       const WrenchTerm w = wrench_term(t);
       Vec12 v;
       v << (t.body_a == g[0] ? w.wa : w.wb), (t.body_a == g[0] ? w.wb : w.wa);

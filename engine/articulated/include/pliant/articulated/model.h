@@ -132,6 +132,10 @@ void model_finalize(Model& m, const std::vector<bool>& has_inertial);
 
 // Why geoms g1 and g2 cannot form a ContactPair ("" if they can).
 std::string contact_pair_problem(const Model& m, int g1, int g2);
+// Index of the named geom / moving body (the last of that name), or -1 with *why set
+// to 'no geom named "x"; did you mean "y"?' (loaders turn it into an InputError).
+int geom_named(const Model& m, const std::string& name, std::string* why);
+int body_named(const Model& m, const std::string& name, std::string* why);
 
 // Mass and inertia (about its centre, geom frame) of one geom.
 void geom_mass_properties(const Geom& g, double* mass, Mat3* inertia);
