@@ -11,7 +11,15 @@ namespace {
 
 const std::string kAssets = (kRepo / "assets").string();
 
-using ArticulatedCli = CliTest;
+class ArticulatedCli : public CliTest {
+ protected:
+  // `pliant validate` on a scene whose model is this MJCF text.
+  ProcessResult validate_mjcf(const std::string& xml) {
+    write_text("model.xml", xml);
+    const nlohmann::json scene = {{"pliant", 1}, {"kind", "articulated"}, {"model", "model.xml"}};
+    return pliant({"validate", write_scene("s.json", scene).string()});
+  }
+};
 
 TEST_F(ArticulatedCli, ChainSwingRunsAndWritesPosesContactsEnergy) {
   const fs::path take = dir_ / "take";
@@ -63,16 +71,14 @@ TEST_F(ArticulatedCli, ShortHopperMpcRuns) {
 }
 
 TEST_F(ArticulatedCli, MalformedMjcfExitsTwoNamingTheElement) {
-  write_text("bad.xml", "<mujoco><worldbody><body><geom type=\"capsule\" size=\"-1\"/></body></worldbody></mujoco>");
-  const nlohmann::json scene = {{"pliant", 1}, {"kind", "articulated"}, {"model", "bad.xml"}};
-  const ProcessResult r = pliant({"validate", write_scene("s.json", scene).string()});
+  const ProcessResult r =
+      validate_mjcf("<mujoco><worldbody><body><geom type=\"capsule\" size=\"-1\"/></body></worldbody></mujoco>");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_TRUE(contains(r.err, "/model")) << r.err;
   EXPECT_TRUE(contains(r.err, "/mujoco/worldbody[0]/body[0]/geom[0]/@size")) << r.err;
 }
 
 TEST_F(ArticulatedCli, MalformedDefaultsRangesAndMeshesExitTwoNamingTheField) {
-  const nlohmann::json scene = {{"pliant", 1}, {"kind", "articulated"}, {"model", "bad.xml"}};
   const std::vector<std::pair<std::string, std::string>> cases = {
       {"<mujoco><default><default class=\"leg\"/></default><worldbody><body><geom class=\"arm\" size=\"1\"/></body></worldbody></mujoco>",
        "/mujoco/worldbody[0]/body[0]/geom[0]/@class"},
@@ -84,8 +90,7 @@ TEST_F(ArticulatedCli, MalformedDefaultsRangesAndMeshesExitTwoNamingTheField) {
       {"<mujoco><worldbody><body><geom type=\"mesh\" mesh=\"m\"/></body></worldbody></mujoco>",
        "/mujoco/worldbody[0]/body[0]/geom[0]/@mesh"}};
   for (const auto& [xml, where] : cases) {
-    write_text("bad.xml", xml);
-    const ProcessResult r = pliant({"validate", write_scene("s.json", scene).string()});
+    const ProcessResult r = validate_mjcf(xml);
     EXPECT_EQ(r.exit_code, 2) << xml;
     EXPECT_TRUE(contains(r.err, where)) << r.err;
   }
@@ -199,11 +204,9 @@ TEST_F(ArticulatedCli, BallJointStaysInsideItsSwingCone) {
 }
 
 TEST_F(ArticulatedCli, MjcfTendonIsRefusedNamingTheElement) {
-  write_text("t.xml",
-             "<mujoco><worldbody><body><joint name=\"a\"/><geom size=\"0.1\"/></body></worldbody>"
-             "<tendon><fixed name=\"t\"><joint joint=\"a\" coef=\"1\"/></fixed></tendon></mujoco>");
-  const nlohmann::json scene = {{"pliant", 1}, {"kind", "articulated"}, {"model", "t.xml"}};
-  const ProcessResult r = pliant({"validate", write_scene("s.json", scene).string()});
+  const ProcessResult r =
+      validate_mjcf("<mujoco><worldbody><body><joint name=\"a\"/><geom size=\"0.1\"/></body></worldbody>"
+                    "<tendon><fixed name=\"t\"><joint joint=\"a\" coef=\"1\"/></fixed></tendon></mujoco>");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_TRUE(contains(r.err, "tendon")) << r.err;
 }
@@ -231,11 +234,9 @@ TEST_F(ArticulatedCli, PileBodiesRestOnEachOther) {
 }
 
 TEST_F(ArticulatedCli, MalformedContactExcludeExitsTwoNamingTheAttribute) {
-  write_text("x.xml",
-             "<mujoco><worldbody><body name=\"a\"><freejoint/><geom size=\"0.1\"/></body></worldbody>"
-             "<contact><exclude body1=\"a\"/></contact></mujoco>");
-  const nlohmann::json scene = {{"pliant", 1}, {"kind", "articulated"}, {"model", "x.xml"}};
-  const ProcessResult r = pliant({"validate", write_scene("s.json", scene).string()});
+  const ProcessResult r =
+      validate_mjcf("<mujoco><worldbody><body name=\"a\"><freejoint/><geom size=\"0.1\"/></body></worldbody>"
+                    "<contact><exclude body1=\"a\"/></contact></mujoco>");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_TRUE(contains(r.err, "/mujoco/contact[0]/exclude[0]/@body2")) << r.err;
 }
