@@ -76,53 +76,6 @@ std::vector<int> contact_obstacles(const Model& m) {
 
 namespace {
 
-// Closest point to p on triangle (a, b, c) (Voronoi regions of vertices, edges, face).
-Vec3 closest_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
-  const Vec3 ab = b - a, ac = c - a, ap = p - a;
-  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
-  if (d1 <= 0 && d2 <= 0) return a;
-  const Vec3 bp = p - b;
-  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-  if (d3 >= 0 && d4 <= d3) return b;
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + ab * (d1 / (d1 - d3));
-  const Vec3 cp = p - c;
-  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-  if (d6 >= 0 && d5 <= d6) return c;
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + ac * (d2 / (d2 - d6));
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0) return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
-  const double den = 1 / (va + vb + vc);
-  return a + ab * (vb * den) + ac * (vc * den);
-}
-
-// Signed distance to a closed mesh: the nearest triangle gives the distance; the
-// sign and normal come from that triangle's face normal (exact on faces, an
-// approximation near edges and vertices). O(triangles) per query.
-double mesh_distance(const MeshShape& mesh, const Vec3& p, Vec3* normal) {
-  double best = 1e300;
-  Vec3 best_q = Vec3::Zero(), best_n = Vec3::UnitZ();
-  for (const auto& t : mesh.triangles) {
-    const Vec3 &a = mesh.vertices[t[0]], &b = mesh.vertices[t[1]], &c = mesh.vertices[t[2]];
-    const Vec3 q = closest_on_triangle(p, a, b, c);
-    const double d = (p - q).squaredNorm();
-    if (d < best) {
-      best = d;
-      best_q = q;
-      best_n = (b - a).cross(c - a).normalized();
-    }
-  }
-  const double d = std::sqrt(best);
-  const bool inside = (p - best_q).dot(best_n) < 0;
-  *normal = d > 1e-12 ? Vec3((inside ? -1.0 : 1.0) * (p - best_q) / d) : best_n;
-  return inside ? -d : d;
-}
-
-}  // namespace
-
-namespace {
-
 // Signed distance (positive outside) of world point x from a plane, sphere, box or
 // capsule placed at (c, r), with its outward normal.
 double shape_distance(GeomType type, const Vec3& size, const Vec3& c, const Mat3& r, const Vec3& x, Vec3* normal) {
@@ -168,7 +121,7 @@ double obstacle_distance(const Geom& g, const Vec3& x, Vec3* normal) {
   const Mat3 r = g.quat.toRotationMatrix();
   if (g.type == GeomType::Mesh) {
     Vec3 n;
-    const double d = mesh_distance(*g.mesh, r.transpose() * (x - g.pos), &n);
+    const double d = mesh_signed_distance(*g.mesh, r.transpose() * (x - g.pos), &n);
     *normal = r * n;
     return d;
   }
@@ -189,7 +142,7 @@ void mesh_feature_contacts(const Model& m, const Kinematics& k, const std::vecto
         const Vec3 c = ob.type == GeomType::Box ? Vec3(ob.pos + ob.quat * box_corner(ob.size, f)) : ob.pos;
         const double radius = ob.type == GeomType::Sphere ? ob.size[0] : 0.0;
         Vec3 n;
-        const double d = mesh_distance(*g.mesh, gr.transpose() * (c - gp), &n) - radius;
+        const double d = mesh_signed_distance(*g.mesh, gr.transpose() * (c - gp), &n) - radius;
         if (d >= 0) continue;
         Contact ct;
         ct.slot = -1;
@@ -253,15 +206,22 @@ std::vector<GeomPair> contact_geom_pairs(const Model& m) {
       if ((p.geom1 == i && p.geom2 == j) || (p.geom1 == j && p.geom2 == i)) return true;
     return false;
   };
-  // Mesh samples once per mesh geom, shared by its pairs.
-  std::vector<std::shared_ptr<const std::vector<Vec3>>> samples(m.geoms.size());
+  // Mesh samples and trees once per mesh geom, shared by its pairs.
+  std::vector<std::shared_ptr<const MeshCollider>> colliders(m.geoms.size());
+  const auto collider = [&](int g) {
+    if (m.geoms[g].type != GeomType::Mesh) return std::shared_ptr<const MeshCollider>();
+    if (!colliders[g])
+      colliders[g] = std::make_shared<const MeshCollider>(
+          MeshCollider{mesh_contact_samples(*m.geoms[g].mesh), mesh_bvh(*m.geoms[g].mesh)});
+    return colliders[g];
+  };
   const auto pair_of = [&](int i, int j) {
-    GeomPair p{i, j, geom_bounding_radius(m.geoms[i]) + geom_bounding_radius(m.geoms[j]), false, -1, nullptr};
-    for (int g : {i, j})
-      if (m.geoms[g].type == GeomType::Mesh) {
-        if (!samples[g]) samples[g] = std::make_shared<const std::vector<Vec3>>(mesh_contact_samples(*m.geoms[g].mesh));
-        p.mesh_samples = samples[g];
-      }
+    GeomPair p{};
+    p.a = i;
+    p.b = j;
+    p.reach = geom_bounding_radius(m.geoms[i]) + geom_bounding_radius(m.geoms[j]);
+    p.mesh_a = collider(i);
+    p.mesh_b = collider(j);
     return p;
   };
   for (size_t i = 0; i < m.geoms.size(); ++i) {
@@ -270,7 +230,6 @@ std::vector<GeomPair> contact_geom_pairs(const Model& m) {
     for (size_t j = i + 1; j < m.geoms.size(); ++j) {
       const Geom& gb = m.geoms[j];
       if (!collides(gb) || ga.body == gb.body) continue;
-      if (ga.type == GeomType::Mesh && gb.type == GeomType::Mesh) continue;
       if (m.bodies[ga.body].parent == gb.body || m.bodies[gb.body].parent == ga.body) continue;
       if (!((ga.contype & gb.conaffinity) || (gb.contype & ga.conaffinity))) continue;
       const std::array<int, 2> key{std::min(ga.body, gb.body), std::max(ga.body, gb.body)};
@@ -283,6 +242,9 @@ std::vector<GeomPair> contact_geom_pairs(const Model& m) {
     GeomPair p = pair_of(cp.geom1, cp.geom2);
     p.explicit_pair = true;
     p.mu = cp.mu;
+    p.margin = cp.margin;
+    p.frictionless = cp.frictionless;
+    p.reach += cp.margin;
     out.push_back(p);
   }
   return out;
@@ -304,12 +266,15 @@ void point_against(const Placed& s, int body, const Vec3& x, double radius, std:
   if (d < 0) out->push_back({s.g->body, body, x - radius * n, n, -d});
 }
 
-void corners_against(const Placed& box, const Placed& s, std::vector<PairContact>* out) {
-  for (int f = 0; f < 8; ++f) point_against(s, box.g->body, box.c + box.r * box_corner(box.g->size, f), 0.0, out);
+// The pair's margin enters as extra radius: depth = margin - distance, and the
+// contact point stays on the force's line.
+void corners_against(const Placed& box, const Placed& s, double margin, std::vector<PairContact>* out) {
+  for (int f = 0; f < 8; ++f) point_against(s, box.g->body, box.c + box.r * box_corner(box.g->size, f), 0.0 + margin, out);
 }
 
-void end_spheres_against(const Placed& cap, const Placed& s, std::vector<PairContact>* out) {
-  for (int e : {-1, 1}) point_against(s, cap.g->body, cap.c + cap.r.col(2) * (e * cap.g->size[1]), cap.g->size[0], out);
+void end_spheres_against(const Placed& cap, const Placed& s, double margin, std::vector<PairContact>* out) {
+  for (int e : {-1, 1})
+    point_against(s, cap.g->body, cap.c + cap.r.col(2) * (e * cap.g->size[1]), cap.g->size[0] + margin, out);
 }
 
 // Closest points of segments p0 + s d0 and p1 + t d1 (s, t in [0, 1]); parallel
@@ -345,26 +310,26 @@ void segment_closest(const Vec3& p0, const Vec3& d0, const Vec3& p1, const Vec3&
 // contact plus every end sphere but the deepest. One formula everywhere, so the energy
 // is continuous (and C1 where the closest point reaches an end: it tends to that end
 // sphere's contact); exactly parallel axes count as clamped.
-void capsule_capsule(const Placed& a, const Placed& b, std::vector<PairContact>* out) {
+void capsule_capsule(const Placed& a, const Placed& b, double margin, std::vector<PairContact>* out) {
   const Vec3 pa = a.c - a.r.col(2) * a.g->size[1], pb = b.c - b.r.col(2) * b.g->size[1];
   const Vec3 da = a.r.col(2) * (2 * a.g->size[1]), db = b.r.col(2) * (2 * b.g->size[1]);
   const size_t first = out->size();
-  end_spheres_against(a, b, out);
-  end_spheres_against(b, a, out);
+  end_spheres_against(a, b, margin, out);
+  end_spheres_against(b, a, margin, out);
   const double dd = da.dot(db);
   if (da.squaredNorm() * db.squaredNorm() - dd * dd <= 1e-12 * da.squaredNorm() * db.squaredNorm()) return;  // parallel
   double s, t;
   segment_closest(pa, da, pb, db, &s, &t);
   if (!(s > 0 && s < 1 && t > 0 && t < 1)) return;  // clamped: an end sphere's contact
   const Vec3 xa = pa + s * da, xb = pb + t * db;
-  const double len = (xb - xa).norm(), d = len - a.g->size[0] - b.g->size[0];
+  const double len = (xb - xa).norm(), d = len - a.g->size[0] - b.g->size[0] - margin;
   if (d >= 0) return;
   size_t deepest = first;
   for (size_t i = first + 1; i < out->size(); ++i)
     if ((*out)[i].depth > (*out)[deepest].depth) deepest = i;
   if (deepest < out->size()) out->erase(out->begin() + static_cast<long>(deepest));
   const Vec3 n = len > 1e-12 ? Vec3((xb - xa) / len) : Vec3(a.r.col(0));
-  out->push_back({a.g->body, b.g->body, xb - b.g->size[0] * n, n, -d});
+  out->push_back({a.g->body, b.g->body, xb - (b.g->size[0] + margin) * n, n, -d});
 }
 
 // A box's 12 edges in world: start points, full-length directions, and whether either
@@ -417,7 +382,7 @@ bool edge_may_meet(const Placed& b, const Vec3& p, const Vec3& d) {
 // lie on one line of action. Edges with a corner inside the other box are skipped:
 // that corner's contact reports the touch (so the contact switches off with nonzero
 // depth when a corner enters: the energy jumps there, see README, Missing).
-void edges_across(const Placed& a, const Placed& b, std::vector<PairContact>* out) {
+void edges_across(const Placed& a, const Placed& b, double margin, std::vector<PairContact>* out) {
   Vec3 pa[12], da[12], pb[12], db[12], n;
   bool ma[12], mb[12];
   box_edges(a, b, pa, da, ma);
@@ -443,7 +408,7 @@ void edges_across(const Placed& a, const Placed& b, std::vector<PairContact>* ou
       if (!(depth > 1e-12) || shape_distance(GeomType::Box, b.g->size, b.c, b.r, xa, &n) > limit ||
           shape_distance(GeomType::Box, a.g->size, a.c, a.r, xb, &n) > limit)
         continue;
-      out->push_back({a.g->body, b.g->body, xb, (xa - xb) / depth, depth});
+      out->push_back({a.g->body, b.g->body, xb, (xa - xb) / depth, depth + margin});
     }
   }
 }
@@ -451,9 +416,14 @@ void edges_across(const Placed& a, const Placed& b, std::vector<PairContact>* ou
 // Point x of body `body` (a sphere of radius `radius` about it) against mesh geom
 // `mesh`'s signed distance: a contact on the mesh's body (a) and `body` (b), normal
 // out of the mesh (as mesh_feature_contacts, with the mesh as the other body).
-void point_against_mesh(const Placed& mesh, int body, const Vec3& x, double radius, std::vector<PairContact>* out) {
+// Points outside the mesh's bounding box by more than the radius are outside the
+// closed mesh: skipped before the nearest-triangle query (the tree's root box).
+void point_against_mesh(const Placed& mesh, const MeshBvh& bvh, int body, const Vec3& x, double radius,
+                        std::vector<PairContact>* out) {
+  const Vec3 p = mesh.r.transpose() * (x - mesh.c);
+  if (bvh.nodes.empty() || ((bvh.nodes[0].lo - p).cwiseMax(p - bvh.nodes[0].hi).array() >= radius).any()) return;
   Vec3 n;
-  const double d = mesh_distance(*mesh.g->mesh, mesh.r.transpose() * (x - mesh.c), &n) - radius;
+  const double d = mesh_signed_distance(*mesh.g->mesh, bvh, p, &n) - radius;
   if (d >= 0) return;
   const Vec3 nw = mesh.r * n;
   out->push_back({mesh.g->body, body, x - radius * nw, nw, -d});
@@ -462,19 +432,32 @@ void point_against_mesh(const Placed& mesh, int body, const Vec3& x, double radi
 // Mesh against a sphere, capsule or box `s`: the sphere's centre against the mesh
 // (exact); a capsule's end spheres / a box's corners against the mesh, and the mesh's
 // contact samples against the capsule / box (each sample a point of the mesh's body).
-void mesh_against(const Placed& mesh, const std::vector<Vec3>& samples, const Placed& s, std::vector<PairContact>* out) {
+void mesh_against(const Placed& mesh, const MeshCollider& mc, const Placed& s, double margin,
+                  std::vector<PairContact>* out) {
   const Geom& g = *s.g;
   switch (g.type) {
-    case GeomType::Sphere: point_against_mesh(mesh, g.body, s.c, g.size[0], out); return;
+    case GeomType::Sphere: point_against_mesh(mesh, mc.bvh, g.body, s.c, g.size[0] + margin, out); return;
     case GeomType::Capsule:
-      for (int e : {-1, 1}) point_against_mesh(mesh, g.body, s.c + s.r.col(2) * (e * g.size[1]), g.size[0], out);
+      for (int e : {-1, 1})
+        point_against_mesh(mesh, mc.bvh, g.body, s.c + s.r.col(2) * (e * g.size[1]), g.size[0] + margin, out);
       break;
     case GeomType::Box:
-      for (int f = 0; f < 8; ++f) point_against_mesh(mesh, g.body, s.c + s.r * box_corner(g.size, f), 0.0, out);
+      for (int f = 0; f < 8; ++f) point_against_mesh(mesh, mc.bvh, g.body, s.c + s.r * box_corner(g.size, f), 0.0 + margin, out);
       break;
     default: return;
   }
-  for (const Vec3& v : samples) point_against(s, mesh.g->body, mesh.c + mesh.r * v, 0.0, out);
+  for (const Vec3& v : mc.samples) point_against(s, mesh.g->body, mesh.c + mesh.r * v, 0.0 + margin, out);
+}
+
+// Mesh against mesh: each mesh's contact samples (vertices, edge and face samples)
+// against the other's signed distance, both ways; each contact acts on the sample's
+// body (b) and the other mesh's body (a) at the sample, along the other mesh's
+// outward normal (as a box corner against a mesh). Samples outside the other's
+// bounding box are culled before the tree query.
+void mesh_mesh(const Placed& a, const MeshCollider& ma, const Placed& b, const MeshCollider& mb, double margin,
+               std::vector<PairContact>* out) {
+  for (const Vec3& v : ma.samples) point_against_mesh(b, mb.bvh, a.g->body, a.c + a.r * v, 0.0 + margin, out);
+  for (const Vec3& v : mb.samples) point_against_mesh(a, ma.bvh, b.g->body, b.c + b.r * v, 0.0 + margin, out);
 }
 
 }  // namespace
@@ -494,33 +477,38 @@ void find_pair_contacts(const Model& m, const Kinematics& k, const std::vector<G
     // Order by type (sphere < capsule < box < mesh) so each combination has one case.
     const Placed* lo = &a;
     const Placed* hi = &b;
+    const MeshCollider* mesh_lo = pr.mesh_a.get();
+    const MeshCollider* mesh_hi = pr.mesh_b.get();
     const auto rank = [](GeomType t) {
       return t == GeomType::Sphere ? 0 : t == GeomType::Capsule ? 1 : t == GeomType::Box ? 2 : 3;
     };
-    if (rank(hi->g->type) < rank(lo->g->type)) std::swap(lo, hi);
+    if (rank(hi->g->type) < rank(lo->g->type)) std::swap(lo, hi), std::swap(mesh_lo, mesh_hi);
     const int pair = rank(lo->g->type) * 3 + rank(hi->g->type);
-    if (hi->g->type == GeomType::Mesh) {  // against a sphere, capsule or box (mesh-mesh pairs are never listed)
-      mesh_against(*hi, *pr.mesh_samples, *lo, out);
+    const double mg = pr.margin;
+    if (lo->g->type == GeomType::Mesh) {
+      mesh_mesh(*lo, *mesh_lo, *hi, *mesh_hi, mg, out);
+    } else if (hi->g->type == GeomType::Mesh) {  // against a sphere, capsule or box
+      mesh_against(*hi, *mesh_hi, *lo, mg, out);
     } else {
       switch (pair) {
         case 0: case 1: case 2:  // sphere against sphere, capsule, box: exact
-          point_against(*hi, lo->g->body, lo->c, lo->g->size[0], out);
+          point_against(*hi, lo->g->body, lo->c, lo->g->size[0] + mg, out);
           break;
-        case 4: capsule_capsule(*lo, *hi, out); break;
+        case 4: capsule_capsule(*lo, *hi, mg, out); break;
         case 5:  // capsule-box
-          end_spheres_against(*lo, *hi, out);
-          corners_against(*hi, *lo, out);
+          end_spheres_against(*lo, *hi, mg, out);
+          corners_against(*hi, *lo, mg, out);
           break;
         case 8:  // box-box: corners, then edges crossing with neither edge's corners inside
-          corners_against(*lo, *hi, out);
-          corners_against(*hi, *lo, out);
-          edges_across(*lo, *hi, out);
+          corners_against(*lo, *hi, mg, out);
+          corners_against(*hi, *lo, mg, out);
+          edges_across(*lo, *hi, mg, out);
           break;
         default: break;
       }
     }
-    if (pr.mu >= 0)
-      for (size_t i = first; i < out->size(); ++i) (*out)[i].mu = pr.mu;
+    if (pr.mu >= 0 || pr.frictionless)
+      for (size_t i = first; i < out->size(); ++i) (*out)[i].mu = pr.mu, (*out)[i].frictionless = pr.frictionless;
   }
 }
 

@@ -34,12 +34,13 @@ void explicit_forces(const Model& m, const SimOptions& o, const State& s, const 
   }
   // Spring-damper normal force and regularised friction on the point's velocity
   // (relative to the other body's material point for body-body contacts).
-  const auto contact_force = [&](const Vec3& vp, const Vec3& n, double depth, double mu) {
+  const auto contact_force = [&](const Vec3& vp, const Vec3& n, double depth, double mu, bool frictionless = false) {
     const double vn = vp.dot(n);
     const double fn = std::max(0.0, o.contact.stiffness * depth - o.contact.damping * vn);
     const Vec3 vt = vp - vn * n;
     Vec3 ft = Vec3::Zero();
-    if (o.contact.friction == FrictionModel::Coulomb) {
+    if (frictionless) {
+    } else if (o.contact.friction == FrictionModel::Coulomb) {
       const double eps = o.contact.slip_eps / o.dt;
       ft = -mu * fn * vt / std::sqrt(vt.squaredNorm() + eps * eps);
     } else if (o.contact.friction == FrictionModel::Ck) {
@@ -54,7 +55,7 @@ void explicit_forces(const Model& m, const SimOptions& o, const State& s, const 
   for (const PairContact& c : ws.pair_contacts) {
     const Vec3 va = v[c.body_a].tail<3>() + v[c.body_a].head<3>().cross(c.point);
     const Vec3 vb = v[c.body_b].tail<3>() + v[c.body_b].head<3>().cross(c.point);
-    const Vec3 f = contact_force(vb - va, c.normal, c.depth, c.mu < 0 ? o.contact.mu : c.mu);
+    const Vec3 f = contact_force(vb - va, c.normal, c.depth, c.mu < 0 ? o.contact.mu : c.mu, c.frictionless);
     w[c.body_b] += point_wrench(c.point, f);
     w[c.body_a] -= point_wrench(c.point, f);
   }

@@ -62,7 +62,8 @@ ArticulatedScene articulated_compile(const Scene& scene) {
     // Body-body contact (off by default: older scenes keep their trajectories).
     o.contact.self_collision = c->boolean("self_collision", false);
     // Explicit pairs, geoms by name (as MJCF's <contact><pair>): always touch, whatever
-    // self_collision, contype/conaffinity or exclude say; "mu" overrides contact.mu.
+    // self_collision, contype/conaffinity or exclude say; "mu" overrides contact.mu,
+    // "margin" (m) makes the pair touch below that distance, "condim" 1 frictionless.
     for (JsonReader& pr : c->objects("pairs")) {
       ContactPair cp;
       int* ids[2] = {&cp.geom1, &cp.geom2};
@@ -75,6 +76,13 @@ ArticulatedScene articulated_compile(const Scene& scene) {
       const std::string problem = contact_pair_problem(m, cp.geom1, cp.geom2);
       if (!problem.empty()) pr.fail("geom2", problem);
       if (pr.has("mu")) cp.mu = pr.number("mu", 0, 0);
+      cp.margin = pr.number("margin", 0, 0);
+      if (pr.has("condim")) {
+        const double cd = pr.number("condim", 3, 0);
+        const std::string why = contact_pair_condim_problem(cd);
+        if (!why.empty()) pr.fail("condim", why);
+        cp.frictionless = cd == 1;
+      }
       pr.finish();
       a.model.contact_pairs.push_back(cp);
     }

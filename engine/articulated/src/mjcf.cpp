@@ -450,9 +450,10 @@ void geom_set_mesh(Geom& g, const std::shared_ptr<const MeshShape>& shape) {
   g.pos += g.quat * centre;
 }
 
-// <contact><pair geom1 geom2 [friction]>: an explicit pair (Model::contact_pairs),
-// friction's first (sliding) value its Coulomb coefficient; condim and margin ignored
-// as on geoms, solref/solimp/gap rejected as on geoms.
+// <contact><pair geom1 geom2 [friction] [margin] [condim]>: an explicit pair
+// (Model::contact_pairs), friction's first (sliding) value its Coulomb coefficient,
+// margin its activation distance, condim 1 (frictionless) or 3 (the default);
+// condim 4 / 6 (torsional / rolling friction) rejected, as solref/solimp/gap.
 void read_contact_pair(Ctx& c, const XmlElement& e, const std::string& path) {
   check_attrs(c, e, path, {"name", "geom1", "geom2", "friction", "condim", "margin"});
   ContactPair pair;
@@ -469,6 +470,13 @@ void read_contact_pair(Ctx& c, const XmlElement& e, const std::string& path) {
   if (!problem.empty()) throw InputError(c.file, path + "/@geom2", problem);
   if (e.attr("friction")) pair.mu = numbers(c, e, path, "friction", 1, 5)[0];
   if (e.attr("friction") && pair.mu < 0) throw InputError(c.file, path + "/@friction", "must be >= 0");
+  pair.margin = number(c, e, path, "margin", 0, 0);
+  if (e.attr("condim")) {
+    const double cd = numbers(c, e, path, "condim", 1, 1)[0];
+    const std::string problem = contact_pair_condim_problem(cd);
+    if (!problem.empty()) throw InputError(c.file, path + "/@condim", problem);
+    pair.frictionless = cd == 1;
+  }
   c.m.contact_pairs.push_back(pair);
 }
 

@@ -144,9 +144,10 @@ void pbad_begin(const Model& m, const SimOptions& o, State& s, PbadStep& p, SimW
   if (p.any_pairs && o.contact.friction != FrictionModel::None) {
     find_pair_contacts(m, k0, ws.pairs, &ws.pair_contacts, o.contact.self_collision);
     for (const PairContact& c : ws.pair_contacts)
-      p.pair_anchors.push_back({c.body_a, c.body_b, k0.xmat[c.body_a].transpose() * (c.point - k0.xpos[c.body_a]),
-                                k0.xmat[c.body_b].transpose() * (c.point - k0.xpos[c.body_b]), c.normal,
-                                o.contact.stiffness * c.depth, c.mu});
+      if (!c.frictionless)  // condim 1 pair: no friction anchor
+        p.pair_anchors.push_back({c.body_a, c.body_b, k0.xmat[c.body_a].transpose() * (c.point - k0.xpos[c.body_a]),
+                                  k0.xmat[c.body_b].transpose() * (c.point - k0.xpos[c.body_b]), c.normal,
+                                  o.contact.stiffness * c.depth, c.mu});
   }
   p.q = s.qpos;
   qpos_integrate(m, p.q, 2 * qpos_difference(m, s.qpos, q1) - qpos_difference(m, q1, s.past[1]), 1.0);

@@ -7,6 +7,7 @@
 #include "pliant/articulated/io.h"
 #include "pliant/articulated/sim.h"
 #include "mesh_fixture.h"
+#include "pair_fixture.h"
 #include "sim_internal.h"
 
 namespace pliant::articulated {
@@ -302,87 +303,7 @@ TEST(Contact, BoxAboveFrictionAngleSlides) {
 
 // ---- Body-body contact ----
 
-// Two free bodies a and b (MJCF geoms given), no obstacles.
-Model two_bodies(const std::string& pos_a, const std::string& geom_a, const std::string& pos_b,
-                 const std::string& geom_b, const std::string& gravity = "0 0 -9.81") {
-  return model_from_mjcf("<mujoco><option gravity=\"" + gravity + "\"/><worldbody><body name=\"a\" pos=\"" + pos_a +
-                             "\"><freejoint/>" + geom_a + "</body><body name=\"b\" pos=\"" + pos_b +
-                             "\"><freejoint/>" + geom_b + "</body></worldbody></mujoco>",
-                         "pair.xml");
-}
-
-std::vector<PairContact> pair_contacts_at(const Model& m, const VecX& q) {
-  Kinematics k;
-  kinematics(m, q, &k);
-  std::vector<PairContact> c;
-  find_pair_contacts(m, k, contact_geom_pairs(m), &c);
-  return c;
-}
-
-// PBAD's gradient with body-body penalty and Coulomb friction against central
-// differences of its energy; the LM matrix's body-body part against the Gauss-Newton
-// k sum grad(d) grad(d)^T from finite differences of each contact's depth, a-b
-// coupling included. Returns the number of contacts.
-size_t expect_pair_derivatives(const Model& m) {
-  SimOptions o;
-  o.dt = 0.01;
-  o.contact.self_collision = true;
-  State s = state_init(m);
-  SimWorkspace ws;
-  PbadStep p;
-  pbad_begin(m, o, s, p, ws);
-  EXPECT_FALSE(p.pair_anchors.empty());
-  VecX dv(m.nv);
-  for (int i = 0; i < m.nv; ++i) dv[i] = 0.0015 * std::sin(1.3 * i + 0.4);
-  VecX q = s.qpos;
-  qpos_integrate(m, q, dv, 1.0);
-  const std::vector<PairContact> contacts = pair_contacts_at(m, q);
-  EXPECT_FALSE(contacts.empty());
-  const auto moved = [&](int i, double h) {
-    VecX e = VecX::Zero(m.nv), qq = q;
-    e[i] = h;
-    qpos_integrate(m, qq, e, 1.0);
-    return qq;
-  };
-  pbad_evaluate(m, o, s, p, q, ws);
-  const VecX g = ws.grad;
-  const double eps = 1e-7;
-  for (int i = 0; i < m.nv; ++i) {
-    const double fd = (pbad_evaluate(m, o, s, p, moved(i, eps), ws) - pbad_evaluate(m, o, s, p, moved(i, -eps), ws)) / (2 * eps);
-    EXPECT_NEAR(g[i], fd, 1e-6 * (1 + g.norm())) << i;
-  }
-  // Gauss-Newton: k sum_c grad(d_c) grad(d_c)^T in joint space.
-  Eigen::MatrixXd gn = Eigen::MatrixXd::Zero(m.nv, m.nv);
-  for (size_t c = 0; c < contacts.size(); ++c) {
-    VecX grad_d(m.nv);
-    for (int i = 0; i < m.nv; ++i) {
-      const auto cp = pair_contacts_at(m, moved(i, 1e-7)), cm = pair_contacts_at(m, moved(i, -1e-7));
-      EXPECT_EQ(cp.size(), contacts.size());
-      EXPECT_EQ(cm.size(), contacts.size());
-      if (cp.size() != contacts.size() || cm.size() != contacts.size()) return 0;
-      grad_d[i] = (cp[c].depth - cm[c].depth) / 2e-7;
-    }
-    gn += o.contact.stiffness * grad_d * grad_d.transpose();
-  }
-  // The LM matrix's body-body part: (tree blocks + rank-1 terms) minus the tree
-  // blocks alone, from both inverses (lm_solve, tree_solve) at q, frictionless.
-  o.contact.friction = FrictionModel::None;
-  pbad_evaluate(m, o, s, p, q, ws);
-  ws.arm = VecX::Zero(m.nv);
-  Eigen::MatrixXd full_inv(m.nv, m.nv), tree_inv(m.nv, m.nv);
-  for (int i = 0; i < m.nv; ++i) {
-    VecX x;
-    const VecX e = VecX::Unit(m.nv, i);
-    lm_solve(m, ws.h, e, &x, ws);
-    full_inv.col(i) = x;
-    tree_solve(m, ws.kin, ws.h, ws.arm, e, &x, &ws.tree);
-    tree_inv.col(i) = x;
-  }
-  const Eigen::MatrixXd pair_part = full_inv.inverse() - tree_inv.inverse();
-  EXPECT_LT((pair_part - gn).norm(), 1e-5 * gn.norm());
-  EXPECT_GT(gn.block(0, 6, 6, 6).norm(), 0.1 * gn.norm());  // the a-b coupling per-body blocks cannot hold
-  return contacts.size();
-}
+using namespace pair_test;
 
 TEST(Contact, BodyPairGradientAndBlocksMatchFiniteDifferences) {
   const std::string sphere = "<geom type=\"sphere\" size=\"0.05\"/>";

@@ -156,6 +156,20 @@ TEST(Job, ContactPairsAreReadByGeomNameAndBadOnesNameThePair) {
   bad = j;
   bad["contact"]["pairs"][0].erase("geom1");
   EXPECT_EQ(error_at(bad).rfind("/contact/pairs/0/geom1", 0), 0u);
+  // "margin" and "condim" as MJCF's <pair>: 1 frictionless, 3 default, 4 / 6 refused.
+  nlohmann::json mc = j;
+  mc["contact"]["pairs"][0]["margin"] = 0.01;
+  mc["contact"]["pairs"][0]["condim"] = 1;
+  const ArticulatedScene am = articulated_compile(scene_of(mc));
+  EXPECT_EQ(am.model.contact_pairs[0].margin, 0.01);
+  EXPECT_TRUE(am.model.contact_pairs[0].frictionless);
+  EXPECT_FALSE(a.model.contact_pairs[0].frictionless);
+  mc["contact"]["pairs"][0]["condim"] = 6;
+  EXPECT_EQ(error_at(mc).rfind("/contact/pairs/0/condim | condim 6 (torsional and rolling friction) is not supported", 0), 0u)
+      << error_at(mc);
+  mc["contact"]["pairs"][0]["condim"] = 3;
+  mc["contact"]["pairs"][0]["margin"] = -1;
+  EXPECT_EQ(error_at(mc).rfind("/contact/pairs/0/margin", 0), 0u);
 }
 
 // The explicit-pair scene: after 1 s the ball (masks that meet nobody's) rests on the

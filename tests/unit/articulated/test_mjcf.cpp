@@ -212,8 +212,8 @@ TEST(Mjcf, ContactExcludeAndMasksAreReadAndMalformedOnesNameTheElement) {
             "/mujoco/worldbody[0]/body[0]/geom[0]/@contype | must be a non-negative integer");
 }
 
-// <contact><pair>: explicit pairs by geom name, friction's first value kept, condim
-// and margin ignored (as on geoms), solver parameters rejected; errors name the pair.
+// <contact><pair>: explicit pairs by geom name, friction's first value kept, margin
+// and condim 1 / 3 read, condim 4 / 6 and solver parameters rejected; errors name the pair.
 TEST(Mjcf, ContactPairsAreReadAndMalformedOnesNameThePair) {
   const std::string b = "<mujoco><worldbody><body name=\"a\"><freejoint/><geom name=\"ga\" size=\"0.1\" contype=\"0\" conaffinity=\"0\"/>"
                         "<geom name=\"ga2\" size=\"0.1\"/></body>"
@@ -227,6 +227,20 @@ TEST(Mjcf, ContactPairsAreReadAndMalformedOnesNameThePair) {
   EXPECT_EQ(m.contact_pairs[0].geom2, 0);
   EXPECT_EQ(m.contact_pairs[0].mu, 0.3);
   EXPECT_LT(m.contact_pairs[1].mu, 0);  // the scene's
+  EXPECT_EQ(m.contact_pairs[0].margin, 0.01);
+  EXPECT_FALSE(m.contact_pairs[0].frictionless);
+  EXPECT_EQ(m.contact_pairs[1].margin, 0);
+  EXPECT_TRUE(model_from_mjcf(b + "<contact><pair geom1=\"ga\" geom2=\"gb\" condim=\"1\"/></contact></mujoco>", "a.xml")
+                  .contact_pairs[0]
+                  .frictionless);
+  EXPECT_EQ(error_of(b + "<contact><pair geom1=\"ga2\" geom2=\"gb\"/><pair geom1=\"ga\" geom2=\"gb\" condim=\"4\"/></contact></mujoco>"),
+            "/mujoco/contact[0]/pair[1]/@condim | condim 4 (torsional friction) is not supported; supported: 1 "
+            "(frictionless) and 3 (sliding friction, the default)");
+  EXPECT_EQ(error_of(b + "<contact><pair geom1=\"ga\" geom2=\"gb\" condim=\"2\"/></contact></mujoco>"),
+            "/mujoco/contact[0]/pair[0]/@condim | must be 1, 3, 4 or 6 (supported: 1 frictionless, 3 sliding friction)");
+  EXPECT_EQ(error_of(b + "<contact><pair geom1=\"ga\" geom2=\"gb\" margin=\"-0.1\"/></contact></mujoco>").rfind(
+                "/mujoco/contact[0]/pair[0]/@margin | must be >= 0", 0),
+            0u);
   EXPECT_EQ(error_of(b + "<contact><pair geom1=\"ga\"/></contact></mujoco>"),
             "/mujoco/contact[0]/pair[0]/@geom2 | <pair> needs geom1 and geom2");
   EXPECT_EQ(error_of(b + "<contact><exclude body1=\"a\" body2=\"b\"/><pair geom1=\"ga\" geom2=\"gbb\"/></contact></mujoco>"),

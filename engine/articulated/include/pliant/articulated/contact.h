@@ -65,6 +65,26 @@ std::vector<int> contact_obstacles(const Model& m);
 // its outward normal.
 double obstacle_distance(const Geom& g, const Vec3& x, Vec3* normal);
 
+// Signed distance (positive outside) of point p (mesh frame) to a closed mesh: the
+// nearest triangle gives the distance, its face normal the sign (exact on faces, an
+// approximation near edges and vertices). O(triangles) per query (mesh_distance.cpp).
+double mesh_signed_distance(const MeshShape& mesh, const Vec3& p, Vec3* normal);
+// A bounding-volume tree over a mesh's triangles (median splits on the centroids'
+// widest axis, leaves of <= 4 triangles), built once per model.
+struct MeshBvh {
+  struct Node {
+    Vec3 lo, hi;              // the node's triangles' bounding box
+    int first = 0, count = 0;  // leaf: order[first, first + count); inner: count 0
+    int right = 0;            // inner: right child (the left child is the next node)
+  };
+  std::vector<Node> nodes;  // [0]: the root
+  std::vector<int> order;   // triangle indices, by leaf
+};
+MeshBvh mesh_bvh(const MeshShape& mesh);
+// The same query through the tree: O(log triangles) near the surface, and the same
+// result to the bit (same nearest triangle, ties to the lower index, same arithmetic).
+double mesh_signed_distance(const MeshShape& mesh, const MeshBvh& bvh, const Vec3& p, Vec3* normal);
+
 // Active contacts at kinematics k: body points against obstacles, then (appended,
 // slot -1) obstacle features against moving meshes (mesh_feature_contacts).
 void find_contacts(const Model& m, const Kinematics& k, const std::vector<ContactPoint>& pts,
@@ -82,18 +102,25 @@ void mesh_feature_contacts(const Model& m, const Kinematics& k, const std::vecto
 // ---- Body-body contact (ContactOptions::self_collision, Model::contact_pairs) ----
 // Candidate geom pairs, found once per model: sphere, capsule, box and mesh geoms of
 // two different moving bodies that are not parent and child, not excluded
-// (Model::contact_exclude) and pass MuJoCo's contype/conaffinity bitmask rule
-// (mesh-mesh excluded), then the model's explicit pairs (Model::contact_pairs), which
-// skip every filter and replace a filtered duplicate. Per step each pair is culled by
-// bounding spheres (reach = sum of the radii): O(G^2) pairs, fine for the tens of
-// geoms of a pile or a walker.
+// (Model::contact_exclude) and pass MuJoCo's contype/conaffinity bitmask rule, then
+// the model's explicit pairs (Model::contact_pairs), which skip every filter and
+// replace a filtered duplicate. Per step each pair is culled by bounding spheres
+// (reach = sum of the radii + margin): O(G^2) pairs, fine for the tens of geoms of a
+// pile or a walker.
+// A moving mesh geom's collision data, built once per model, shared by its pairs.
+struct MeshCollider {
+  std::vector<Vec3> samples;  // mesh_contact_samples (geom frame)
+  MeshBvh bvh;                // for mesh_signed_distance
+};
 struct GeomPair {
   int a, b;      // geom indices (a < b for filtered pairs; explicit: as written)
-  double reach;  // bounding radius of a + of b (about each geom's centre)
+  double reach;  // bounding radius of a + of b (about each geom's centre) + margin
   bool explicit_pair = false;  // from Model::contact_pairs: on without self_collision
   double mu = -1;              // friction coefficient; < 0: the scene's
-  // A mesh geom's contact samples (mesh_contact_samples, geom frame), if a or b is one.
-  std::shared_ptr<const std::vector<Vec3>> mesh_samples;
+  double margin = 0;           // active below this distance (explicit pairs' margin)
+  bool frictionless = false;   // explicit pair with condim 1
+  // Geom a's / b's collision data where it is a mesh.
+  std::shared_ptr<const MeshCollider> mesh_a, mesh_b;
 };
 std::vector<GeomPair> contact_geom_pairs(const Model& m);
 double geom_bounding_radius(const Geom& g);
@@ -113,7 +140,9 @@ inline bool pair_contact_on(const Model& m, const ContactOptions& c) {
 // box, along the edge-edge direction), mesh-sphere (the sphere's centre against the
 // mesh's signed distance), mesh-capsule and mesh-box (the mesh's contact samples
 // against the capsule / box, and the capsule's end spheres / the box's corners against
-// the mesh; as the obstacle path does). Missed: a capsule's side across a box with
+// the mesh; as the obstacle path does), mesh-mesh (each mesh's samples against the
+// other's signed distance, both ways). A pair's margin m adds m to every depth
+// (penalty on m - distance), except box edge-edge crossings (see README). Missed: a capsule's side across a box with
 // neither end sphere nor box corner inside the other (see README, Missing).
 struct PairContact {
   int body_a, body_b;
@@ -121,9 +150,11 @@ struct PairContact {
   Vec3 normal;  // unit, pushes body_b away from body_a
   double depth; // > 0
   double mu = -1;  // the pair's friction coefficient; < 0: the scene's
+  bool frictionless = false;  // the pair's condim is 1: no friction whatever the model
 };
 // Active contacts of the pairs at kinematics k (out is cleared; no allocation once
-// its capacity suffices). self_collision false: explicit pairs only.
+// its capacity suffices). self_collision false: explicit pairs only. Depth = the
+// pair's margin minus the distance.
 void find_pair_contacts(const Model& m, const Kinematics& k, const std::vector<GeomPair>& pairs,
                         std::vector<PairContact>* out, bool self_collision = true);
 

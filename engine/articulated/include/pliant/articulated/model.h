@@ -94,10 +94,12 @@ struct Body {
 // "contact": {"pairs": [...]}): the two geoms always touch, whatever their
 // contype/conaffinity, an exclude or a parent-child relation say, and whether or not
 // ContactOptions::self_collision is on (as MuJoCo's <pair>). Geoms of two different
-// moving bodies, not both meshes.
+// moving bodies.
 struct ContactPair {
   int geom1 = 0, geom2 = 0;
   double mu = -1;  // Coulomb coefficient of this pair; < 0: the scene's contact.mu
+  double margin = 0;          // touching below this distance (penalty on margin - distance)
+  bool frictionless = false;  // condim 1 (MuJoCo's default condim 3: sliding friction)
 };
 struct Actuator {
   std::string name;
@@ -132,6 +134,8 @@ void model_finalize(Model& m, const std::vector<bool>& has_inertial);
 
 // Why geoms g1 and g2 cannot form a ContactPair ("" if they can).
 std::string contact_pair_problem(const Model& m, int g1, int g2);
+// Why a pair's condim is refused ("" for 1 and 3; 4 and 6 are not modelled).
+std::string contact_pair_condim_problem(double condim);
 // Index of the named geom / moving body (the last of that name), or -1 with *why set
 // to 'no geom named "x"; did you mean "y"?' (loaders turn it into an InputError).
 int geom_named(const Model& m, const std::string& name, std::string* why);

@@ -1,0 +1,264 @@
+// Mesh-mesh body-body contact, the mesh distance tree, and explicit pairs' margin and
+// condim (contact.cpp, mesh_distance.cpp).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <random>
+
+#include "pliant/articulated/io.h"
+#include "pliant/articulated/sim.h"
+#include "mesh_fixture.h"
+#include "pair_fixture.h"
+#include "sim_internal.h"
+
+namespace pliant::articulated {
+namespace {
+
+// A mesh written by `write` loaded as a MeshShape (through a one-geom MJCF model).
+MeshShape mm_load_mesh(const std::string& obj) {
+  const Model m = model_from_mjcf("<mujoco><asset><mesh name=\"m\" file=\"" + obj +
+                                      "\"/></asset><worldbody><body><freejoint/><geom type=\"mesh\" mesh=\"m\"/></body>"
+                                      "</worldbody></mujoco>",
+                                  "mesh.xml");
+  std::filesystem::remove(obj);
+  return *m.geoms[0].mesh;
+}
+
+TEST(MeshContact, TreeDistanceEqualsTheScanToTheBit) {
+  const MeshShape mesh = mm_load_mesh(test::write_grid_box_obj("pliant_mm_tree", 0.2, 0.1, 0.05, 5));
+  ASSERT_EQ(mesh.triangles.size(), 300u);
+  const MeshBvh bvh = mesh_bvh(mesh);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-0.3, 0.3);
+  int inside = 0;
+  for (int i = 0; i < 2000; ++i) {
+    // Random points, and points on the lattice's planes (ties between triangles).
+    Vec3 p(u(rng), u(rng) * 0.5, u(rng) * 0.3);
+    if (i % 4 == 0) p.x() = -0.2 + 0.08 * std::round((p.x() + 0.2) / 0.08);
+    if (i % 8 == 0) p.z() = 0.05;
+    Vec3 n0, n1;
+    const double d0 = mesh_signed_distance(mesh, p, &n0), d1 = mesh_signed_distance(mesh, bvh, p, &n1);
+    ASSERT_EQ(d0, d1) << p.transpose();
+    ASSERT_EQ(n0, n1) << p.transpose();
+    inside += d0 < 0;
+  }
+  EXPECT_GT(inside, 100);
+}
+
+// Two free mesh bodies: a box mesh (300 triangles) and a tilted cube mesh (48) whose
+// lowest corner dips into its top face. PBAD's gradient (Coulomb on) and the LM
+// matrix's body-body part against finite differences.
+TEST(MeshContact, MeshMeshPairGradientMatchesFiniteDifferences) {
+  const std::string big = test::write_grid_box_obj("pliant_mm_grad_a", 0.1, 0.07, 0.05, 5);
+  const std::string cube = test::write_grid_box_obj("pliant_mm_grad_b", 0.04, 0.04, 0.04, 2);
+  const Model m = model_from_mjcf("<mujoco><asset><mesh name=\"a\" file=\"" + big + "\"/><mesh name=\"b\" file=\"" + cube +
+                                      "\"/></asset><worldbody><body name=\"a\"><freejoint/><geom type=\"mesh\" mesh=\"a\" "
+                                      "euler=\"5 -8 12\"/></body><body name=\"b\" pos=\"0.01 0.005 0.11\"><freejoint/>"
+                                      "<geom type=\"mesh\" mesh=\"b\" euler=\"30 40 20\"/></body></worldbody></mujoco>",
+                                  "mm_grad.xml");
+  std::filesystem::remove(big);
+  std::filesystem::remove(cube);
+  ASSERT_EQ(contact_geom_pairs(m).size(), 1u);  // mesh-mesh now listed
+  EXPECT_GE(pair_test::expect_pair_derivatives(m), 1u);
+}
+
+// A mesh cube (half size 0.05, 1 kg) on a vertical slide joint on a fixed mesh block.
+// Every contact has the same depth d (the cube's bottom-face samples inside the block,
+// the block's top-face samples inside the cube's footprint), so n k d = m g. Once with
+// automatic pairs (self_collision), once through an explicit MJCF <pair> with
+// contype = conaffinity = 0 and self_collision off: the same contacts.
+std::string mm_cube_on_block_xml(const std::string& cube, const std::string& block, bool explicit_pair) {
+  const std::string mask = explicit_pair ? " contype=\"0\" conaffinity=\"0\"" : "";
+  return "<mujoco><asset><mesh name=\"cube\" file=\"" + cube + "\"/><mesh name=\"block\" file=\"" + block +
+         "\"/></asset><worldbody><body name=\"block\"><geom name=\"block\" type=\"mesh\" mesh=\"block\"" + mask +
+         "/></body><body name=\"cube\" pos=\"-0.02 0.013 0.101\"><joint type=\"slide\" axis=\"0 0 1\"/>"
+         "<geom name=\"cube\" type=\"mesh\" mesh=\"cube\" mass=\"1\"" + mask + "/></body></worldbody>" +
+         (explicit_pair ? "<contact><pair geom1=\"block\" geom2=\"cube\"/></contact>" : "") + "</mujoco>";
+}
+
+TEST(MeshContact, MeshCubeRestsOnAMeshBlockAtThePenaltyDepth) {
+  const std::string cube = test::write_grid_box_obj("pliant_mm_rest_cube", 0.05, 0.05, 0.05, 2);
+  const std::string block = test::write_grid_box_obj("pliant_mm_rest_block", 0.3, 0.3, 0.05, 4);
+  double height[2];
+  for (int e = 0; e < 2; ++e) {
+    const Model m = model_from_mjcf(mm_cube_on_block_xml(cube, block, e == 1), "mm_rest.xml");
+    SimOptions o;
+    o.dt = 0.01;
+    o.contact.friction = FrictionModel::None;
+    o.contact.self_collision = e == 0;
+    State s = state_init(m);
+    SimWorkspace ws;
+    int iterations = 0;
+    for (int i = 0; i < 80; ++i) {
+      StepInfo info;
+      ASSERT_TRUE(sim_step(m, o, s, ws, &info));
+      iterations += info.iterations;
+    }
+    EXPECT_LT(std::abs(s.qvel[0]), 1e-3);
+    Kinematics k;
+    kinematics(m, s.qpos, &k);
+    std::vector<PairContact> c;
+    find_pair_contacts(m, k, contact_geom_pairs(m), &c, o.contact.self_collision);
+    const double n = static_cast<double>(c.size()), kk = o.contact.stiffness, d = 9.81 / (n * kk);
+    EXPECT_GT(c.size(), 9u);  // samples of both meshes
+    int from_cube = 0;
+    for (const PairContact& pc : c) {
+      EXPECT_NEAR(std::abs(pc.normal.z()), 1.0, 1e-9);
+      EXPECT_NEAR(pc.depth / d, 1.0, 0.02);
+      // The force k d n acts on b: up on the cube, down on the block.
+      EXPECT_GT(pc.normal.z() * (pc.body_b == 2 ? 1 : -1), 0);
+      from_cube += pc.body_b == 2;
+    }
+    EXPECT_GT(from_cube, 0);
+    EXPECT_LT(from_cube, static_cast<int>(c.size()));  // both directions contribute
+    height[e] = 0.101 + s.qpos[0];
+    EXPECT_NEAR((0.1 - height[e]) / d, 1.0, 0.02);
+    std::printf("%s: %zu contacts (%d cube samples, %zu block samples), depth %.4g m = m g / (n k) x %.4f, %.2f LM "
+                "iterations per step\n",
+                e ? "explicit pair" : "self_collision", c.size(), from_cube, c.size() - from_cube, 0.1 - height[e],
+                (0.1 - height[e]) / d, iterations / 80.0);
+  }
+  EXPECT_NEAR(height[0], height[1], 1e-12);
+  std::filesystem::remove(cube);
+  std::filesystem::remove(block);
+}
+
+// A tilted mesh cube dropped from 0.2 m on a fixed mesh block at dt 0.01 (2 m/s at
+// impact, 2 cm per step, the block 10 cm thick) stops on it: its lowest vertex never
+// goes more than a few millimetres into the block, and it comes to rest on its face.
+TEST(MeshContact, DroppedMeshCubeStopsOnAMeshBlock) {
+  const std::string cube = test::write_grid_box_obj("pliant_mm_drop_cube", 0.05, 0.05, 0.05, 2);
+  const std::string block = test::write_grid_box_obj("pliant_mm_drop_block", 0.3, 0.3, 0.05, 4);
+  const Model m = model_from_mjcf("<mujoco><asset><mesh name=\"cube\" file=\"" + cube + "\"/><mesh name=\"block\" file=\"" +
+                                      block + "\"/></asset><worldbody><body name=\"block\"><geom type=\"mesh\" "
+                                      "mesh=\"block\"/></body><body name=\"cube\" pos=\"0.01 0.02 0.3\" euler=\"12 7 3\">"
+                                      "<freejoint/><geom type=\"mesh\" mesh=\"cube\" mass=\"1\"/></body></worldbody></mujoco>",
+                                  "mm_drop.xml");
+  std::filesystem::remove(cube);
+  std::filesystem::remove(block);
+  SimOptions o;
+  o.dt = 0.01;
+  o.contact.self_collision = true;
+  State s = state_init(m);
+  SimWorkspace ws;
+  double lowest = 1, max_iterations = 0, iterations = 0;
+  const int steps = 120;
+  for (int i = 0; i < steps; ++i) {
+    StepInfo info;
+    ASSERT_TRUE(sim_step(m, o, s, ws, &info));
+    max_iterations = std::max<double>(max_iterations, info.iterations);
+    iterations += info.iterations;
+    Kinematics k;
+    kinematics(m, s.qpos, &k);
+    for (const Vec3& v : m.geoms[1].mesh->vertices) lowest = std::min(lowest, (k.xpos[2] + k.xmat[2] * v).z());
+  }
+  EXPECT_GT(lowest, 0.05 - 0.005);
+  EXPECT_LT(s.qvel.lpNorm<Eigen::Infinity>(), 2e-2);
+  EXPECT_NEAR(s.qpos[2], 0.1, 0.002);  // resting on a face
+  std::printf("drop: lowest vertex %.3g mm into the block, %.2f LM iterations per step (max %g), final height %.5f\n",
+              1e3 * (0.05 - lowest), iterations / steps, max_iterations, s.qpos[2]);
+}
+
+// Zero gravity, no friction: two mesh cubes collide off-centre; the stencil's
+// momentum sum(m v) is conserved through the collision (only the solver's residual).
+TEST(MeshContact, CollidingMeshCubesConserveMomentum) {
+  const std::string a = test::write_grid_box_obj("pliant_mm_mom_a", 0.05, 0.04, 0.03, 2);
+  const std::string b = test::write_grid_box_obj("pliant_mm_mom_b", 0.04, 0.04, 0.04, 2);
+  const Model m = model_from_mjcf("<mujoco><option gravity=\"0 0 0\"/><asset><mesh name=\"a\" file=\"" + a +
+                                      "\"/><mesh name=\"b\" file=\"" + b + "\"/></asset><worldbody><body name=\"a\">"
+                                      "<freejoint/><geom type=\"mesh\" mesh=\"a\" mass=\"1\" euler=\"10 20 0\"/></body>"
+                                      "<body name=\"b\" pos=\"0.2 0.03 0.01\"><freejoint/><geom type=\"mesh\" mesh=\"b\" "
+                                      "mass=\"0.7\" euler=\"0 35 30\"/></body></worldbody></mujoco>",
+                                  "mm_momentum.xml");
+  std::filesystem::remove(a);
+  std::filesystem::remove(b);
+  SimOptions o;
+  o.dt = 0.005;
+  o.contact.self_collision = true;
+  o.contact.friction = FrictionModel::None;
+  o.lm_relative_tolerance = 0;
+  o.lm_tolerance = 1e-12;
+  State s = state_init(m);
+  s.qvel.head<3>() << 1.0, 0.1, 0;
+  s.qvel.segment<3>(6) << -0.5, 0, 0.05;
+  SimWorkspace ws;
+  const auto momentum = [&](const State& st) {
+    return Vec3(m.bodies[1].mass * st.qvel.head<3>() + m.bodies[2].mass * st.qvel.segment<3>(6));
+  };
+  const Vec3 p0 = momentum(s);
+  const double vx0 = s.qvel[0] - s.qvel[6];
+  size_t most = 0;
+  double worst = 0;
+  for (int i = 0; i < 60; ++i) {
+    ASSERT_TRUE(sim_step(m, o, s, ws));
+    if (i > 0) worst = std::max(worst, (momentum(s) - p0).norm() / p0.norm());
+    most = std::max(most, pair_test::pair_contacts_at(m, s.qpos).size());
+  }
+  EXPECT_GT(most, 0u);
+  EXPECT_LT(worst, 1e-6);
+  EXPECT_LT((s.qvel[0] - s.qvel[6]) * vx0, 0);  // bounced
+  std::printf("mesh-mesh momentum drift %.3g relative, up to %zu contacts\n", worst, most);
+}
+
+// ---- Explicit pairs: margin and condim ----
+
+// A 1 kg ball on a slide joint over a fixed box body, through an explicit pair with
+// margin 0.01: the penalty acts on margin - distance, so it rests margin higher than
+// without (0.1 + margin - m g / k).
+TEST(MeshContact, PairMarginRaisesTheRestingBallByTheMargin) {
+  const auto rest = [](const std::string& margin) {
+    const Model m = model_from_mjcf(
+        "<mujoco><worldbody><body name=\"base\"><geom name=\"base\" type=\"box\" size=\"0.2 0.2 0.05\" contype=\"0\" "
+        "conaffinity=\"0\"/></body><body name=\"ball\" pos=\"0 0 0.11\"><joint type=\"slide\" axis=\"0 0 1\"/>"
+        "<geom name=\"ball\" size=\"0.05\" mass=\"1\" contype=\"0\" conaffinity=\"0\"/></body></worldbody><contact>"
+        "<pair geom1=\"ball\" geom2=\"base\" " + margin + "/></contact></mujoco>",
+        "margin.xml");
+    SimOptions o;
+    o.dt = 0.01;
+    o.contact.friction = FrictionModel::None;
+    State s = state_init(m);
+    SimWorkspace ws;
+    for (int i = 0; i < 80; ++i) EXPECT_TRUE(sim_step(m, o, s, ws));
+    return 0.11 + s.qpos[0];
+  };
+  const double g_k = 9.81 / ContactOptions().stiffness;
+  const double with = rest("margin=\"0.01\""), without = rest("");
+  EXPECT_NEAR((0.1 + 0.01 - with) / g_k, 1.0, 0.02);
+  EXPECT_NEAR((0.1 - without) / g_k, 1.0, 0.02);
+  EXPECT_NEAR(with - without, 0.01, 0.02 * g_k);
+}
+
+// A box sliding at 0.5 m/s on a fixed box body through a condim="1" pair keeps its
+// velocity (no friction, whatever the scene's model), and stops with condim="3".
+TEST(MeshContact, CondimOnePairSlidesWithoutFriction) {
+  const auto slide = [](const std::string& condim, FrictionModel f, Integrator in) {
+    const Model m = model_from_mjcf("<mujoco><worldbody><body name=\"base\"><geom name=\"base\" type=\"box\" size=\"0.5 0.2 "
+                                    "0.05\"/></body><body name=\"box\"><freejoint/><geom name=\"box\" type=\"box\" "
+                                    "size=\"0.05 0.05 0.05\" mass=\"1\"/></body></worldbody><contact><pair geom1=\"base\" "
+                                    "geom2=\"box\" condim=\"" + condim + "\"/></contact></mujoco>",
+                                    "condim.xml");
+    SimOptions o;
+    o.dt = in == Integrator::Euler ? 0.001 : 0.01;
+    o.integrator = in;
+    o.contact.friction = f;
+    o.contact.mu = 0.5;
+    o.contact.damping = in == Integrator::Euler ? 50 : 0;
+    State s = state_init(m);
+    s.qpos[0] = -0.3;
+    s.qpos[2] = 0.1 - 9.81 / (4 * o.contact.stiffness);
+    s.qvel[0] = 0.5;
+    SimWorkspace ws;
+    const int steps = static_cast<int>(std::lround(0.4 / o.dt));
+    for (int i = 0; i < steps; ++i) EXPECT_TRUE(sim_step(m, o, s, ws));
+    return s.qvel[0];
+  };
+  EXPECT_NEAR(slide("1", FrictionModel::Coulomb, Integrator::Pbad3), 0.5, 1e-3);
+  EXPECT_NEAR(slide("1", FrictionModel::Ck, Integrator::Pbad3), 0.5, 1e-3);
+  EXPECT_NEAR(slide("1", FrictionModel::Coulomb, Integrator::Euler), 0.5, 1e-3);
+  EXPECT_LT(std::abs(slide("3", FrictionModel::Coulomb, Integrator::Pbad3)), 1e-3);  // v0^2 / (2 mu g) = 2.5 cm
+  EXPECT_LT(std::abs(slide("3", FrictionModel::Coulomb, Integrator::Euler)), 2e-2);
+}
+
+}  // namespace
+}  // namespace pliant::articulated
