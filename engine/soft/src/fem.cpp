@@ -68,6 +68,48 @@ Matrix3d deformation_gradient(const Lattice& lat, const Eigen::VectorXd& x, int 
   return gather(lat, x, cell) * scaled_table(lat.cell_size_m)[q];
 }
 
+
+// Per-thread cache of D_q = B_q U_e (elastic_reduced): one slot per cubature cell,
+// holding the cell's 24 rows of U it was built from. 9 x 24 B_q has three nonzeros
+// per row, so D's row 3c+s = sum_a G_q(a, c) U_e(3a+s, :).
+struct ReducedCellCache {
+  struct Cell {
+    Eigen::Matrix<double, 24, Eigen::Dynamic> Ue;
+    std::array<Eigen::Matrix<double, 9, Eigen::Dynamic>, 8> D;
+  };
+  double h = -1;
+  int r = -1;
+  std::vector<Cell> cells;
+  Cell scratch;  // bodies too large to cache (see reduced_cache_limit)
+};
+
+// Cache at most this many doubles per thread (kept cells x 96 r); larger bodies
+// rebuild D per call in one scratch cell, as before the cache.
+constexpr size_t reduced_cache_limit = size_t(4) << 20;  // 32 MB
+
+ReducedCellCache& reduced_cell_cache(double h, int r) {
+  thread_local ReducedCellCache c;
+  if (c.h != h || c.r != r) c.cells.clear(), c.h = h, c.r = r;
+  return c;
+}
+
+void build_cell_d(const std::array<Eigen::Matrix<double, 8, 3>, 8>& G,
+                  const Eigen::Matrix<double, 24, Eigen::Dynamic>& Ue, ReducedCellCache::Cell& cell) {
+  const int r = int(Ue.cols());
+  cell.Ue = Ue;
+  for (int q = 0; q < 8; ++q) {
+    auto& D = cell.D[q];
+    D.resize(9, r);
+    for (int j = 0; j < r; ++j)
+      for (int c = 0; c < 3; ++c)
+        for (int s = 0; s < 3; ++s) {
+          double acc = 0;
+          for (int a = 0; a < 8; ++a) acc += G[q](a, c) * Ue(3 * a + s, j);
+          D(3 * c + s, j) = acc;
+        }
+  }
+}
+
 }  // namespace
 
 Lame lame_from(const Material& m) {
@@ -176,7 +218,18 @@ double elastic_reduced(const Lattice& lat, const Lame& l, const Eigen::VectorXd&
   if (grad) grad->setZero(r);
   if (hess) hess->setZero(r, r);
   const auto& G = scaled_table(h);
-  // B_q = dvec(F)/dx_cell (9 x 24), the same for every cell of the uniform lattice.
+  // D_q = dvec(F)/dq = B_q U_e (9 x r) per cell and Gauss point. It depends only on
+  // the cell's 24 rows of U, so each thread keeps the last D of every cell slot with
+  // the rows it came from: with a constant basis (linear modes, POD) every later call
+  // reuses it; a changed U (rotation-strain Jacobian, another character) is detected
+  // by comparing the rows and rebuilds that cell.
+  ReducedCellCache& cache = reduced_cell_cache(h, r);
+  const bool cacheable = size_t(ncell) * 96 * size_t(r) <= reduced_cache_limit;
+  if (cacheable && int(cache.cells.size()) < ncell) cache.cells.resize(ncell);
+  thread_local Eigen::Matrix<double, 24, Eigen::Dynamic> Ue;
+  thread_local Eigen::Matrix<double, 9, Eigen::Dynamic> AD;
+  if (Ue.cols() != r) Ue.resize(24, r), AD.resize(9, r);
+  // B_q = dvec(F)/dx_cell (9 x 24), the same for every cell, for the gradient.
   thread_local std::array<Eigen::Matrix<double, 9, 24>, 8> B;
   thread_local double B_h = -1;
   if (B_h != h) {
@@ -188,10 +241,6 @@ double elastic_reduced(const Lattice& lat, const Lame& l, const Eigen::VectorXd&
     }
     B_h = h;
   }
-  // Per-thread buffers: no allocation per call once r is known (playback loop).
-  thread_local Eigen::Matrix<double, 24, Eigen::Dynamic> Ue;
-  thread_local Eigen::Matrix<double, 9, Eigen::Dynamic> D, AD;
-  if (Ue.cols() != r) Ue.resize(24, r), D.resize(9, r), AD.resize(9, r);
   Eigen::Matrix<double, 24, 1> gcell;
   double energy = 0;
   for (int k = 0; k < ncell; ++k) {
@@ -199,31 +248,41 @@ double elastic_reduced(const Lattice& lat, const Lame& l, const Eigen::VectorXd&
     const double we = (cw.all() ? 1.0 : cw.weights[k]) * vol_q;
     const auto& ids = lat.cells[e];
     const Eigen::Matrix<double, 3, 8> X = gather(lat, x, e);
-    for (int a = 0; a < 8; ++a) Ue.middleRows<3>(3 * a) = U.middleRows<3>(3 * ids[a]);
-    gcell.setZero();
+    const bool need_d = grad || hess;
+    ReducedCellCache::Cell* cc = nullptr;
+    if (need_d) {
+      for (int a = 0; a < 8; ++a) Ue.middleRows<3>(3 * a) = U.middleRows<3>(3 * ids[a]);
+      if (cacheable) {
+        cc = &cache.cells[k];
+        if (cc->Ue.cols() != r || cc->Ue != Ue) build_cell_d(G, Ue, *cc);
+      } else {
+        cc = &cache.scratch;
+        build_cell_d(G, Ue, *cc);
+      }
+    }
+    if (grad) gcell.setZero();
     for (int q = 0; q < 8; ++q) {
       const Matrix3d F = X * G[q];
       energy += we * snh_energy(l, F);
+      if (!need_d) continue;
+      const auto& D = cc->D[q];
       if (grad) {
+        // Same arithmetic as the nodal gradient (U_e^T sum_q w B_q^T vec P): the
+        // reduced force, hence the step's root, is unchanged bit for bit.
         const Matrix3d P = snh_stress(l, F);
         gcell.noalias() += we * B[q].transpose() * Eigen::Map<const Eigen::Matrix<double, 9, 1>>(P.data());
       }
       if (hess) {
-        // Lazy (coefficient-based) products: tiny sizes, GEMM packing would dominate.
-        // D = B_q U_e using B's sparsity: row 3c+s = sum_a G(a,c) U_e(3a+s, :).
-        for (int j = 0; j < r; ++j)
-          for (int c = 0; c < 3; ++c)
-            for (int s = 0; s < 3; ++s) {
-              double acc = 0;
-              for (int a = 0; a < 8; ++a) acc += G[q](a, c) * Ue(3 * a + s, j);
-              D(3 * c + s, j) = acc;
-            }
+        // Lower triangle of w D^T A D only (symmetric; the LDLT reads the lower one),
+        // mirrored after the loop.
         AD.noalias() = snh_stress_derivative(l, F).lazyProduct(D);
-        hess->noalias() += we * D.transpose().lazyProduct(AD);
+        for (int j = 0; j < r; ++j)
+          for (int i = j; i < r; ++i) (*hess)(i, j) += we * D.col(i).dot(AD.col(j));
       }
     }
     if (grad) grad->noalias() += Ue.transpose().lazyProduct(gcell);
   }
+  if (hess) hess->triangularView<Eigen::StrictlyUpper>() = hess->transpose();
   return energy;
 }
 

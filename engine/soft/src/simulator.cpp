@@ -285,11 +285,13 @@ void reduced_step(const Character& ch, const Environment& env, const SimParams& 
     Eigen::JacobiSVD<Matrix3d> svd(R, Eigen::ComputeFullU | Eigen::ComputeFullV);
     R = svd.matrixU() * svd.matrixV().transpose();
     if (rs && it >= 1) curvature_on = true;
-    e = energy(q, R, c, &g, &H);
+    // Converged: nothing after the loop reads e, g or H, so the accepted point's
+    // gradient and Hessian (one of the ~3-11 per step) are not evaluated.
     if (step < sp.newton_tol * size_scale) {
       st.converged = true;
       break;
     }
+    e = energy(q, R, c, &g, &H);
   }
   // Good enough when the last step moved less than 1e-5 cells (quasi-Newton
   // iterations converge linearly; the strict tolerance is for validation runs).

@@ -118,3 +118,74 @@ TEST(Fem, LatticeGradientAndHessianMatchFiniteDifferences) {
   for (int a = 0; a < 8; ++a)
     for (int d = 0; d < 3; ++d) EXPECT_NEAR(f[3 * a + d], -g0[3 * lat.cells[0][a] + d], 1e-9 * g0.norm());
 }
+
+namespace {
+// A 4 x 2 x 2 box lattice (16 cells) for the reduced-Hessian checks.
+Lattice fem_reduced_box() {
+  SurfaceMesh m;
+  for (int i = 0; i < 8; ++i) m.vertices.push_back({(i & 1) * 2.0, double((i >> 1) & 1), double((i >> 2) & 1)});
+  const int q[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+  for (const auto& f : q) {
+    m.triangles.push_back({f[0], f[1], f[2]});
+    m.triangles.push_back({f[0], f[2], f[3]});
+  }
+  return build_lattice(m, 4, 1000);
+}
+
+double fem_reduced_rel(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
+  return (a - b).cwiseAbs().maxCoeff() / b.cwiseAbs().maxCoeff();
+}
+}  // namespace
+
+// elastic_reduced keeps D_q = B_q U_e per cell between calls (constant bases) and
+// computes one triangle of D^T A D: it must equal U^T (dE/dx, K) U of the nodal
+// assembly on the first call, reuse bit for bit on the second, and notice a changed U.
+TEST(Fem, ReducedHessianMatchesProjectedAssemblyAndCacheFollowsBasis) {
+  const Lattice lat = fem_reduced_box();
+  ASSERT_EQ(lat.cells.size(), 16u);
+  const Lame l = test_lame();
+  const int n = lat.nodes(), r = 5;
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-0.05, 0.05);
+  Eigen::MatrixXd U(3 * n, r);
+  for (int i = 0; i < U.size(); ++i) U.data()[i] = u(rng);
+  Eigen::VectorXd x(3 * n);
+  for (int j = 0; j < n; ++j) x.segment<3>(3 * j) = lat.rest[j];
+  for (int i = 0; i < x.size(); ++i) x[i] += u(rng);
+  CellWeights cw;
+  cw.cells = {1, 4, 6, 9, 15};
+  cw.weights = {0.5, 2.0, 1.25, 3.0, 0.75};
+  auto direct = [&](const Eigen::MatrixXd& B, Eigen::VectorXd& g, Eigen::MatrixXd& H) {
+    Eigen::VectorXd gx;
+    Eigen::SparseMatrix<double> K;
+    const double e = elastic_energy(lat, l, x, cw, &gx, &K);
+    g = B.transpose() * gx;
+    H = B.transpose() * (K * B);
+    return e;
+  };
+  Eigen::VectorXd g_ref, g1, g2;
+  Eigen::MatrixXd H_ref, H1, H2;
+  const double e_ref = direct(U, g_ref, H_ref);
+  const double e1 = elastic_reduced(lat, l, x, cw, U, &g1, &H1);
+  EXPECT_NEAR(e1, e_ref, 1e-13 * std::abs(e_ref));
+  EXPECT_LT(fem_reduced_rel(g1, g_ref), 1e-12);
+  EXPECT_LT(fem_reduced_rel(H1, H_ref), 1e-12);
+  EXPECT_EQ((H1 - H1.transpose()).cwiseAbs().maxCoeff(), 0.0);  // symmetric by construction
+  elastic_reduced(lat, l, x, cw, U, &g2, &H2);  // cached D
+  EXPECT_EQ((H2 - H1).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_EQ((g2 - g1).cwiseAbs().maxCoeff(), 0.0);
+  // Change U on one node of a kept cell only: the cache must rebuild that cell.
+  Eigen::MatrixXd U2 = U;
+  U2.row(3 * lat.cells[6][3] + 1) *= 3.0;
+  direct(U2, g_ref, H_ref);
+  elastic_reduced(lat, l, x, cw, U2, &g2, &H2);
+  EXPECT_GT(fem_reduced_rel(H2, H1), 1e-6);
+  EXPECT_LT(fem_reduced_rel(g2, g_ref), 1e-12);
+  EXPECT_LT(fem_reduced_rel(H2, H_ref), 1e-12);
+  // Every cell (no cubature) also agrees.
+  cw = CellWeights{};
+  direct(U, g_ref, H_ref);
+  elastic_reduced(lat, l, x, cw, U, &g1, &H1);
+  EXPECT_LT(fem_reduced_rel(H1, H_ref), 1e-12);
+  EXPECT_LT(fem_reduced_rel(g1, g_ref), 1e-12);
+}

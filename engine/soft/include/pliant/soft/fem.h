@@ -53,7 +53,11 @@ double elastic_energy(const Lattice& lat, const Lame& l, const Eigen::VectorXd& 
                       Eigen::VectorXd* grad, Eigen::SparseMatrix<double>* hess);
 
 // Reduced elastic gradient U^T dE/dx and Hessian U^T K U at x, accumulated cell by
-// cell (no 3N x 3N matrix): per Gauss point D = dvec(F)/dq (9 x r), H += w D^T A D.
+// cell (no 3N x 3N matrix): per Gauss point D = dvec(F)/dq (9 x r), H += w D^T A D
+// (one triangle, mirrored). Each thread keeps every cell's D with the 24 rows of U it
+// came from and rebuilds a cell only when those rows change, so a constant basis
+// (linear modes, POD) pays for D once; memory per thread: cells x (72 + 24) x r
+// doubles (spider, 33 cubature cells, r = 10: 253 KB), not kept above 32 MB.
 double elastic_reduced(const Lattice& lat, const Lame& l, const Eigen::VectorXd& x, const CellWeights& cw,
                        const Eigen::MatrixXd& U, Eigen::VectorXd* grad, Eigen::MatrixXd* hess);
 
