@@ -42,6 +42,7 @@ float bound_radius(const GeomView& g) {
     case Shape::Sphere: return g.size[0];
     case Shape::Capsule: return g.size[0] + g.size[1];
     case Shape::Box: return std::sqrt(g.size[0] * g.size[0] + g.size[1] * g.size[1] + g.size[2] * g.size[2]);
+    case Shape::Mesh: return g.mesh ? g.mesh->radius : 0;
     default: return 0;
   }
 }
@@ -223,6 +224,11 @@ class ArticulatedDrawer final : public FrameDrawer {
       case Shape::Sphere: mesh_.add_sphere(m, g.size[0], c); break;
       case Shape::Capsule: mesh_.add_capsule(m, g.size[0], g.size[1], c); break;
       case Shape::Box: mesh_.add_box(m, g.size, c); break;
+      case Shape::Mesh:
+        if (g.mesh)
+          mesh_.add_mesh(g.mesh->xyz.data(), g.mesh->xyz.size() / 3, g.mesh->triangles.data(),
+                         g.mesh->triangles.size() / 3, c, m, /*crease_deg=*/40);
+        break;
       case Shape::Plane: break;
     }
   }

@@ -7,7 +7,9 @@
 // world (x, y, z) at display (x, z, -y); bounds are reported in display units.
 #pragma once
 #include <array>
+#include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -37,12 +39,19 @@ void articulated_drawer_set_scene_dir(const std::filesystem::path& dir);
 // module, so the articulated panels (ui/, which do) register the function that
 // compiles a scene into this (articulated_compile); without one, bodies are
 // drawn as plain balls.
+// A mesh geom's triangles in the geom's frame, shared by every frame's upload.
+struct ArticulatedMesh {
+  std::vector<float> xyz;         // 3 per vertex
+  std::vector<uint32_t> triangles;  // 3 per triangle
+  float radius = 0;               // largest vertex distance from the geom origin
+};
 struct ArticulatedGeom {
-  enum Shape { Plane, Sphere, Capsule, Box } shape = Sphere;
+  enum Shape { Plane, Sphere, Capsule, Box, Mesh } shape = Sphere;
   int body = 0;  // 0: a static obstacle in the world
   Vec3 pos{0, 0, 0};                     // in the body frame (world for static)
   std::array<float, 4> quat{1, 0, 0, 0};  // w x y z
   Vec3 size{0, 0, 0};  // sphere r; capsule r, half length (local z); box half sizes
+  std::shared_ptr<const ArticulatedMesh> mesh;  // Shape::Mesh only
 };
 struct ArticulatedGeometry {
   int bodies = 0;          // without the world

@@ -19,6 +19,7 @@ Vec3 sub(const Vec3& a, const Vec3& b) { return {a[0] - b[0], a[1] - b[1], a[2] 
 Vec3 cross(const Vec3& a, const Vec3& b) {
   return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
 }
+float dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 Vec3 normalized(const Vec3& v) {
   const float n = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
   return n > 1e-20f ? Vec3{v[0] / n, v[1] / n, v[2] / n} : Vec3{0, 0, 1};
@@ -70,25 +71,62 @@ void MeshDrawer::add_triangle(const Vec3& a, const Vec3& b, const Vec3& c, const
 }
 
 void MeshDrawer::add_mesh(const float* xyz, size_t nverts, const uint32_t* tris, size_t ntris, const Color& c,
-                          const Mat4& model) {
-  std::vector<Vec3> p(nverts), n(nverts, Vec3{0, 0, 0});
+                          const Mat4& model, float crease_deg) {
+  std::vector<Vec3> p(nverts);
   for (size_t i = 0; i < nverts; ++i) p[i] = apply_point(model, {xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]});
   auto valid = [&](size_t t) {
     return tris[3 * t] < nverts && tris[3 * t + 1] < nverts && tris[3 * t + 2] < nverts;
   };
+  std::vector<Vec3> fn(ntris, Vec3{0, 0, 0});  // length = 2 area
   for (size_t t = 0; t < ntris; ++t) {
     if (!valid(t)) continue;
     const uint32_t* f = tris + 3 * t;
-    const Vec3 fn = cross(sub(p[f[1]], p[f[0]]), sub(p[f[2]], p[f[0]]));  // length = 2 area
-    for (int k = 0; k < 3; ++k)
-      for (int d = 0; d < 3; ++d) n[f[k]][d] += fn[d];
+    fn[t] = cross(sub(p[f[1]], p[f[0]]), sub(p[f[2]], p[f[0]]));
   }
-  for (auto& v : n) v = normalized(v);
   verts_.reserve(verts_.size() + 3 * ntris);
+  if (!(crease_deg > 0)) {
+    // Smooth: one area-weighted normal per vertex.
+    std::vector<Vec3> n(nverts, Vec3{0, 0, 0});
+    for (size_t t = 0; t < ntris; ++t) {
+      if (!valid(t)) continue;
+      for (int k = 0; k < 3; ++k)
+        for (int d = 0; d < 3; ++d) n[tris[3 * t + k]][d] += fn[t][d];
+    }
+    for (auto& v : n) v = normalized(v);
+    for (size_t t = 0; t < ntris; ++t) {
+      if (!valid(t)) continue;
+      const uint32_t* f = tris + 3 * t;
+      add_triangle(p[f[0]], p[f[1]], p[f[2]], n[f[0]], n[f[1]], n[f[2]], c);
+    }
+    return;
+  }
+  // Creased: a corner averages only the faces around its vertex within crease_deg
+  // of its own face, so a box-like mesh keeps sharp edges and a fine one stays smooth.
+  const float cos_crease = std::cos(crease_deg * kPi / 180.0f);
+  std::vector<uint32_t> start(nverts + 1, 0), faces;
+  for (size_t t = 0; t < ntris; ++t)
+    if (valid(t))
+      for (int k = 0; k < 3; ++k) ++start[tris[3 * t + k] + 1];
+  for (size_t v = 0; v < nverts; ++v) start[v + 1] += start[v];
+  faces.resize(start[nverts]);
+  std::vector<uint32_t> fill(start.begin(), start.end() - 1);
+  for (size_t t = 0; t < ntris; ++t)
+    if (valid(t))
+      for (int k = 0; k < 3; ++k) faces[fill[tris[3 * t + k]]++] = uint32_t(t);
+  std::vector<Vec3> unit(ntris);
+  for (size_t t = 0; t < ntris; ++t) unit[t] = normalized(fn[t]);
   for (size_t t = 0; t < ntris; ++t) {
     if (!valid(t)) continue;
     const uint32_t* f = tris + 3 * t;
-    add_triangle(p[f[0]], p[f[1]], p[f[2]], n[f[0]], n[f[1]], n[f[2]], c);
+    Vec3 n[3];
+    for (int k = 0; k < 3; ++k) {
+      Vec3 sum{0, 0, 0};
+      for (uint32_t i = start[f[k]]; i < start[f[k] + 1]; ++i)
+        if (dot(unit[faces[i]], unit[t]) >= cos_crease)
+          for (int d = 0; d < 3; ++d) sum[d] += fn[faces[i]][d];
+      n[k] = normalized(sum);
+    }
+    add_triangle(p[f[0]], p[f[1]], p[f[2]], n[0], n[1], n[2], c);
   }
 }
 

@@ -18,9 +18,11 @@ class MeshDrawer {
   bool init(std::string* err);
   void clear();
   // A mesh given by xyz positions and index triples, under `model` (world units).
-  // Smooth normals (area-weighted); indices out of range are skipped.
+  // Smooth normals (area-weighted), or with crease_deg > 0 per-corner normals over
+  // the faces within that angle of the corner's face (sharp edges stay sharp);
+  // indices out of range are skipped.
   void add_mesh(const float* xyz, size_t nverts, const uint32_t* tris, size_t ntris, const Color& c,
-                const Mat4& model);
+                const Mat4& model, float crease_deg = 0);
   // Primitives centred at the model origin: sphere of radius r; capsule of
   // radius r around the local z axis from -half_len to +half_len; box of half sizes.
   void add_sphere(const Mat4& model, float r, const Color& c);

@@ -40,6 +40,22 @@ Scene make_scene(const json& doc, const fs::path& dir) {
   return s;
 }
 
+// A mesh geom's triangles as float / uint32 arrays (render/ does not see engine types).
+std::shared_ptr<const ArticulatedMesh> mesh_view(const articulated::MeshShape& shape) {
+  auto out = std::make_shared<ArticulatedMesh>();
+  out->xyz.reserve(3 * shape.vertices.size());
+  double r2 = 0;
+  for (const auto& v : shape.vertices) {
+    for (int i = 0; i < 3; ++i) out->xyz.push_back(float(v[i]));
+    r2 = std::max(r2, v.squaredNorm());
+  }
+  out->radius = float(std::sqrt(r2));
+  out->triangles.reserve(3 * shape.triangles.size());
+  for (const auto& t : shape.triangles)
+    for (int i : t) out->triangles.push_back(uint32_t(i));
+  return out;
+}
+
 bool compile_geometry(const json& scene, const fs::path& dir, ArticulatedGeometry* out, std::string* err) {
   *out = ArticulatedGeometry{};
   try {
@@ -60,7 +76,12 @@ bool compile_geometry(const json& scene, const fs::path& dir, ArticulatedGeometr
       v.shape = g.type == articulated::GeomType::Plane     ? ArticulatedGeom::Plane
                 : g.type == articulated::GeomType::Sphere  ? ArticulatedGeom::Sphere
                 : g.type == articulated::GeomType::Capsule ? ArticulatedGeom::Capsule
+                : g.type == articulated::GeomType::Mesh    ? ArticulatedGeom::Mesh
                                                            : ArticulatedGeom::Box;
+      if (v.shape == ArticulatedGeom::Mesh) {
+        if (!g.mesh) continue;  // nothing to draw (the compile refuses empty meshes)
+        v.mesh = mesh_view(*g.mesh);
+      }
       v.body = g.body;
       v.pos = {float(g.pos.x()), float(g.pos.y()), float(g.pos.z())};
       v.quat = {float(g.quat.w()), float(g.quat.x()), float(g.quat.y()), float(g.quat.z())};

@@ -3,7 +3,7 @@
 // screenshot; "Compare integrators" runs one job per integrator and reads every
 // run's energy curve; the hopper MPC scene (MJCF model by relative path, edited
 // so the job runs from a copy) simulates and plays; a dropped model file becomes
-// the scene's model in one undo step.
+// the scene's model in one undo step; mesh geoms are drawn as their meshes.
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -99,6 +99,40 @@ TEST(EditorArticulated, SimulateChainAndContactFrameMatchesGolden) {
   EXPECT_GT(arrow_pixels(with), 10);
   EXPECT_EQ(arrow_pixels(without), 0);
   articulated_draw_options() = ArticulatedDrawOptions{};
+}
+
+// Mesh geoms are drawn as their triangles (they were boxes of the geom's unused
+// size): two mesh tiles resting on a sphere and on a box corner.
+TEST(EditorArticulated, MeshTilesAreDrawnAsTheirMeshes) {
+  EditorHarness h("art_mesh");
+  fs::create_directories(h.dir / "scenes");
+  fs::create_directories(h.dir / "models");
+  fs::copy_file(source_asset("models/tile.obj"), h.dir / "models" / "tile.obj");
+  json s;
+  {
+    std::ifstream in(source_asset("scenes/articulated_mesh_tile.json"));
+    s = json::parse(in);
+  }
+  s["duration_s"] = 0.4;
+  const fs::path scene = h.dir / "scenes" / "mesh_tile.json";
+  std::ofstream(scene) << s.dump(2);
+  h.start(scene, /*gl=*/true, 1280, 720);
+  ASSERT_EQ(h.run("wait 2\n"
+                  "click_item Simulate\n"
+                  "wait_job 60\n"
+                  "expect \": done\"\n"
+                  "wait_frames 41 10\n"
+                  "set_frame 40\n"
+                  "wait 3\n"
+                  "screenshot $TMP/tiles40.png viewport\n"),
+            "");
+  EXPECT_EQ(h.app->take.status(), "done");
+  const ArticulatedFrameInfo& info = articulated_last_frame_info();
+  EXPECT_EQ(info.model_error, "");
+  EXPECT_EQ(info.bodies, 2);
+  EXPECT_EQ(info.geoms, 2);     // the two tiles
+  EXPECT_GE(info.contacts, 2);  // each rests on its obstacle
+  match_golden(h.dir / "tiles40.png", "articulated_mesh_tiles_frame40.png");
 }
 
 TEST(EditorArticulated, CompareIntegratorsReadsAnEnergyCurvePerIntegrator) {

@@ -3,7 +3,12 @@
 // "Compare integrators" legend.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
+#include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 
 #include "render/articulated_drawer.h"
 #include "render/mesh_drawer.h"
@@ -83,6 +88,50 @@ TEST(ArticulatedGeometry, InvalidSceneNamesTheField) {
   s["model"] = "no_such_model.xml";
   EXPECT_FALSE(articulated_scene_geometry(s, ".", &g, &err));
   EXPECT_NE(err.find("/model"), std::string::npos) << err;
+}
+
+// Mesh geoms reach the drawer as their triangles (they were drawn as boxes of the
+// geom's unused size before), for moving bodies and static obstacles alike.
+TEST(ArticulatedGeometry, MeshGeomsCarryTheirTriangles) {
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("pliant_art_geom_mesh_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  {
+    // A unit-ish tetrahedron, off its centre of mass: the compile re-centres the
+    // vertices and moves the geom's pos to compensate.
+    std::ofstream obj(dir / "tet.obj");
+    obj << "v 0 0 0\nv 0.1 0 0\nv 0 0.1 0\nv 0 0 0.1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+  }
+  json s = chain_scene();
+  s["model"]["bodies"][1]["geoms"] = json::array({{{"type", "mesh"}, {"file", "tet.obj"}, {"mass", 0.2}}});
+  s["model"]["obstacles"].push_back({{"type", "mesh"}, {"file", "tet.obj"}, {"pos", {0.5, 0, 0}}});
+  ArticulatedGeometry g;
+  std::string err;
+  ASSERT_TRUE(articulated_scene_geometry(s, dir, &g, &err)) << err;
+  int meshes = 0;
+  for (const ArticulatedGeom& geom : g.geoms) {
+    if (geom.shape != ArticulatedGeom::Mesh) continue;
+    ++meshes;
+    ASSERT_NE(geom.mesh, nullptr);
+    ASSERT_EQ(geom.mesh->xyz.size(), 12u);
+    ASSERT_EQ(geom.mesh->triangles.size(), 12u);
+    // Centroid of the solid tetrahedron = mean of its vertices (0.025, 0.025, 0.025):
+    // the stored vertices average to minus nothing, i.e. they are re-centred there.
+    float mean[3] = {0, 0, 0}, r = 0;
+    for (int v = 0; v < 4; ++v) {
+      const float* p = geom.mesh->xyz.data() + 3 * v;
+      for (int i = 0; i < 3; ++i) mean[i] += p[i] / 4;
+      r = std::max(r, std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]));
+    }
+    for (int i = 0; i < 3; ++i) EXPECT_NEAR(mean[i], 0.0f, 1e-6f);
+    EXPECT_FLOAT_EQ(geom.mesh->radius, r);
+    EXPECT_NEAR(geom.mesh->radius, std::sqrt(0.075 * 0.075 + 2 * 0.025 * 0.025), 1e-6);
+    for (uint32_t t : geom.mesh->triangles) EXPECT_LT(t, 4u);
+  }
+  EXPECT_EQ(meshes, 2);
+  EXPECT_NEAR(g.total_mass, 1000 * (3.14159265358979 * 0.015 * 0.015 * 0.1 +
+                                    4.0 / 3.0 * 3.14159265358979 * 0.015 * 0.015 * 0.015) + 0.2, 1e-9);
+  std::filesystem::remove_all(dir);
 }
 
 TEST(ArticulatedCompare, DriftPercentOfTheExchangedEnergy) {
