@@ -404,6 +404,81 @@ void pile_case(bool quick) {
   }
 }
 
+// Mesh-mesh contact (assets/scenes/articulated_mesh_stack.json: three 320-triangle
+// pebbles dropped on a fixed 192-triangle slab and on each other, pbad3, dt 0.01, 2 s):
+// cost per step, LM iterations, contacts; then, at the final state, the nearest-
+// triangle queries of one contact evaluation (samples inside the other mesh's box)
+// timed through the tree and by the brute-force scan. Thread CPU time, fastest of 3.
+void mesh_mesh_case(bool quick) {
+  const std::string path = std::string(PLIANT_RESULTS_DIR) + "/../../assets/scenes/articulated_mesh_stack.json";
+  const ArticulatedScene a = articulated_compile(pliant::load_scene(path));
+  double best = 1e300, iterations = 0, max_iterations = 0, contacts = 0, max_depth = 0;
+  State s;
+  for (int rep = 0; rep < (quick ? 1 : 3); ++rep) {
+    s = a.initial;
+    SimWorkspace ws;
+    double cpu = 0;
+    iterations = max_iterations = contacts = max_depth = 0;
+    for (int i = 0; i < a.steps; ++i) {
+      StepInfo info;
+      const double t0 = thread_cpu_s();
+      sim_step(a.model, a.options, s, ws, &info);
+      cpu += thread_cpu_s() - t0;
+      iterations += info.iterations;
+      max_iterations = std::max<double>(max_iterations, info.iterations);
+      contacts += ws.pair_contacts.size();
+      for (const PairContact& c : ws.pair_contacts) max_depth = std::max(max_depth, c.depth);
+    }
+    best = std::min(best, cpu);
+  }
+  // The final state's queries: each mesh's samples inside the other's bounding box.
+  Kinematics k;
+  kinematics(a.model, s.qpos, &k);
+  struct Query {
+    const MeshShape* mesh;
+    const MeshBvh* bvh;
+    Vec3 p;
+  };
+  std::vector<Query> queries;
+  const std::vector<GeomPair> pairs = contact_geom_pairs(a.model);
+  for (const GeomPair& pr : pairs) {
+    if (!pr.mesh_a || !pr.mesh_b) continue;
+    for (int side = 0; side < 2; ++side) {
+      const Geom& gs = a.model.geoms[side ? pr.b : pr.a];
+      const Geom& gm = a.model.geoms[side ? pr.a : pr.b];
+      const MeshCollider& from = side ? *pr.mesh_b : *pr.mesh_a;
+      const MeshCollider& to = side ? *pr.mesh_a : *pr.mesh_b;
+      const Mat3 rs = k.xmat[gs.body] * gs.quat.toRotationMatrix(), rm = k.xmat[gm.body] * gm.quat.toRotationMatrix();
+      const Vec3 cs = k.xpos[gs.body] + k.xmat[gs.body] * gs.pos, cm = k.xpos[gm.body] + k.xmat[gm.body] * gm.pos;
+      for (const Vec3& v : from.samples) {
+        const Vec3 p = rm.transpose() * (cs + rs * v - cm);
+        if (((to.bvh.nodes[0].lo - p).cwiseMax(p - to.bvh.nodes[0].hi).array() < 0).all())
+          queries.push_back({gm.mesh.get(), &to.bvh, p});
+      }
+    }
+  }
+  double tree = 1e300, scan = 1e300, sink = 0;
+  for (int rep = 0; rep < 3; ++rep) {
+    Vec3 n;
+    double t0 = thread_cpu_s();
+    for (int r = 0; r < 20; ++r)
+      for (const Query& q : queries) sink += mesh_signed_distance(*q.mesh, *q.bvh, q.p, &n);
+    tree = std::min(tree, (thread_cpu_s() - t0) / 20);
+    t0 = thread_cpu_s();
+    for (int r = 0; r < 20; ++r)
+      for (const Query& q : queries) sink += mesh_signed_distance(*q.mesh, q.p, &n);
+    scan = std::min(scan, (thread_cpu_s() - t0) / 20);
+  }
+  emit({{"case", "mesh_mesh"}, {"method", "pbad3"}, {"dt", a.options.dt}, {"bodies", a.model.bodies.size() - 1},
+        {"steps", a.steps}, {"us_per_step", 1e6 * best / a.steps}, {"lm_iterations", iterations / a.steps},
+        {"lm_iterations_max", max_iterations}, {"pair_contacts_per_step", contacts / a.steps},
+        {"max_pair_depth_m", max_depth}, {"final_queries_per_evaluation", queries.size()},
+        {"final_xyz_m", std::vector<double>{s.qpos[0], s.qpos[1], s.qpos[2], s.qpos[7], s.qpos[8], s.qpos[9], s.qpos[14], s.qpos[15], s.qpos[16]}},  // the pebbles' centres
+        {"query_us_tree", 1e6 * tree}, {"query_us_scan", 1e6 * scan}, {"checksum", sink},
+        {"load_average", load_average()},
+        {"timing", "thread CPU time, fastest of 3 runs (1 in --quick); queries: one evaluation's, fastest of 3 x 20"}});
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -437,13 +512,13 @@ int main(int argc, char** argv) {
     else if (!std::strcmp(argv[i], "--methods") && i + 1 < argc) only_methods = argv[++i], filtered = true;
     else {
       std::fprintf(stderr, "usage: bench_articulated [--quick] [--out FILE] [--links 10,40] [--dt 0.02,0.05] "
-                           "[--case chain_swing|chain_tilt|pile] [--methods pbad3,pbad4,mujoco] [--chains-only]\n");
+                           "[--case chain_swing|chain_tilt|pile|mesh_mesh] [--methods pbad3,pbad4,mujoco] [--chains-only]\n");
       return 2;
     }
   }
   g_machine = pliant::bench::machine_description();
-  if (only_case == "pile") {  // the body-body contact case alone
-    pile_case(quick);
+  if (only_case == "pile" || only_case == "mesh_mesh") {  // a body-body contact case alone
+    (only_case == "pile" ? pile_case : mesh_mesh_case)(quick);
     if (explicit_out) std::ofstream(out) << g_results.dump(1) << "\n";
     return 0;
   }
@@ -594,6 +669,7 @@ int main(int argc, char** argv) {
     contact_cases(quick);
     batched_case(quick);
     pile_case(quick);
+    mesh_mesh_case(quick);
   }
   if (filtered && !explicit_out) return 0;
   std::filesystem::create_directories(std::filesystem::path(out).parent_path());
