@@ -10,7 +10,8 @@
 // IoU, the ADMM profile (seconds per iteration by phase) and the FAS V-cycle factor.
 //   bench_smoke_control [--quick] [--iterations N] [--lbfgs-iterations N] [--polish N]
 //                       [--grid N] [--frames T] [--r R] [--coarse-to-fine] [--out FILE] [--merge]
-//                       [--nso-vcycles N] [--ao-iterations N] [scene.json ...]
+//                       [--nso-vcycles N] [--ao-iterations N] [--balance-mu MU] [--relaxation ALPHA]
+//                       [--switch-progress P] [scene.json ...]
 //   bench_smoke_control --converged [--budget X] [--baseline plain|c2f|both] [--deadline-unix S]
 //                       [--pliant-given E CPU_S IOU] [--grid N] [--merge] [--out FILE] scene.json ...
 //   bench_smoke_control --evaluations N [--lbfgs-iterations K] [--grid N] [--frames T] scene.json ...
@@ -19,7 +20,9 @@
 // --converged: issue 3's converged comparison (converged_comparison.h): Pliant as users
 // run it to its end, then L-BFGS with X (20) times Pliant's CPU time to reach its error.
 // --merge keeps the output file's other rows (a row replaces the row of the same case).
-// --nso-vcycles / --ao-iterations override the scenes' ADMM settings (A/B experiments).
+// --nso-vcycles / --ao-iterations override the scenes' ADMM settings (A/B experiments), as do
+// --balance-mu (residual balancing), --relaxation (over-relaxation alpha) and
+// --switch-progress (adaptive switch to the polish), all ControlModel::admm_* fields.
 // --grid / --frames rescale a scene (N cells per axis, same domain; T frames with the
 // keyframes moved proportionally) for the time-per-iteration vs cells x frames rows.
 // --coarse-to-fine runs BOTH solvers through their progressive preview (quarter and half
@@ -239,6 +242,7 @@ int main(int argc, char** argv) {
   bool coarse_to_fine = false, converged = false, merge = false;
   int nso_vcycles = -1, ao_iterations = 0;  // ADMM setting overrides (A/B experiments)
   double nso_skip_gap = -1;
+  double balance_mu = -1, relaxation = -1, switch_progress = -1;  // -1: the scene's
   int lbfgs_chunk = 0, coarse_iterations = -2, coarse_admm_levels = -2;  // -2: the scene's
   pliant::smoke::bench::ConvergedOptions conv;
   double r_override = 0;
@@ -261,6 +265,9 @@ int main(int argc, char** argv) {
     else if (a == "--ao-iterations" && i + 1 < argc) ao_iterations = std::stoi(argv[++i]);
     else if (a == "--nso-skip-gap" && i + 1 < argc) nso_skip_gap = std::stod(argv[++i]);
     else if (a == "--lbfgs-chunk" && i + 1 < argc) lbfgs_chunk = std::stoi(argv[++i]);
+    else if (a == "--balance-mu" && i + 1 < argc) balance_mu = std::stod(argv[++i]);
+    else if (a == "--relaxation" && i + 1 < argc) relaxation = std::stod(argv[++i]);
+    else if (a == "--switch-progress" && i + 1 < argc) switch_progress = std::stod(argv[++i]);
     else if (a == "--coarse-admm-levels" && i + 1 < argc) coarse_admm_levels = std::stoi(argv[++i]);
     else if (a == "--coarse-iterations" && i + 1 < argc) coarse_iterations = std::stoi(argv[++i]);
     else if (a == "--budget" && i + 1 < argc) conv.budget_factor = std::stod(argv[++i]);
@@ -311,6 +318,9 @@ int main(int argc, char** argv) {
     if (ao_iterations > 0) m.ao_iterations = ao_iterations;
     if (nso_skip_gap >= 0) m.nso_skip_gap = nso_skip_gap;
     if (lbfgs_chunk > 0) m.lbfgs_chunk = lbfgs_chunk;
+    if (balance_mu >= 0) m.admm_balance_mu = balance_mu;
+    if (relaxation > 0) m.admm_relaxation = relaxation;
+    if (switch_progress >= 0) m.admm_switch_progress = switch_progress;
     if (coarse_admm_levels >= -1) m.coarse_admm_levels = coarse_admm_levels;
     if (coarse_iterations >= -1) m.coarse_iterations = coarse_iterations;
     if (evaluations > 0) {  // per-evaluation profile (no results file row unless --out)
@@ -335,6 +345,9 @@ int main(int argc, char** argv) {
       if (ao_iterations > 0) name += " ao_iterations=" + std::to_string(ao_iterations);
       if (lbfgs_chunk > 0) name += " lbfgs_chunk=" + std::to_string(lbfgs_chunk);
       if (coarse_admm_levels >= -1) name += " coarse_admm_levels=" + std::to_string(coarse_admm_levels);
+      if (balance_mu >= 0) name += " balance_mu=" + nlohmann::json(balance_mu).dump();
+      if (relaxation > 0) name += " relaxation=" + nlohmann::json(relaxation).dump();
+      if (switch_progress >= 0) name += " switch_progress=" + nlohmann::json(switch_progress).dump();
       pliant::smoke::bench::converged_comparison(name, m, conv, [&](nlohmann::json j) {
         j["machine"] = pliant::bench::machine_description();
         j["omp_threads"] = omp_get_max_threads();
@@ -384,6 +397,10 @@ int main(int argc, char** argv) {
       admm_cpu_per_iteration = (a.cpu[st.size() - 1] - a.cpu[0]) / double(st.size() - 1);
     else if (st.size() == 1 && !a.cpu.empty())
       admm_cpu_per_iteration = a.cpu[0];
+    // Per outer iteration: [CPU s, E, beta] (ADMM, then the polish's chunks without beta).
+    nlohmann::json hist = nlohmann::json::array();
+    for (size_t k = 0; k < a.objective.size() && k < a.cpu.size(); ++k)
+      hist.push_back(k < st.size() ? nlohmann::json{a.cpu[k], a.objective[k], st[k].beta} : nlohmann::json{a.cpu[k], a.objective[k]});
     nlohmann::json ious = nlohmann::json::array();
     for (const auto& k : cm.keyframes) ious.push_back({{"frame", k.frame}, {"iou", k.iou}, {"relative_l2", k.relative_l2}});
     std::string name = path.substr(path.find_last_of('/') + 1);
@@ -393,6 +410,9 @@ int main(int argc, char** argv) {
     if (nso_vcycles >= 0) name += " nso_vcycles=" + std::to_string(nso_vcycles);
     if (ao_iterations > 0) name += " ao_iterations=" + std::to_string(ao_iterations);
     if (nso_skip_gap >= 0) name += " nso_skip_gap=" + nlohmann::json(nso_skip_gap).dump();
+    if (balance_mu >= 0) name += " balance_mu=" + nlohmann::json(balance_mu).dump();
+    if (relaxation > 0) name += " relaxation=" + nlohmann::json(relaxation).dump();
+    if (switch_progress >= 0) name += " switch_progress=" + nlohmann::json(switch_progress).dump();
     if (c2f) name += " coarse-to-fine";
     nlohmann::json j = {{"case", name},
                         {"coarse_to_fine", c2f},
@@ -439,6 +459,7 @@ int main(int argc, char** argv) {
                         {"nso_skip_gap", m.nso_skip_gap},
                         {"nso_skipped", nso_skipped},
                         {"nso_start_gaps", gaps},
+                        {"admm_history", hist},
                         {"peak_mb", peak_mb()},
                         {"machine", pliant::bench::machine_description()},
                         {"mode", quick ? "quick" : "full"}};

@@ -146,7 +146,7 @@ TEST(ControlLbfgsTrace, MonotoneFromTheFirstEvaluationAndResumable) {
   // A version 3 checkpoint (before the trace) still loads, with an empty trace.
   std::vector<uint8_t> v3 = saved.front();
   const ControlState first = control_state_deserialize(v3);
-  v3.resize(v3.size() - 16 - 16 * first.objective_trace.size());
+  v3.resize(v3.size() - 8 - 16 - 16 * first.objective_trace.size());  // version 5's admm_beta, the trace
   v3[4] = 3;
   const ControlState old = control_state_deserialize(v3);
   EXPECT_TRUE(old.objective_trace.empty());

@@ -99,6 +99,11 @@ void admm_run(const ControlModel& m, ControlState& s, Progress& progress, const 
     s.dual.assign(T, std::vector<float>(F, 0.0f));
   }
   Series u = to_d(s.velocity), z = to_d(s.split), lam = to_d(s.dual), c(T, Vec(F)), d(T, Vec(F));
+  // Over-relaxation (Boyd et al. 2011, Sec. 3.4.3): uh = alpha u + (1 - alpha) z_prev feeds
+  // the NSO and the dual; alpha = 1 uses u itself (bit-identical to plain ADMM).
+  const double alpha = m.admm_relaxation;
+  Series uh(alpha == 1.0 ? 0 : T, Vec(alpha == 1.0 ? 0 : F));
+  const bool balance = m.admm_balance_mu > 0;
   // Best re-simulated objective so far: the history's and the state's forces' (a start
   // from prolonged coarse forces may beat the first fine iterations). A function of the
   // state only, so a resumed run decides the same.
@@ -122,12 +127,20 @@ void admm_run(const ControlModel& m, ControlState& s, Progress& progress, const 
         s.primal_residual_history.back() < m.tolerance && s.dual_residual_history.back() < m.tolerance)
       break;
     if (admm_stalled(s.objective_history)) break;
+    if (admm_progress_below(s.objective_history, m.admm_switch_progress)) break;
     progress.check_cancelled();
     const auto t0 = clock::now();
     AdmmIterationStats it;
-    const double beta = beta_at(s.iteration);
+    // Residual balancing on top of the continuation: beta is state, the penalty the stored
+    // scaled dual belongs to (s.admm_beta, balanced after the previous iteration), times the
+    // schedule's growth from k-1 to k. A state without one (fresh, or a checkpoint older than
+    // version 5) takes the schedule's beta_{k-1}.
+    const double prev = s.iteration == 0 ? beta_at(0) : balance && s.admm_beta > 0 ? s.admm_beta : beta_at(s.iteration - 1);
+    const double beta = !balance ? beta_at(s.iteration)
+                                 : std::clamp(prev * (s.iteration == 0 ? 1.0 : beta_at(s.iteration) / beta_at(s.iteration - 1)),
+                                              1e-3 * m.admm_penalty, 1e3 * m.admm_penalty);
     if (s.iteration > 0) {
-      const double ratio = beta_at(s.iteration - 1) / beta;
+      const double ratio = prev / beta;
       if (ratio != 1.0)
         for (auto& v : lam)
           for (double& x : v) x *= ratio;
@@ -145,8 +158,12 @@ void admm_run(const ControlModel& m, ControlState& s, Progress& progress, const 
     it.ao_s = seconds_since(t0);
     progress.check_cancelled();
     const auto t1 = clock::now();
+    if (alpha != 1.0)
+      for (int t = 0; t < T; ++t)
+        for (size_t e = 0; e < F; ++e) uh[t][e] = alpha * u[t][e] + (1.0 - alpha) * z[t][e];
+    const Series& ur = alpha == 1.0 ? u : uh;
     for (int t = 0; t < T; ++t)
-      for (size_t e = 0; e < F; ++e) d[t][e] = u[t][e] + lam[t][e];
+      for (size_t e = 0; e < F; ++e) d[t][e] = ur[t][e] + lam[t][e];
     const Series z_prev = z;
     const NsoStats ns = nso.solve(z, d, beta, m.nso_vcycles);
     it.vcycle_factors = ns.vcycle_factors;
@@ -156,9 +173,23 @@ void admm_run(const ControlModel& m, ControlState& s, Progress& progress, const 
     it.nso_skipped = ns.skipped;
     it.nso_s = seconds_since(t1);
     for (int t = 0; t < T; ++t)
-      for (size_t e = 0; e < F; ++e) lam[t][e] += u[t][e] - z[t][e];
+      for (size_t e = 0; e < F; ++e) lam[t][e] += ur[t][e] - z[t][e];
     it.primal = diff_norm(u, z) / std::max({norm(u), norm(z), 1e-30});
     it.dual = diff_norm(z, z_prev) / std::max(norm(lam), 1e-30);
+    if (balance) {
+      // Boyd et al. 2011, Eq. 3.13 on the relative residuals (primal / max(|u|, |z|), dual
+      // beta |z - z_prev| / |y|): grow beta when the primal one is mu times the dual,
+      // shrink it in the reverse case; the scaled dual y / beta follows. Pure balancing
+      // (without the schedule's growth) held beta near 0.05-0.2 and lost to the schedule on
+      // the 16^2 letter and square (README, ADMM options).
+      const double mu = m.admm_balance_mu, tau = m.admm_balance_tau;
+      double next = it.primal > mu * it.dual ? beta * tau : it.dual > mu * it.primal ? beta / tau : beta;
+      next = std::clamp(next, 1e-3 * m.admm_penalty, 1e3 * m.admm_penalty);
+      if (next != beta)
+        for (auto& v : lam)
+          for (double& x : v) x *= beta / next;
+      s.admm_beta = next;
+    }
     const auto t2 = clock::now();
     std::optional<control_detail::SerialBelow> serial_f(std::in_place, 0, 1);
     const Series f = forces_from_velocity(ops, z);
@@ -199,6 +230,13 @@ bool admm_stalled(const std::vector<double>& h) {
   const double before = *std::min_element(h.begin(), h.end() - kWindow);
   const double recent = *std::min_element(h.end() - kWindow, h.end());
   return recent > before * (1.0 - 1e-3);
+}
+
+bool admm_progress_below(const std::vector<double>& h, double fraction) {
+  constexpr size_t kMinIterations = 3;
+  if (!(fraction > 0) || h.size() < kMinIterations) return false;
+  const double before = *std::min_element(h.begin(), h.end() - 1);
+  return std::min(before, h.back()) > before * (1.0 - fraction);
 }
 
 double admm_penalty_at(const ControlModel& m, int iteration) {

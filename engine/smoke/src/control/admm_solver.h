@@ -45,6 +45,10 @@ void admm_run(const ControlModel& m, ControlState& s, Progress& progress, const 
 // admm_run then stops (a function of the stored history, so resume decides the same).
 bool admm_stalled(const std::vector<double>& objective_history);
 
+// The adaptive switch to the polish (ControlModel::admm_switch_progress): true when, after
+// at least 3 iterations, the last one lowered the best objective by less than `fraction`.
+bool admm_progress_below(const std::vector<double>& objective_history, double fraction);
+
 // Penalty continuation: beta_k = admm_penalty * min(1, 0.05 * 1.3^k) (deterministic in
 // k, so a resumed run knows which beta its stored scaled dual belongs to).
 double admm_penalty_at(const ControlModel& m, int iteration);

@@ -3,7 +3,9 @@
 // keyframe targets are rasterised by engine/geom.
 //
 //   "control": {"method": "admm"|"lbfgs", "r": >0, "max_iterations", "tolerance",
-//     "admm": {"penalty", "ao_iterations", "nso_vcycles", "nso_skip_gap" (0..1), "polish_iterations"}, "progressive_preview",
+//     "admm": {"penalty", "ao_iterations", "nso_vcycles", "nso_skip_gap" (0..1), "polish_iterations",
+//              "balance_mu" (0 or > 1), "balance_tau" (> 1), "relaxation" (0..2), "switch_progress" (0..1)},
+//     "progressive_preview",
 //     "coarse_iterations" (outer iterations per coarse level of the progressive preview,
 //     default max_iterations), "lbfgs_chunk" (L-BFGS iterations between checkpoints; the
 //     quasi-Newton memory is kept within a chunk, default 20), "coarse_admm_levels" (ADMM:
@@ -269,6 +271,16 @@ ControlModel control_compile(const Scene& scene) {
     m.nso_skip_gap = a->number("nso_skip_gap", m.nso_skip_gap);
     if (!(m.nso_skip_gap >= 0 && m.nso_skip_gap < 1)) a->fail("nso_skip_gap", "expected a number in [0, 1)");
     m.polish_iterations = int(a->integer("polish_iterations", m.polish_iterations, 0, 1000000));
+    m.admm_balance_mu = a->number("balance_mu", m.admm_balance_mu);
+    if (!(m.admm_balance_mu == 0 || m.admm_balance_mu > 1))
+      a->fail("balance_mu", "expected 0 (penalty continuation) or a number > 1 (residual balancing)");
+    m.admm_balance_tau = a->number("balance_tau", m.admm_balance_tau);
+    if (!(m.admm_balance_tau > 1 && m.admm_balance_tau <= 100)) a->fail("balance_tau", "expected a number in (1, 100]");
+    m.admm_relaxation = a->number("relaxation", m.admm_relaxation);
+    if (!(m.admm_relaxation > 0 && m.admm_relaxation < 2)) a->fail("relaxation", "expected a number in (0, 2)");
+    m.admm_switch_progress = a->number("switch_progress", m.admm_switch_progress);
+    if (!(m.admm_switch_progress >= 0 && m.admm_switch_progress < 1))
+      a->fail("switch_progress", "expected a number in [0, 1)");
     a->finish();
   }
   m.progressive_preview = c.boolean("progressive_preview", m.progressive_preview);

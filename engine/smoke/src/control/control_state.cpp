@@ -6,6 +6,7 @@
 //   i32 phase f64 nso_damping (version >= 2), i32 level u8 lbfgs_stopped (version >= 3)
 //   f64 trace_s, u64 n + n x (f64 seconds, f64 E) objective trace (version >= 4; older
 //   checkpoints load with an empty trace from 0 s: their runs predate it)
+//   f64 admm_beta (version >= 5; older checkpoints: 0, the continuation schedule's beta)
 #include <cmath>
 #include <cstring>
 #include <stdexcept>
@@ -19,8 +20,9 @@ namespace pliant::smoke {
 namespace {
 
 constexpr uint32_t kMagic = 0x53434c50;  // "PLCS"
-// 2: phase and NSO damping; 3: coarse-to-fine level, L-BFGS stop; 4: objective trace
-constexpr uint32_t kVersion = 4;
+// 2: phase and NSO damping; 3: coarse-to-fine level, L-BFGS stop; 4: objective trace;
+// 5: ADMM penalty (residual balancing)
+constexpr uint32_t kVersion = 5;
 
 template <class T>
 void put(std::vector<uint8_t>& b, const T& v) {
@@ -99,6 +101,7 @@ std::vector<uint8_t> control_state_serialize(const ControlState& s) {
   put<uint8_t>(b, s.lbfgs_stopped ? 1 : 0);
   put<double>(b, s.trace_s);
   put_array(b, s.objective_trace);
+  put<double>(b, s.admm_beta);
   return b;
 }
 
@@ -134,6 +137,10 @@ ControlState control_state_deserialize(const std::vector<uint8_t>& bytes) {
       if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || (i > 0 && !(p[1] < s.objective_trace[i - 1][1])))
         r.bad("objective trace point " + std::to_string(i) + " not finite or not decreasing");
     }
+  }
+  if (version >= 5) {
+    s.admm_beta = r.get<double>();
+    if (!(s.admm_beta >= 0 && std::isfinite(s.admm_beta))) r.bad("bad ADMM penalty");
   }
   if (r.pos != bytes.size()) r.bad("trailing bytes");
   return s;

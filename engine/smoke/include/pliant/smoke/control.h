@@ -64,6 +64,21 @@ struct ControlModel {
   // made an iteration 3.5x cheaper (1.32 -> 0.375 s CPU) and 15 iterations reached E 720
   // instead of 740. On a fine level started from coarse forces the gaps are 0.01-0.6 (no skip).
   double nso_skip_gap = 0.01;
+  // Penalty rule. 0 (default): continuation beta_k = admm_penalty * min(1, 0.05 * 1.3^k).
+  // > 0: residual balancing (Boyd et al. 2011, Sec. 3.4.1) with this mu: beta starts at the
+  // continuation's beta_0; after an iteration whose relative primal residual is mu times the
+  // relative dual one beta grows by admm_balance_tau, in the reverse case it shrinks by it
+  // (the scaled dual rescaled), clamped to [1e-3, 1e3] admm_penalty. beta is then state
+  // (ControlState::admm_beta).
+  double admm_balance_mu = 0;
+  double admm_balance_tau = 2;
+  // Over-relaxation (Boyd et al. 2011, Sec. 3.4.3): the NSO and the dual update see
+  // alpha u + (1 - alpha) z_prev instead of the AO's u. 1 (default): plain ADMM.
+  double admm_relaxation = 1.0;
+  // Adaptive switch to the polish (0: off): after at least 3 outer iterations ADMM stops when
+  // the best re-simulated objective fell by less than this fraction over the last iteration
+  // (a function of the stored history, so a resumed run decides the same).
+  double admm_switch_progress = 0;
   // L-BFGS iterations on E(f) after the ADMM loop, from its best forces (0 = none):
   // ADMM finds the transport path from rest (where plain L-BFGS stalls at once), the
   // polish makes the re-simulated keyframes exact up to what the discretisation allows.
@@ -136,6 +151,9 @@ struct ControlState {
   // own grid). trace_s: solver-clock seconds spent up to this state (resume goes on there).
   std::vector<std::array<double, 2>> objective_trace;
   double trace_s = 0;
+  // ADMM with residual balancing (ControlModel::admm_balance_mu > 0): the penalty the stored
+  // scaled dual belongs to, for the next outer iteration (0: not set, the schedule's beta).
+  double admm_beta = 0;
 };
 ControlState control_init(const ControlModel& m);  // zero forces, rest fluid
 std::vector<uint8_t> control_state_serialize(const ControlState& s);
