@@ -241,5 +241,17 @@ TEST_F(ArticulatedCli, MalformedContactExcludeExitsTwoNamingTheAttribute) {
   EXPECT_TRUE(contains(r.err, "/mujoco/contact[0]/exclude[0]/@body2")) << r.err;
 }
 
+// A <pair> asking for torsional friction (condim 4, not modelled) exits 2 naming the
+// attribute and what is supported.
+TEST_F(ArticulatedCli, ContactPairCondimFourExitsTwoNamingTheAttribute) {
+  const ProcessResult r = validate_mjcf(
+      "<mujoco><worldbody><body name=\"a\"><freejoint/><geom name=\"ga\" size=\"0.1\"/></body>"
+      "<body name=\"b\"><freejoint/><geom name=\"gb\" size=\"0.1\"/></body></worldbody>"
+      "<contact><pair geom1=\"ga\" geom2=\"gb\" condim=\"4\"/></contact></mujoco>");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_TRUE(contains(r.err, "/mujoco/contact[0]/pair[0]/@condim")) << r.err;
+  EXPECT_TRUE(contains(r.err, "supported: 1 (frictionless) and 3")) << r.err;
+}
+
 }  // namespace
 }  // namespace pliant::test

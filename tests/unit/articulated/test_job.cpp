@@ -201,5 +201,34 @@ TEST(Job, PairsSceneBallTileAndRodRest) {
   EXPECT_LT(iterations / 100, 4);
 }
 
+// The mesh-mesh scene: after 2 s pebble a rests on the slab (mesh on mesh), pebble b on
+// pebble a (two moving meshes), pebble c on the slab; before mesh-mesh contact all
+// three fell through the slab to the floor.
+TEST(Job, MeshStackScenePebblesRestOnTheSlabAndOnEachOther) {
+  const Scene sc = load_scene(std::filesystem::path(PLIANT_ASSETS_DIR) / "scenes" / "articulated_mesh_stack.json");
+  const ArticulatedScene a = articulated_compile(sc);
+  State s = a.initial;
+  SimWorkspace ws;
+  double iterations = 0;
+  for (int i = 0; i < a.steps; ++i) {
+    StepInfo info;
+    ASSERT_TRUE(sim_step(a.model, a.options, s, ws, &info));
+    iterations += info.iterations;
+  }
+  Kinematics k;
+  kinematics(a.model, s.qpos, &k);
+  int a_b = 0;
+  for (const PairContact& c : ws.pair_contacts) a_b += (c.body_a == 2 && c.body_b == 3) || (c.body_a == 3 && c.body_b == 2);
+  std::printf("mesh stack: %zu body-body contacts (%d pebble on pebble), %.2f LM iterations per step\n",
+              ws.pair_contacts.size(), a_b, iterations / a.steps);
+  const double top = 0.08, half = 0.022;  // slab top, pebble half height
+  EXPECT_NEAR(k.xpos[2].z(), top + half, 3e-3);
+  EXPECT_GT(k.xpos[3].z(), top + 2.5 * half);  // on pebble a (on its shoulder: 5 mm below its crown)
+  EXPECT_LT(k.xpos[3].z(), top + 3 * half + 2e-3);
+  EXPECT_NEAR(k.xpos[4].z(), top + half, 3e-3);
+  EXPECT_GT(a_b, 0);
+  EXPECT_LT(s.qvel.head(12).lpNorm<Eigen::Infinity>(), 0.05);  // a and b at rest (c, dropped tilted, still rocks)
+}
+
 }  // namespace
 }  // namespace pliant::articulated
