@@ -3,6 +3,7 @@
 
 #include <Eigen/Dense>
 #include <array>
+#include <atomic>
 #include <cmath>
 
 namespace pliant::soft {
@@ -85,7 +86,7 @@ struct ReducedCellCache {
 
 // Cache at most this many doubles per thread (kept cells x 96 r); larger bodies
 // rebuild D per call in one scratch cell, as before the cache.
-constexpr size_t reduced_cache_limit = size_t(4) << 20;  // 32 MB
+std::atomic<size_t> reduced_cache_limit{size_t(4) << 20};  // 32 MB
 
 ReducedCellCache& reduced_cell_cache(double h, int r) {
   thread_local ReducedCellCache c;
@@ -224,7 +225,7 @@ double elastic_reduced(const Lattice& lat, const Lame& l, const Eigen::VectorXd&
   // reuses it; a changed U (rotation-strain Jacobian, another character) is detected
   // by comparing the rows and rebuilds that cell.
   ReducedCellCache& cache = reduced_cell_cache(h, r);
-  const bool cacheable = size_t(ncell) * 96 * size_t(r) <= reduced_cache_limit;
+  const bool cacheable = size_t(ncell) * 96 * size_t(r) <= reduced_cache_limit.load(std::memory_order_relaxed);
   if (cacheable && int(cache.cells.size()) < ncell) cache.cells.resize(ncell);
   thread_local Eigen::Matrix<double, 24, Eigen::Dynamic> Ue;
   thread_local Eigen::Matrix<double, 9, Eigen::Dynamic> AD;
@@ -285,6 +286,8 @@ double elastic_reduced(const Lattice& lat, const Lame& l, const Eigen::VectorXd&
   if (hess) hess->triangularView<Eigen::StrictlyUpper>() = hess->transpose();
   return energy;
 }
+
+size_t set_reduced_cache_limit(size_t doubles) { return reduced_cache_limit.exchange(doubles); }
 
 double lattice_volume(const Lattice& lat, const Eigen::VectorXd& x) {
   const double h = lat.cell_size_m;

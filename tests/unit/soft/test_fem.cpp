@@ -182,6 +182,13 @@ TEST(Fem, ReducedHessianMatchesProjectedAssemblyAndCacheFollowsBasis) {
   EXPECT_GT(fem_reduced_rel(H2, H1), 1e-6);
   EXPECT_LT(fem_reduced_rel(g2, g_ref), 1e-12);
   EXPECT_LT(fem_reduced_rel(H2, H_ref), 1e-12);
+  // Above the cache limit D is rebuilt per call in one scratch cell: same bits.
+  elastic_reduced(lat, l, x, cw, U, &g1, &H1);
+  const size_t old_limit = set_reduced_cache_limit(0);
+  elastic_reduced(lat, l, x, cw, U, &g2, &H2);
+  set_reduced_cache_limit(old_limit);
+  EXPECT_EQ((H2 - H1).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_EQ((g2 - g1).cwiseAbs().maxCoeff(), 0.0);
   // Every cell (no cubature) also agrees.
   cw = CellWeights{};
   direct(U, g_ref, H_ref);

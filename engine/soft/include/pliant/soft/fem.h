@@ -9,6 +9,7 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 #include <array>
+#include <cstddef>
 #include <vector>
 
 #include "pliant/soft/body.h"
@@ -60,6 +61,10 @@ double elastic_energy(const Lattice& lat, const Lame& l, const Eigen::VectorXd& 
 // doubles (spider, 33 cubature cells, r = 10: 253 KB), not kept above 32 MB.
 double elastic_reduced(const Lattice& lat, const Lame& l, const Eigen::VectorXd& x, const CellWeights& cw,
                        const Eigen::MatrixXd& U, Eigen::VectorXd* grad, Eigen::MatrixXd* hess);
+
+// Largest cache elastic_reduced keeps per thread, in doubles (default 4 Mi = 32 MB);
+// returns the previous limit. For tests of the uncached path.
+size_t set_reduced_cache_limit(size_t doubles);
 
 // dN_a/dX of the 8 trilinear shape functions (rows a) at the 8 Gauss points, cell size h
 // (cached per thread).
