@@ -25,6 +25,8 @@ MeshShape mm_load_mesh(const std::string& obj) {
   return *m.geoms[0].mesh;
 }
 
+// A closed box mesh: the tree finds the scan's triangle (same distance to the bit) and,
+// all dihedral angles being 90 degrees, the same sign from its pseudo-normals.
 TEST(MeshContact, TreeDistanceEqualsTheScanToTheBit) {
   const MeshShape mesh = mm_load_mesh(test::write_grid_box_obj("pliant_mm_tree", 0.2, 0.1, 0.05, 5));
   ASSERT_EQ(mesh.triangles.size(), 300u);
@@ -44,6 +46,39 @@ TEST(MeshContact, TreeDistanceEqualsTheScanToTheBit) {
     inside += d0 < 0;
   }
   EXPECT_GT(inside, 100);
+}
+
+// A wedge (triangular prism, 11.4 degree apex edge): just outside the apex, the
+// nearest triangle's face normal can read "inside" (the scan), the edge's pseudo-normal
+// does not (the tree); inside points read inside, with the same distance both ways.
+TEST(MeshContact, TreeSignIsRightNearASharpEdge) {
+  const double w = 0.01, h = 0.1, l = 0.05;
+  MeshShape wedge;
+  for (double y : {-l, l}) {
+    wedge.vertices.push_back(Vec3(-w, y, 0));
+    wedge.vertices.push_back(Vec3(w, y, 0));
+    wedge.vertices.push_back(Vec3(0, y, h));
+  }
+  wedge.triangles = {{0, 1, 2}, {3, 5, 4}, {0, 3, 4}, {0, 4, 1}, {1, 4, 5}, {1, 5, 2}, {2, 5, 3}, {2, 3, 0}};
+  const MeshBvh bvh = mesh_bvh(wedge);
+  int scan_wrong = 0;
+  for (int i = 0; i < 40; ++i) {
+    const double y = -0.04 + 0.002 * i, side = i % 2 ? 1 : -1;
+    Vec3 n0, n1;
+    // Outside, 1 cm above the apex and 2 mm to one side (the apex edge is nearest).
+    const Vec3 out(side * (0.0015 + 0.00003 * i), y, h + 0.01);
+    const double d0 = mesh_signed_distance(wedge, out, &n0), d1 = mesh_signed_distance(wedge, bvh, out, &n1);
+    EXPECT_EQ(std::abs(d0), std::abs(d1));
+    EXPECT_GT(d1, 0) << out.transpose();
+    EXPECT_GT(n1.dot(out - Vec3(0, y, h)), 0);  // the normal points out, away from the edge
+    scan_wrong += d0 < 0;
+    // Inside, below the apex.
+    const Vec3 in(side * 0.001, y, 0.05);
+    EXPECT_LT(mesh_signed_distance(wedge, bvh, in, &n1), 0);
+    EXPECT_EQ(mesh_signed_distance(wedge, in, &n0), mesh_signed_distance(wedge, bvh, in, &n1));
+  }
+  EXPECT_GT(scan_wrong, 0);  // what the pseudo-normals fix
+  std::printf("wedge apex: %d of 40 outside points read inside by the face-normal scan, 0 by the tree\n", scan_wrong);
 }
 
 // Two free mesh bodies: a box mesh (300 triangles) and a tilted cube mesh (48) whose

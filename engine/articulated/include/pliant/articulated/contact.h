@@ -13,6 +13,7 @@
 // Explicit integrators use the same laws on velocities (coulomb regularised with
 // slip speed eps/dt).
 #pragma once
+#include <array>
 #include <memory>
 #include <vector>
 
@@ -67,22 +68,30 @@ double obstacle_distance(const Geom& g, const Vec3& x, Vec3* normal);
 
 // Signed distance (positive outside) of point p (mesh frame) to a closed mesh: the
 // nearest triangle gives the distance, its face normal the sign (exact on faces, an
-// approximation near edges and vertices). O(triangles) per query (mesh_distance.cpp).
+// approximation near edges and vertices; the obstacle path's query). O(triangles) per
+// query (mesh_distance.cpp).
 double mesh_signed_distance(const MeshShape& mesh, const Vec3& p, Vec3* normal);
 // A bounding-volume tree over a mesh's triangles (median splits on the centroids'
 // widest axis, leaves of <= 4 triangles), built once per model.
 struct MeshBvh {
   struct Node {
-    Vec3 lo, hi;              // the node's triangles' bounding box
+    Vec3 lo = Vec3::Zero(), hi = Vec3::Zero();  // the node's triangles' bounding box
     int first = 0, count = 0;  // leaf: order[first, first + count); inner: count 0
     int right = 0;            // inner: right child (the left child is the next node)
   };
   std::vector<Node> nodes;  // [0]: the root
   std::vector<int> order;   // triangle indices, by leaf
+  // Angle-weighted pseudo-normals (unnormalised) of each vertex, and of each
+  // triangle's edges (ab, bc, ca): the sign test near edges and vertices.
+  std::vector<Vec3> vertex_normal;
+  std::vector<std::array<Vec3, 3>> edge_normal;
 };
 MeshBvh mesh_bvh(const MeshShape& mesh);
-// The same query through the tree: O(log triangles) near the surface, and the same
-// result to the bit (same nearest triangle, ties to the lower index, same arithmetic).
+// The same query through the tree: O(log triangles) near the surface, the same
+// nearest triangle and distance to the bit (ties to the lower index, same arithmetic),
+// and the sign from the nearest feature's pseudo-normal (Baerentzen and Aanaes 2005:
+// right near sharp convex and concave edges and vertices of a closed mesh, where the
+// face normal above can be wrong; the same as the face normal's for boxes).
 double mesh_signed_distance(const MeshShape& mesh, const MeshBvh& bvh, const Vec3& p, Vec3* normal);
 
 // Active contacts at kinematics k: body points against obstacles, then (appended,
