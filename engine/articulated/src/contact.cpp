@@ -453,11 +453,29 @@ void mesh_against(const Placed& mesh, const MeshCollider& mc, const Placed& s, d
 // against the other's signed distance, both ways; each contact acts on the sample's
 // body (b) and the other mesh's body (a) at the sample, along the other mesh's
 // outward normal (as a box corner against a mesh). Samples outside the other's
-// bounding box are culled before the tree query.
+// bounding box are culled before the tree query (samples_against_mesh).
+// Samples of mesh f against mesh t. Pre-test in f's frame, before a sample's world
+// transform: t's bounding box (grown by the margin) as the axis-aligned box around it
+// there (half extents |R| h, widened by 1e-9 relative for round-off), so every sample
+// that point_against_mesh would test still reaches it, in the same order.
+void samples_against_mesh(const Placed& f, const MeshCollider& mf, const Placed& t, const MeshCollider& mt,
+                          double margin, std::vector<PairContact>* out) {
+  if (mt.bvh.nodes.empty()) return;
+  const MeshBvh::Node& root = mt.bvh.nodes[0];
+  const Mat3 rel = f.r.transpose() * t.r;
+  const Vec3 half = 0.5 * (root.hi - root.lo) + Vec3::Constant(margin);
+  const Vec3 centre = f.r.transpose() * (t.c + t.r * (0.5 * (root.lo + root.hi)) - f.c);
+  const Vec3 reach = (rel.cwiseAbs() * half) * (1 + 1e-9) + Vec3::Constant(1e-12);
+  for (const Vec3& v : mf.samples) {
+    if (((v - centre).cwiseAbs() - reach).maxCoeff() > 0) continue;
+    point_against_mesh(t, mt.bvh, f.g->body, f.c + f.r * v, 0.0 + margin, out);
+  }
+}
+
 void mesh_mesh(const Placed& a, const MeshCollider& ma, const Placed& b, const MeshCollider& mb, double margin,
                std::vector<PairContact>* out) {
-  for (const Vec3& v : ma.samples) point_against_mesh(b, mb.bvh, a.g->body, a.c + a.r * v, 0.0 + margin, out);
-  for (const Vec3& v : mb.samples) point_against_mesh(a, ma.bvh, b.g->body, b.c + b.r * v, 0.0 + margin, out);
+  samples_against_mesh(a, ma, b, mb, margin, out);
+  samples_against_mesh(b, mb, a, ma, margin, out);
 }
 
 }  // namespace
