@@ -159,6 +159,31 @@ TEST(MeshContact, MeshCubeRestsOnAMeshBlockAtThePenaltyDepth) {
   std::filesystem::remove(block);
 }
 
+// The explicit baselines use the same mesh-mesh contacts (spring-damper normal force):
+// semi-implicit Euler and RK4 bring the cube to rest on the block at the same depth.
+TEST(MeshContact, ExplicitIntegratorsRestAMeshCubeOnAMeshBlock) {
+  const std::string cube = test::write_grid_box_obj("pliant_mm_euler_cube", 0.05, 0.05, 0.05, 2);
+  const std::string block = test::write_grid_box_obj("pliant_mm_euler_block", 0.3, 0.3, 0.05, 4);
+  const Model m = model_from_mjcf(mm_cube_on_block_xml(cube, block, false), "mm_euler.xml");
+  std::filesystem::remove(cube);
+  std::filesystem::remove(block);
+  for (Integrator in : {Integrator::Euler, Integrator::Rk4}) {
+    SimOptions o;
+    o.integrator = in;
+    o.dt = 2e-4;
+    o.contact.self_collision = true;
+    o.contact.friction = FrictionModel::None;
+    o.contact.damping = 20;  // N s/m per contact: 0.3 of critical on 83 springs, c dt / m = 0.33 (stable)
+    State s = state_init(m);
+    SimWorkspace ws;
+    for (int i = 0; i < 500; ++i) ASSERT_TRUE(sim_step(m, o, s, ws));  // 0.1 s: falls 1 mm, settles
+    const double sink = 0.1 - (0.101 + s.qpos[0]);
+    EXPECT_EQ(pair_test::pair_contacts_at(m, s.qpos).size(), 83u) << integrator_name(in);
+    EXPECT_NEAR(sink / (9.81 / (83 * o.contact.stiffness)), 1.0, 0.02) << integrator_name(in);
+    EXPECT_LT(std::abs(s.qvel[0]), 1e-3);
+  }
+}
+
 // A tilted mesh cube dropped from 0.2 m on a fixed mesh block at dt 0.01 (2 m/s at
 // impact, 2 cm per step, the block 10 cm thick) stops on it: its lowest vertex never
 // goes more than a few millimetres into the block, and it comes to rest on its face.
