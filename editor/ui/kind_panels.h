@@ -30,6 +30,9 @@ struct KindPanels {
   // Viewport: ImGui overlays over the drawn result (gizmos, labels, plots);
   // (x, y, w, h) is the image rectangle in screen pixels.
   void (*viewport_overlay)(App&, float x, float y, int w, int h) = nullptr;
+  // Viewport: the kind shows a frame of its own instead of the take's (a live
+  // simulation); called once per UI frame, return true when it did the upload.
+  bool (*viewport_frame)(App&) = nullptr;
   // Timeline: under the frame slider (key poses, markers).
   void (*timeline)(App&) = nullptr;
   // A file dropped on the window while a scene of this kind is open (a mesh, a

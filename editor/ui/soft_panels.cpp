@@ -274,6 +274,8 @@ void draw_soft_timeline(App& app) {
   double dt = soft_scene_info(app.doc.scene()).dt_s;
   if (TakeReader* rd = t.reader(); rd && rd->manifest().kind == "soft") dt = soft_scene_info(rd->manifest().scene).dt_s;
   const float realtime_fps = float(1.0 / std::max(dt, 1e-6));
+  draw_soft_live_controls(app);
+  if (soft_ui(app).live.on) return;  // the take's playback controls do not apply
   if (ImGui::SmallButton("Realtime")) t.fps = realtime_fps;
   ui_mark("soft_realtime");
   if (ImGui::IsItemHovered()) ImGui::SetTooltip("play the take at 1/dt = %.1f fps (the character's own speed)", realtime_fps);
@@ -378,6 +380,7 @@ const KindPanels& soft_panels() {
     k.viewport_editor = &soft_character_view;
     k.viewport_overlay = &draw_soft_overlay;
     k.timeline = &draw_soft_timeline;
+    k.viewport_frame = &soft_live_frame;
     k.on_drop = [](App& app, const std::string& path) { return soft_on_drop(app, path); };
     return k;
   }();

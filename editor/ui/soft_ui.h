@@ -3,6 +3,7 @@
 // soft_character_view.cpp: the Character edit mode; soft_gizmos.cpp: target,
 // heading and jump handles).
 #pragma once
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <future>
@@ -21,6 +22,7 @@
 
 namespace pliant::soft {
 struct SoftModel;
+struct SoftPlayback;
 }
 
 namespace pliant::editor {
@@ -49,6 +51,29 @@ struct SoftPreviewModel {
   int builds = 0;                          // finished compiles (tests)
   uint64_t frames_while_building = 0;      // UI frames drawn while a compile ran (tests)
   bool building() const { return pending.valid(); }
+};
+
+// Live playback (ui/soft_live_playback.cpp): the engine's realtime simulation of
+// the shown take's controller, with pushes and tracking, instead of its frames.
+struct SoftLiveBuild {  // worker thread -> UI thread
+  std::shared_ptr<soft::SoftModel> model;  // null when the compile failed
+  std::shared_ptr<soft::SoftPlayback> start;  // frame 0, with the tracked reference
+  std::string error;
+};
+struct SoftLive {
+  bool on = false;
+  bool tracking = false;
+  std::string take_dir;   // the take whose controller plays
+  nlohmann::json scene;   // its scene copy (the drawer's take-data key)
+  std::future<SoftLiveBuild> pending;
+  std::shared_ptr<soft::SoftModel> model;
+  std::shared_ptr<soft::SoftPlayback> start, pb;  // pb: null until the build is in
+  double clock_s = 0;    // UI time not yet simulated
+  int push_frames = 0;   // frames the push still acts
+  int shown_frame = -1;  // the frame last handed to the renderer
+  std::vector<std::array<float, 3>> com;  // centre of mass per live frame (tests, readout)
+  std::string error;
+  int frame() const;
 };
 
 struct SoftUi : KindUiState {
@@ -95,6 +120,7 @@ struct SoftUi : KindUiState {
   Vec3 drag_start_hit{0, 0, 0};
   nlohmann::json drag_scene;
   std::vector<Handle> handles;
+  SoftLive live;
   ~SoftUi() override;
 };
 
@@ -115,6 +141,17 @@ void soft_gizmos(App& app, const Mat4& world_to_clip, const Vec3& base, float si
 
 // The pin frame for the shown take frame: clamped to [1, horizon].
 int soft_pin_frame(App& app);
+
+// Live playback: start (false with live.error when no soft take is shown), stop,
+// back to frame 0; soft_live_frame is the kind's viewport_frame hook (steps at 1/dt
+// of UI time, uploads the frame; false when the take's frame should show).
+bool soft_live_start(App& app);
+void soft_live_stop(App& app);
+void soft_live_restart(SoftLive& live);
+bool soft_live_frame(App& app);
+void draw_soft_live_controls(App& app);
+size_t soft_live_reference_frames(const SoftLive& live);
+double soft_live_dt(const SoftLive& live);
 
 // Dropping a mesh file on a soft scene (KindPanels::on_drop): sets
 // /character/mesh (relative to the scene's folder when saved), one undo step.

@@ -104,6 +104,10 @@ void sync_frame(App& app) {
   std::string& shown_dir = app.viewport.shown_dir;
   int& shown_frame = app.viewport.shown_frame;
   int& shown_count = app.viewport.shown_count;
+  if (const KindPanels* kp = kind_panels(scene_kind(app)); kp && kp->viewport_frame && kp->viewport_frame(app)) {
+    shown_frame = -1;  // the take's frame is uploaded again when the kind lets go
+    return;
+  }
   TakeReader* rd = app.take.reader();
   if (rd && app.take.frame_count() == 0 && sync_preview(app, *rd)) return;
   app.viewport.showing_preview = false;

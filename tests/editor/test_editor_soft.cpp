@@ -5,7 +5,8 @@
 // Character mode a mode slider deforms the preview (pixels change) without
 // editing the document; a vertex pin and a gizmo drag are one undo step each;
 // a pin's target is dragged afterwards (one undo step); the body compiles off
-// the UI thread (frames keep coming, a newer edit supersedes an older one).
+// the UI thread (frames keep coming, a newer edit supersedes an older one); live
+// playback of the take's controller replays the take and takes a push.
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -150,6 +151,54 @@ TEST(EditorSoft, OptimizeWalkMatchesGoldenAndExportsObj) {
   EXPECT_EQ(v, nverts);
   EXPECT_EQ(f, ntris);
   EXPECT_NEAR(x0, f15.find("vertices")->data[0], 1e-5);  // frame 15's positions, not frame 0's
+}
+
+// Live playback: the engine's realtime simulation of the take's controller replays
+// the take (same centre of mass frame by frame), runs past its end, and a push
+// moves the body sideways; Tracking and Restart are UI state only.
+TEST(EditorSoft, LivePlaybackReplaysTheTakeAndTakesAPush) {
+  EditorHarness h("soft_live");
+  h.start(spider_scene(h), /*gl=*/true, 1280, 720);
+  ASSERT_EQ(h.run("wait 2\nclick_item soft_optimize\nwait_job 90\nexpect \"Job 1: done\"\nwait_frames 16 10\n"), "");
+  std::vector<std::array<float, 3>> take_com;
+  {
+    TakeReader take(h.app->take.dir());
+    for (size_t i = 0; i < take.frame_count(); ++i) {
+      const Record r = take.read_frame_at(i);
+      const Field* c = r.find("com");
+      ASSERT_NE(c, nullptr);
+      take_com.push_back({c->data[0], c->data[1], c->data[2]});
+    }
+  }
+  ASSERT_EQ(take_com.size(), 16u);
+  SoftLive& live = soft_ui(*h.app).live;
+  const uint64_t uploads = h.app->viewport.uploads;
+  ASSERT_EQ(h.run("click_item soft_live\n"), "");
+  ASSERT_TRUE(live.on) << live.error;
+  // The body compiles off the UI thread, then one step per 1/dt of UI time.
+  for (int i = 0; i < 300 && live.frame() < 20 && live.on; ++i) ASSERT_EQ(h.run("wait 0.1\n"), "");
+  ASSERT_TRUE(live.on) << live.error;
+  ASSERT_GE(live.frame(), 20);  // past the take's last frame (15)
+  EXPECT_GT(h.app->viewport.uploads, uploads + 10);
+  EXPECT_EQ(h.app->renderer.drawer_name(), "soft");
+  ASSERT_GE(live.com.size(), 16u);
+  double travel = 0;  // the take moves: the comparison is not between two resting bodies
+  for (size_t f = 0; f < 16; ++f)
+    for (int i = 0; i < 3; ++i) EXPECT_NEAR(live.com[f][i], take_com[f][i], 1e-4) << "frame " << f << " axis " << i;
+  for (int i = 0; i < 3; ++i) travel = std::max(travel, double(std::abs(take_com[15][i] - take_com[0][i])));
+  EXPECT_GT(travel, 1e-3) << take_com[0][0] << " " << take_com[0][1] << " " << take_com[0][2] << " -> "
+                          << take_com[15][0] << " " << take_com[15][1] << " " << take_com[15][2];
+  // Restart and push at once: the centre of mass leaves the take's path sideways (+z).
+  ASSERT_EQ(h.run("click_item soft_live_restart\nclick_item soft_live_push\n"), "");
+  for (int i = 0; i < 300 && live.frame() < 15 && live.on; ++i) ASSERT_EQ(h.run("wait 0.1\n"), "");
+  ASSERT_GE(live.com.size(), 16u);
+  EXPECT_GT(live.com[15][2] - take_com[15][2], 1e-3);
+  // Tracking toggles the engine's feedback gains; Live off shows the take again.
+  ASSERT_EQ(h.run("click_item soft_live_tracking\nwait 0.5\n"), "");
+  EXPECT_TRUE(live.tracking);
+  ASSERT_EQ(h.run("click_item soft_live\nwait 0.5\n"), "");
+  EXPECT_FALSE(live.on);
+  EXPECT_EQ(h.app->viewport.shown_frame, h.app->take.frame);
 }
 
 TEST(EditorSoft, ModeSliderDeformsPreviewAndPinsAndGizmosAreOneUndoStep) {
