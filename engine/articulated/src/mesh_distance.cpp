@@ -2,7 +2,8 @@
 // the nearest triangle's face normal), and the same query through a bounding-volume
 // tree (MeshBvh: same nearest triangle, same distance to the bit) whose sign comes from
 // the angle-weighted pseudo-normal of the nearest feature (face, edge or vertex;
-// Baerentzen and Aanaes, IEEE TVCG 11(3) 2005), right near sharp and concave edges too.
+// Baerentzen and Aanaes, IEEE TVCG 11(3) 2005), right at every edge and vertex of a
+// closed mesh, where the face normal fails near convex edges sharper than 90 degrees.
 #include <algorithm>
 #include <cmath>
 #include <map>

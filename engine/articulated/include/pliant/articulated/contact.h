@@ -90,8 +90,9 @@ MeshBvh mesh_bvh(const MeshShape& mesh);
 // The same query through the tree: O(log triangles) near the surface, the same
 // nearest triangle and distance to the bit (ties to the lower index, same arithmetic),
 // and the sign from the nearest feature's pseudo-normal (Baerentzen and Aanaes 2005:
-// right near sharp convex and concave edges and vertices of a closed mesh, where the
-// face normal above can be wrong; the same as the face normal's for boxes).
+// right at every edge and vertex of a closed, consistently oriented mesh; the face
+// normal above fails near convex edges sharper than 90 degrees and at some vertices;
+// the same as the face normal's for boxes).
 double mesh_signed_distance(const MeshShape& mesh, const MeshBvh& bvh, const Vec3& p, Vec3* normal);
 
 // Active contacts at kinematics k: body points against obstacles, then (appended,
