@@ -11,7 +11,7 @@
 //   bench_smoke_control [--quick] [--iterations N] [--lbfgs-iterations N] [--polish N]
 //                       [--grid N] [--frames T] [--r R] [--coarse-to-fine] [--out FILE] [--merge]
 //                       [--nso-vcycles N] [--ao-iterations N] [--balance-mu MU] [--relaxation ALPHA]
-//                       [--switch-progress P] [scene.json ...]
+//                       [--switch-progress P] [--coarse-polish N] [scene.json ...]
 //   bench_smoke_control --converged [--budget X] [--baseline plain|c2f|both] [--deadline-unix S]
 //                       [--pliant-given E CPU_S IOU] [--grid N] [--merge] [--out FILE] scene.json ...
 //   bench_smoke_control --evaluations N [--lbfgs-iterations K] [--grid N] [--frames T] scene.json ...
@@ -242,6 +242,7 @@ int main(int argc, char** argv) {
   bool coarse_to_fine = false, converged = false, merge = false;
   int nso_vcycles = -1, ao_iterations = 0;  // ADMM setting overrides (A/B experiments)
   double nso_skip_gap = -1;
+  int coarse_polish = -2;  // -2: the scene's
   double balance_mu = -1, relaxation = -1, switch_progress = -1;  // -1: the scene's
   int lbfgs_chunk = 0, coarse_iterations = -2, coarse_admm_levels = -2;  // -2: the scene's
   pliant::smoke::bench::ConvergedOptions conv;
@@ -265,6 +266,7 @@ int main(int argc, char** argv) {
     else if (a == "--ao-iterations" && i + 1 < argc) ao_iterations = std::stoi(argv[++i]);
     else if (a == "--nso-skip-gap" && i + 1 < argc) nso_skip_gap = std::stod(argv[++i]);
     else if (a == "--lbfgs-chunk" && i + 1 < argc) lbfgs_chunk = std::stoi(argv[++i]);
+    else if (a == "--coarse-polish" && i + 1 < argc) coarse_polish = std::stoi(argv[++i]);
     else if (a == "--balance-mu" && i + 1 < argc) balance_mu = std::stod(argv[++i]);
     else if (a == "--relaxation" && i + 1 < argc) relaxation = std::stod(argv[++i]);
     else if (a == "--switch-progress" && i + 1 < argc) switch_progress = std::stod(argv[++i]);
@@ -319,6 +321,7 @@ int main(int argc, char** argv) {
     if (nso_skip_gap >= 0) m.nso_skip_gap = nso_skip_gap;
     if (lbfgs_chunk > 0) m.lbfgs_chunk = lbfgs_chunk;
     if (balance_mu >= 0) m.admm_balance_mu = balance_mu;
+    if (coarse_polish >= -1) m.coarse_polish_iterations = coarse_polish;
     if (relaxation > 0) m.admm_relaxation = relaxation;
     if (switch_progress >= 0) m.admm_switch_progress = switch_progress;
     if (coarse_admm_levels >= -1) m.coarse_admm_levels = coarse_admm_levels;
@@ -348,6 +351,7 @@ int main(int argc, char** argv) {
       if (balance_mu >= 0) name += " balance_mu=" + nlohmann::json(balance_mu).dump();
       if (relaxation > 0) name += " relaxation=" + nlohmann::json(relaxation).dump();
       if (switch_progress >= 0) name += " switch_progress=" + nlohmann::json(switch_progress).dump();
+      if (coarse_polish >= -1) name += " coarse_polish=" + std::to_string(coarse_polish);
       pliant::smoke::bench::converged_comparison(name, m, conv, [&](nlohmann::json j) {
         j["machine"] = pliant::bench::machine_description();
         j["omp_threads"] = omp_get_max_threads();
@@ -363,7 +367,8 @@ int main(int argc, char** argv) {
     ControlModel lm = m;  // the baseline gets as many iterations as ADMM and its polish together
     lm.max_iterations = lbfgs_iterations > 0 ? lbfgs_iterations : m.max_iterations + m.polish_iterations;
     // Coarse levels: L-BFGS gets ADMM's iterations plus its polish there too.
-    lm.coarse_iterations = (m.coarse_iterations >= 0 ? m.coarse_iterations : m.max_iterations) + m.polish_iterations;
+    lm.coarse_iterations = (m.coarse_iterations >= 0 ? m.coarse_iterations : m.max_iterations) +
+                           (m.coarse_polish_iterations >= 0 ? m.coarse_polish_iterations : m.polish_iterations);
     lm.coarse_admm_levels = -1;
     std::vector<AdmmIterationStats> st;
     const Run a = run(m, true, &st);

@@ -338,7 +338,8 @@ void converged_comparison(const std::string& name, const ControlModel& m, const 
     std::fprintf(stderr, "%s: L-BFGS coarse-to-fine, budget %.0f s cpu ...\n", name.c_str(), budget);
     const double l0 = process_cpu_s();
     ControlModel lm = m;
-    lm.coarse_iterations = (m.coarse_iterations >= 0 ? m.coarse_iterations : m.max_iterations) + m.polish_iterations;
+    lm.coarse_iterations = (m.coarse_iterations >= 0 ? m.coarse_iterations : m.max_iterations) +
+                           (m.coarse_polish_iterations >= 0 ? m.coarse_polish_iterations : m.polish_iterations);
     lm.coarse_admm_levels = -1;  // every coarse level gets its L-BFGS iterations
     ControlState ls = control_init(lm);
     control_coarse_to_fine(lm, ls, kCoarseToFineLevels, {},

@@ -7,6 +7,8 @@
 #include <cstring>
 #include <fstream>
 #include <iterator>
+#include <map>
+#include <utility>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -183,6 +185,33 @@ TEST(AdmmOptions, Version4CheckpointsStillLoad) {
   // A version-5 checkpoint cut before its last field is truncated, not silently old.
   std::vector<uint8_t> cut(v5.begin(), v5.end() - 4);
   EXPECT_THROW(control_state_deserialize(cut), std::runtime_error);
+}
+
+// coarse_polish_iterations caps the polish of the coarse levels only (the fine level keeps
+// polish_iterations): a 64^2 x 6 square, one coarse ADMM iteration, polish 1 coarse / 3 fine.
+TEST(AdmmOptions, CoarsePolishIterationsCapOnlyTheCoarseLevels) {
+  std::ifstream in(std::string(PLIANT_ASSETS_DIR) + "/scenes/smoke_circle_to_square.json");
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  for (const auto& [a, b] : std::vector<std::pair<std::string, std::string>>{
+           {"[32, 32]", "[64, 64]"}, {"0.03125", "0.015625"}, {"\"frames\": 20", "\"frames\": 6"},
+           {"\"frame\": 20", "\"frame\": 6"}, {"\"polish_iterations\": 40", "\"polish_iterations\": 3, \"coarse_polish_iterations\": 1"}})
+    text.replace(text.find(a), a.size(), b);
+  ControlModel m = control_compile(parse_scene(text, "admmopt_coarse_polish.json"));
+  ASSERT_EQ(m.coarse_polish_iterations, 1);
+  m.max_iterations = 0;
+  m.coarse_iterations = 1;
+  m.tolerance = 1e-12;  // the polish runs to its cap
+  ControlState s = control_init(m);
+  Progress progress;
+  std::map<int, int> last_polish;  // level -> last polish iteration number
+  ControlCallbacks cb;
+  cb.on_iteration = [&](const ControlState& st) {
+    if (st.phase == 1) last_polish[st.level] = st.iteration;
+  };
+  control_solve_admm(m, s, progress, cb);
+  ASSERT_EQ(last_polish.count(1), 1u);
+  EXPECT_EQ(last_polish[1], 1 + 1);  // numbered after the level's 1 ADMM iteration
+  EXPECT_EQ(last_polish[0], 0 + 3);
 }
 
 }  // namespace

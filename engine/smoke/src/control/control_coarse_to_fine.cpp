@@ -74,6 +74,7 @@ bool control_coarse_to_fine(const ControlModel& m, ControlState& s, int levels, 
     ControlModel cm = chain[l];
     cm.progressive_preview = false;
     if (m.coarse_iterations >= 0) cm.max_iterations = m.coarse_iterations;
+    if (m.coarse_polish_iterations >= 0) cm.polish_iterations = m.coarse_polish_iterations;
     // ADMM only on the coarsest coarse_admm_levels levels (it finds the transport path
     // there cheaply); the finer coarse levels start from the prolonged forces and polish.
     if (m.method == ControlMethod::Admm && m.coarse_admm_levels >= 0 && l < int(chain.size()) - m.coarse_admm_levels)

@@ -4,7 +4,7 @@
 //
 //   "control": {"method": "admm"|"lbfgs", "r": >0, "max_iterations", "tolerance",
 //     "admm": {"penalty", "ao_iterations", "nso_vcycles", "nso_skip_gap" (0..1), "polish_iterations",
-//              "balance_mu" (0 or > 1), "balance_tau" (> 1), "relaxation" (0..2), "switch_progress" (0..1)},
+//              "coarse_polish_iterations" (-1: polish_iterations), "balance_mu" (0 or > 1), "balance_tau" (> 1), "relaxation" (0..2), "switch_progress" (0..1)},
 //     "progressive_preview",
 //     "coarse_iterations" (outer iterations per coarse level of the progressive preview,
 //     default max_iterations), "lbfgs_chunk" (L-BFGS iterations between checkpoints; the
@@ -271,6 +271,7 @@ ControlModel control_compile(const Scene& scene) {
     m.nso_skip_gap = a->number("nso_skip_gap", m.nso_skip_gap);
     if (!(m.nso_skip_gap >= 0 && m.nso_skip_gap < 1)) a->fail("nso_skip_gap", "expected a number in [0, 1)");
     m.polish_iterations = int(a->integer("polish_iterations", m.polish_iterations, 0, 1000000));
+    m.coarse_polish_iterations = int(a->integer("coarse_polish_iterations", m.coarse_polish_iterations, -1, 1000000));
     m.admm_balance_mu = a->number("balance_mu", m.admm_balance_mu);
     if (!(m.admm_balance_mu == 0 || m.admm_balance_mu > 1))
       a->fail("balance_mu", "expected 0 (penalty continuation) or a number > 1 (residual balancing)");

@@ -83,6 +83,9 @@ struct ControlModel {
   // ADMM finds the transport path from rest (where plain L-BFGS stalls at once), the
   // polish makes the re-simulated keyframes exact up to what the discretisation allows.
   int polish_iterations = 0;
+  // Polish iterations on each coarse level of the progressive preview (-1: polish_iterations),
+  // so the fine level's polish can be longer than the coarse levels' (bench experiments).
+  int coarse_polish_iterations = -1;
   // L-BFGS (baseline and polish) iterations per chunk: the quasi-Newton memory lives within
   // a chunk, the state is checkpointed after it and the next chunk starts a fresh memory
   // (LBFGS++ has no callback; exact resume repeats a killed chunk). Longer chunks converge
