@@ -228,6 +228,7 @@ void converged_comparison(const std::string& name, const ControlModel& m, const 
     double objective = 0;
     int last_iteration = 0;
     bool seen = false;
+    std::vector<double> admm_objectives;  // ADMM phase: E per outer iteration (the level's grid)
   };
   std::map<std::pair<int, int>, Bucket> buckets;
   double last_cpu = c0;
@@ -245,6 +246,7 @@ void converged_comparison(const std::string& name, const ControlModel& m, const 
     b.iterations += st.iteration - b.last_iteration;
     b.last_iteration = st.iteration;
     if (!st.objective_history.empty()) b.objective = st.objective_history.back();
+    if (st.phase == 0 && !st.objective_history.empty()) b.admm_objectives.push_back(st.objective_history.back());
     last_cpu = now;
   };
   const bool given = o.given_objective > 0;
@@ -259,7 +261,8 @@ void converged_comparison(const std::string& name, const ControlModel& m, const 
                          {"phase", key.second == 0 ? "admm" : "polish"},
                          {"cpu_s", b.cpu_s},
                          {"iterations", b.iterations},
-                         {"objective", b.objective}});
+                         {"objective", b.objective},
+                         {"admm_objectives", b.admm_objectives}});
     std::fprintf(stderr, "  level %d %-6s %6.1f s cpu, %3d iterations, E %.6g\n", key.first,
                  key.second == 0 ? "admm" : "polish", b.cpu_s, b.iterations, b.objective);
   }
