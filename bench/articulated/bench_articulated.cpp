@@ -19,6 +19,7 @@
 #include <tuple>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <unistd.h>
 #include <string>
 #include <vector>
 
@@ -479,6 +480,113 @@ void mesh_mesh_case(bool quick) {
         {"timing", "thread CPU time, fastest of 3 runs (1 in --quick); queries: one evaluation's, fastest of 3 x 20"}});
 }
 
+// Static mesh obstacle (robotics environments load as static meshes): a closed
+// heightfield block, n x n cells over 1 m x 1 m (top 2n^2 triangles, flat bottom
+// 2n^2, sides 8n: 6720 triangles at n 40), written to a temporary OBJ, with three
+// boxes, two balls and a capsule dropped on it; pbad3, dt 0.01, 1 s, Coulomb mu 0.6.
+// Cost per step and LM iterations; then, at the final state, every contact point's
+// distance to the terrain timed through the tree and by the scan. Thread CPU time,
+// fastest of 3 (1 in --quick).
+double terrain_height(double x, double y) { return 0.02 * std::sin(6 * x) * std::cos(5 * y); }
+
+std::string write_terrain_obj(int n) {
+  const std::string path = (std::filesystem::temp_directory_path() /
+                            ("pliant_bench_terrain_" + std::to_string(::getpid()) + ".obj")).string();
+  std::ofstream out(path);
+  const auto at = [n](int i) { return -0.5 + double(i) / n; };
+  // Vertices: top grid (n+1)^2, then bottom grid (n+1)^2 at z = -0.2 (1-based ids).
+  for (int layer = 0; layer < 2; ++layer)
+    for (int j = 0; j <= n; ++j)
+      for (int i = 0; i <= n; ++i)
+        out << "v " << at(i) << " " << at(j) << " " << (layer ? -0.2 : terrain_height(at(i), at(j))) << "\n";
+  const auto id = [n](int layer, int i, int j) { return 1 + layer * (n + 1) * (n + 1) + j * (n + 1) + i; };
+  const auto quad = [&](int a, int b, int c, int d) {  // counter-clockwise from outside
+    out << "f " << a << " " << b << " " << c << "\nf " << a << " " << c << " " << d << "\n";
+  };
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      quad(id(0, i, j), id(0, i + 1, j), id(0, i + 1, j + 1), id(0, i, j + 1));  // top, normal +z
+      quad(id(1, i, j), id(1, i, j + 1), id(1, i + 1, j + 1), id(1, i + 1, j));  // bottom, -z
+    }
+  for (int i = 0; i < n; ++i) {
+    quad(id(1, i, 0), id(1, i + 1, 0), id(0, i + 1, 0), id(0, i, 0));          // y = -0.5
+    quad(id(1, i + 1, n), id(1, i, n), id(0, i, n), id(0, i + 1, n));          // y = +0.5
+    quad(id(1, 0, i + 1), id(1, 0, i), id(0, 0, i), id(0, 0, i + 1));          // x = -0.5
+    quad(id(1, n, i), id(1, n, i + 1), id(0, n, i + 1), id(0, n, i));          // x = +0.5
+  }
+  return path;
+}
+
+void mesh_terrain_case(bool quick) {
+  const int n = 40;
+  const std::string obj = write_terrain_obj(n);
+  std::string bodies;
+  const double xy[6][2] = {{-0.25, -0.2}, {0.05, -0.25}, {0.3, 0.1}, {-0.2, 0.25}, {0.1, 0.2}, {-0.05, 0.0}};
+  for (int b = 0; b < 6; ++b) {
+    const double x = xy[b][0], y = xy[b][1], z = terrain_height(x, y) + 0.07;
+    const std::string geom = b < 3 ? "<geom type=\"box\" size=\"0.04 0.03 0.025\" mass=\"0.5\"/>"
+                             : b < 5 ? "<geom type=\"sphere\" size=\"0.03\" mass=\"0.3\"/>"
+                                     : "<geom type=\"capsule\" size=\"0.02 0.06\" euler=\"0 90 20\" mass=\"0.3\"/>";
+    bodies += "<body pos=\"" + std::to_string(x) + " " + std::to_string(y) + " " + std::to_string(z) + "\"><freejoint/>" +
+              geom + "</body>";
+  }
+  const Model m = model_from_mjcf("<mujoco><asset><mesh name=\"terrain\" file=\"" + obj +
+                                      "\"/></asset><worldbody><geom type=\"mesh\" mesh=\"terrain\"/>" + bodies +
+                                      "</worldbody></mujoco>",
+                                  "terrain.xml");
+  std::filesystem::remove(obj);
+  SimOptions o;
+  o.integrator = Integrator::Pbad3;
+  o.dt = 0.01;
+  o.contact.mu = 0.6;
+  const int steps = 100;
+  double best = 1e300, iterations = 0, contacts = 0;
+  State s;
+  for (int rep = 0; rep < (quick ? 1 : 3); ++rep) {
+    s = state_init(m);
+    SimWorkspace ws;
+    double cpu = 0;
+    iterations = contacts = 0;
+    for (int i = 0; i < steps; ++i) {
+      StepInfo info;
+      const double t0 = thread_cpu_s();
+      sim_step(m, o, s, ws, &info);
+      cpu += thread_cpu_s() - t0;
+      iterations += info.iterations;
+      contacts += ws.contacts.size();
+    }
+    best = std::min(best, cpu);
+  }
+  // One energy evaluation's distance queries at the final state: every contact point
+  // against the terrain (mesh frame = world here), tree and scan.
+  Kinematics k;
+  kinematics(m, s.qpos, &k);
+  std::vector<Vec3> queries;
+  for (const ContactPoint& cp : contact_points(m)) queries.push_back(k.xpos[cp.body] + k.xmat[cp.body] * cp.local);
+  const MeshShape& mesh = *m.geoms[0].mesh;
+  const MeshBvh bvh = mesh_bvh(mesh);
+  double tree = 1e300, scan = 1e300, sink = 0;
+  for (int rep = 0; rep < 3; ++rep) {
+    Vec3 nn;
+    double t0 = thread_cpu_s();
+    for (int r = 0; r < 20; ++r)
+      for (const Vec3& p : queries) sink += mesh_signed_distance(mesh, bvh, p, &nn);
+    tree = std::min(tree, (thread_cpu_s() - t0) / 20);
+    t0 = thread_cpu_s();
+    for (int r = 0; r < 20; ++r)
+      for (const Vec3& p : queries) sink += mesh_signed_distance(mesh, p, &nn);
+    scan = std::min(scan, (thread_cpu_s() - t0) / 20);
+  }
+  std::vector<double> z;
+  for (int b = 0; b < 6; ++b) z.push_back(s.qpos[7 * b + 2]);
+  emit({{"case", "mesh_terrain"}, {"method", "pbad3"}, {"dt", o.dt}, {"triangles", mesh.triangles.size()},
+        {"bodies", m.bodies.size() - 1}, {"steps", steps}, {"us_per_step", 1e6 * best / steps},
+        {"lm_iterations", iterations / steps}, {"contacts_per_step", contacts / steps}, {"final_z_m", z},
+        {"queries_per_evaluation", queries.size()}, {"query_us_tree", 1e6 * tree}, {"query_us_scan", 1e6 * scan},
+        {"checksum", sink}, {"load_average", load_average()},
+        {"timing", "thread CPU time, fastest of 3 runs (1 in --quick); queries: one evaluation's, fastest of 3 x 20"}});
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -512,13 +620,13 @@ int main(int argc, char** argv) {
     else if (!std::strcmp(argv[i], "--methods") && i + 1 < argc) only_methods = argv[++i], filtered = true;
     else {
       std::fprintf(stderr, "usage: bench_articulated [--quick] [--out FILE] [--links 10,40] [--dt 0.02,0.05] "
-                           "[--case chain_swing|chain_tilt|pile|mesh_mesh] [--methods pbad3,pbad4,mujoco] [--chains-only]\n");
+                           "[--case chain_swing|chain_tilt|pile|mesh_mesh|mesh_terrain] [--methods pbad3,pbad4,mujoco] [--chains-only]\n");
       return 2;
     }
   }
   g_machine = pliant::bench::machine_description();
-  if (only_case == "pile" || only_case == "mesh_mesh") {  // a body-body contact case alone
-    (only_case == "pile" ? pile_case : mesh_mesh_case)(quick);
+  if (only_case == "pile" || only_case == "mesh_mesh" || only_case == "mesh_terrain") {  // a contact case alone
+    (only_case == "pile" ? pile_case : only_case == "mesh_mesh" ? mesh_mesh_case : mesh_terrain_case)(quick);
     if (explicit_out) std::ofstream(out) << g_results.dump(1) << "\n";
     return 0;
   }
@@ -670,6 +778,7 @@ int main(int argc, char** argv) {
     batched_case(quick);
     pile_case(quick);
     mesh_mesh_case(quick);
+    mesh_terrain_case(quick);
   }
   if (filtered && !explicit_out) return 0;
   std::filesystem::create_directories(std::filesystem::path(out).parent_path());

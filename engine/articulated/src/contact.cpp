@@ -117,11 +117,12 @@ double shape_distance(GeomType type, const Vec3& size, const Vec3& c, const Mat3
 
 }  // namespace
 
-double obstacle_distance(const Geom& g, const Vec3& x, Vec3* normal) {
+double obstacle_distance(const Geom& g, const MeshBvh* tree, const Vec3& x, Vec3* normal) {
   const Mat3 r = g.quat.toRotationMatrix();
   if (g.type == GeomType::Mesh) {
     Vec3 n;
-    const double d = mesh_signed_distance(*g.mesh, r.transpose() * (x - g.pos), &n);
+    const Vec3 p = r.transpose() * (x - g.pos);
+    const double d = tree ? mesh_signed_distance(*g.mesh, *tree, p, &n) : mesh_signed_distance(*g.mesh, p, &n);
     *normal = r * n;
     return d;
   }
@@ -156,16 +157,24 @@ void mesh_feature_contacts(const Model& m, const Kinematics& k, const std::vecto
   }
 }
 
+std::vector<MeshBvh> obstacle_trees(const Model& m, const std::vector<int>& obs) {
+  std::vector<MeshBvh> trees(obs.size());
+  for (size_t o = 0; o < obs.size(); ++o)
+    if (m.geoms[obs[o]].type == GeomType::Mesh) trees[o] = mesh_bvh(*m.geoms[obs[o]].mesh);
+  return trees;
+}
+
 void find_contacts(const Model& m, const Kinematics& k, const std::vector<ContactPoint>& pts,
-                   const std::vector<int>& obs, std::vector<Contact>* out) {
+                   const std::vector<int>& obs, const std::vector<MeshBvh>& trees, std::vector<Contact>* out) {
   out->clear();
   const int no = static_cast<int>(obs.size());
+  const int nt = static_cast<int>(trees.size());
   for (size_t i = 0; i < pts.size(); ++i) {
     const ContactPoint& cp = pts[i];
     const Vec3 c = k.xpos[cp.body] + k.xmat[cp.body] * cp.local;
     for (int o = 0; o < no; ++o) {
       Vec3 n;
-      const double d = obstacle_distance(m.geoms[obs[o]], c, &n) - cp.radius;
+      const double d = obstacle_distance(m.geoms[obs[o]], o < nt ? &trees[o] : nullptr, c, &n) - cp.radius;
       if (d >= 0) continue;
       Contact ct;
       ct.slot = static_cast<int>(i) * no + o;

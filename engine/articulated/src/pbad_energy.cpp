@@ -91,7 +91,8 @@ double pbad_energy(const Model& m, const SimOptions& o, const State& s, const Pb
       for (int ob = 0; ob < no; ++ob) {
         const int slot = static_cast<int>(i) * no + ob;
         Vec3 n;
-        const double dist = obstacle_distance(m.geoms[ws.obstacles[ob]], x, &n) - cp.radius;
+        const MeshBvh* tree = ob < static_cast<int>(ws.obstacle_trees.size()) ? &ws.obstacle_trees[ob] : nullptr;
+        const double dist = obstacle_distance(m.geoms[ws.obstacles[ob]], tree, x, &n) - cp.radius;
         if (dist < 0) {
           e += 0.5 * kk * dist * dist;
           if (derivs) {

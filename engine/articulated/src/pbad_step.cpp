@@ -87,7 +87,7 @@ void pbad_begin(const Model& m, const SimOptions& o, State& s, PbadStep& p, SimW
     kinematics(m, s.qpos, &ws.kin);
     ws.kin_at.resize(0);
     s.normal_force_prev.assign(ws.points.size() * ws.obstacles.size(), 0.0);
-    find_contacts(m, ws.kin, ws.points, ws.obstacles, &ws.contacts);
+    find_contacts(m, ws.kin, ws.points, ws.obstacles, ws.obstacle_trees, &ws.contacts);
     for (const Contact& c : ws.contacts)
       if (c.slot >= 0) s.normal_force_prev[c.slot] = o.contact.stiffness * c.depth;
   }
@@ -234,7 +234,7 @@ void pbad_finish(const Model& m, const SimOptions& o, State& s, const PbadStep& 
   }
   projected_velocity(m, o, s, ws);
   s.normal_force_prev.assign(ws.points.size() * ws.obstacles.size(), 0.0);
-  find_contacts(m, ws.kin, ws.points, ws.obstacles, &ws.contacts);
+  find_contacts(m, ws.kin, ws.points, ws.obstacles, ws.obstacle_trees, &ws.contacts);
   for (const Contact& c : ws.contacts)
     if (c.slot >= 0) s.normal_force_prev[c.slot] = o.contact.stiffness * c.depth;
   frame_store(s.qpos, ws);  // next step's q_i

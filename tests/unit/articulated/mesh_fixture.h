@@ -8,6 +8,8 @@
 #include <string>
 #include <unistd.h>
 
+#include "pliant/articulated/model.h"
+
 namespace pliant::articulated::test {
 
 // Box of half sizes (hx, hy, hz) centred at (cx, cy, cz), outward-facing triangles.
@@ -64,6 +66,35 @@ inline std::string write_grid_box_obj(const std::string& stem, double hx, double
     }
   out << faces.str();
   return path.string();
+}
+
+// A closed heightfield block in memory: top z = h(x, y) over an n x n grid on
+// [-0.5, 0.5]^2 (each cell split along its (i, j)-(i+1, j+1) diagonal), flat bottom
+// at z = -0.2, vertical sides; 4 n^2 + 8 n triangles, outward-facing.
+template <class Height>
+MeshShape terrain_mesh(int n, Height h) {
+  MeshShape mesh;
+  const auto at = [n](int i) { return -0.5 + double(i) / n; };
+  for (int layer = 0; layer < 2; ++layer)
+    for (int j = 0; j <= n; ++j)
+      for (int i = 0; i <= n; ++i) mesh.vertices.push_back(Vec3(at(i), at(j), layer ? -0.2 : h(at(i), at(j))));
+  const auto id = [n](int layer, int i, int j) { return layer * (n + 1) * (n + 1) + j * (n + 1) + i; };
+  const auto quad = [&mesh](int a, int b, int c, int d) {  // counter-clockwise from outside
+    mesh.triangles.push_back({a, b, c});
+    mesh.triangles.push_back({a, c, d});
+  };
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      quad(id(0, i, j), id(0, i + 1, j), id(0, i + 1, j + 1), id(0, i, j + 1));
+      quad(id(1, i, j), id(1, i, j + 1), id(1, i + 1, j + 1), id(1, i + 1, j));
+    }
+  for (int i = 0; i < n; ++i) {
+    quad(id(1, i, 0), id(1, i + 1, 0), id(0, i + 1, 0), id(0, i, 0));
+    quad(id(1, i + 1, n), id(1, i, n), id(0, i, n), id(0, i + 1, n));
+    quad(id(1, 0, i + 1), id(1, 0, i), id(0, 0, i), id(0, 0, i + 1));
+    quad(id(1, n, i), id(1, n, i + 1), id(0, n, i + 1), id(0, n, i));
+  }
+  return mesh;
 }
 
 }  // namespace pliant::articulated::test

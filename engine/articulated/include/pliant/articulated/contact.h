@@ -62,14 +62,21 @@ std::vector<ContactPoint> contact_points(const Model& m);
 constexpr double kMeshSamplesPerExtent = 6;
 std::vector<Vec3> mesh_contact_samples(const MeshShape& mesh);
 std::vector<int> contact_obstacles(const Model& m);
+struct MeshBvh;
 // Signed distance (positive outside) of a world point from obstacle geom g, and
-// its outward normal.
-double obstacle_distance(const Geom& g, const Vec3& x, Vec3* normal);
+// its outward normal. A mesh obstacle is queried through `tree` (its MeshBvh from
+// obstacle_trees: O(log triangles), sign from the nearest feature's pseudo-normal);
+// with tree null, by the brute-force scan with the face-normal sign (the reference the
+// tree is tested against).
+double obstacle_distance(const Geom& g, const MeshBvh* tree, const Vec3& x, Vec3* normal);
+inline double obstacle_distance(const Geom& g, const Vec3& x, Vec3* normal) {
+  return obstacle_distance(g, nullptr, x, normal);
+}
 
 // Signed distance (positive outside) of point p (mesh frame) to a closed mesh: the
 // nearest triangle gives the distance, its face normal the sign (exact on faces, an
-// approximation near edges and vertices; the obstacle path's query). O(triangles) per
-// query (mesh_distance.cpp).
+// approximation near edges and vertices: the reference for the tree below, and the
+// query of mesh_feature_contacts). O(triangles) per query (mesh_distance.cpp).
 double mesh_signed_distance(const MeshShape& mesh, const Vec3& p, Vec3* normal);
 // A bounding-volume tree over a mesh's triangles (median splits on the centroids'
 // widest axis, leaves of <= 4 triangles), built once per model.
@@ -95,10 +102,15 @@ MeshBvh mesh_bvh(const MeshShape& mesh);
 // the same as the face normal's for boxes).
 double mesh_signed_distance(const MeshShape& mesh, const MeshBvh& bvh, const Vec3& p, Vec3* normal);
 
-// Active contacts at kinematics k: body points against obstacles, then (appended,
-// slot -1) obstacle features against moving meshes (mesh_feature_contacts).
+// Each obstacle's tree (obstacles as contact_obstacles lists them): a mesh obstacle's
+// MeshBvh, empty for the other types. Built once per model (sim_prepare).
+std::vector<MeshBvh> obstacle_trees(const Model& m, const std::vector<int>& obs);
+
+// Active contacts at kinematics k: body points against obstacles (mesh obstacles
+// through trees[o], the scan where trees is shorter), then (appended, slot -1)
+// obstacle features against moving meshes (mesh_feature_contacts).
 void find_contacts(const Model& m, const Kinematics& k, const std::vector<ContactPoint>& pts,
-                   const std::vector<int>& obs, std::vector<Contact>* out);
+                   const std::vector<int>& obs, const std::vector<MeshBvh>& trees, std::vector<Contact>* out);
 // The reverse query for moving meshes, exact where sampling is not: every corner of a
 // static box and every static sphere (centre, radius) against every moving mesh geom
 // (signed distance to its nearest face). The contact acts on the mesh's body at the

@@ -162,6 +162,7 @@ struct SimWorkspace {
   Eigen::MatrixXd pair_u, pair_y, pair_cap;  // columns u, A^-1 u, capacitance (capacity grows)
   VecX pair_col, pair_sol, pair_alpha;
   std::vector<int> obstacles;
+  std::vector<MeshBvh> obstacle_trees;  // per obstacle: a mesh's tree (obstacle_trees), cached
   const Model* cached_for = nullptr;
   PbadStep pbad;  // sim_step's PBAD iterate
 };
