@@ -187,6 +187,12 @@ void reduced_vs_full(bool quick) {
   }
 }
 
+// NEWTON_DECREMENT_STOP=x: SimParams::newton_decrement_stop (opt-in step stop) for the
+// playback cases.
+void decrement_stop_override(SoftModel& m) {
+  if (const char* e = std::getenv("NEWTON_DECREMENT_STOP")) m.problem.sim.newton_decrement_stop = std::atof(e);
+}
+
 SoftModel load(const std::string& name) {
   const Scene sc = load_scene(std::string(PLIANT_ASSETS_DIR) + "/scenes/" + name);
   SoftModel m = soft_compile(sc);
@@ -431,6 +437,7 @@ void jacobian(const std::string& scene, const std::string& basis = "") {
 
 void playback(const std::string& scene, int frames) {
   SoftModel m = load(scene);
+  decrement_stop_override(m);
   const Problem& p = m.problem;
   const Eigen::VectorXd th = initial_theta(p) * 20;  // a visible open-loop gait
   const auto t = Clock::now();
@@ -468,6 +475,7 @@ void playback_rotation_strain(const std::string& scene, int frames) {
   sc.doc["character"]["basis"] = "rotation_strain";
   SoftModel m = soft_compile(sc);
   soft_bind(m);
+  decrement_stop_override(m);
   const Eigen::VectorXd th = initial_theta(m.problem) * 20;
   SoftPlayback pb = soft_playback_start(m, th);
   const auto t = Clock::now();

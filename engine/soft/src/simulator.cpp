@@ -249,6 +249,11 @@ void reduced_step(const Character& ch, const Environment& env, const SimParams& 
       d = -d;
     }
     if (!d.allFinite() || g.dot(d) >= 0) d = -g / (H.diagonal().maxCoeff() + 1e-300);  // fall back to gradient
+    if (sp.newton_decrement_stop > 0 && std::abs(g.dot(d)) < sp.newton_decrement_stop * std::max(1.0, std::abs(e))) {
+      ++st.newton_iterations;  // opt-in: the energy cannot confirm a smaller step
+      st.converged = true;
+      break;
+    }
     double alpha = 1, e_new = e;
     VectorXd& qn = w.qn;
     Matrix3d Rn;
