@@ -128,6 +128,7 @@ SoftModel soft_compile(const Scene& scene) {
     p.sim.modal_damping_s = s->number("modal_damping_s", p.sim.modal_damping_s, 0, 10);
     p.start_offset_m = vec3(*s, "start_offset_m", Eigen::Vector3d::Zero());
     p.sim.max_newton = int(s->integer("newton_iterations", p.sim.max_newton, 1, 1000));
+    p.sim.newton_decrement_stop = s->number("newton_decrement_stop", p.sim.newton_decrement_stop, 0, 1e-6);
     s->finish();
   }
 

@@ -177,6 +177,13 @@ TEST(SoftJob, SceneSetsLmDampingBroydenReuseAndLbfgsFirstStep) {
   EXPECT_DOUBLE_EQ(d.optimizer.lambda_initial, 1e-3);
   EXPECT_EQ(d.optimizer.broyden_reuse, 4);
   EXPECT_DOUBLE_EQ(d.optimizer.lbfgs_initial_step, 1.0);
+  EXPECT_EQ(d.problem.sim.newton_decrement_stop, 0.0);  // opt-in, off by default
+  std::string st = kScene;
+  st.replace(st.find("\"frames\": 5"), 11, "\"frames\": 5, \"newton_decrement_stop\": 1e-13");
+  st.replace(st.find("ITER"), 4, "0");
+  EXPECT_DOUBLE_EQ(soft::soft_compile(parse_scene(st, "stop.json", std::string(PLIANT_ASSETS_DIR) + "/characters"))
+                       .problem.sim.newton_decrement_stop,
+                   1e-13);
   std::string bad = kScene;
   bad.replace(bad.find("ITER"), 4, "0, \"broyden_reuse\": -1");
   try {
