@@ -88,7 +88,7 @@ TEST(AdmmOptions, ResidualBalancingDecreasesAndEndsAtLeastAsLowAsTheSchedule) {
   const double e0 = control_objective(m, FaceSeries(m.sim.frames, std::vector<float>(balanced.force[0].size(), 0.0f)), nullptr);
   const auto& h = balanced.objective_history;
   EXPECT_LT(admmopt_best(balanced), 0.3 * e0);
-  // Each 4-iteration window's best beats the previous window's (ADMM is not monotone step by step).
+  // Each 3-iteration window's best beats everything before it (ADMM is not monotone step by step).
   for (size_t w = 3; w + 3 <= h.size(); w += 3)
     EXPECT_LT(*std::min_element(h.begin() + w, h.begin() + w + 3), *std::min_element(h.begin(), h.begin() + w)) << w;
   EXPECT_LE(admmopt_best(balanced), admmopt_best(schedule));
