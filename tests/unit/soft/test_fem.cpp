@@ -20,17 +20,19 @@ Eigen::Matrix3d random_F(std::mt19937& rng, double spread) {
   return F;
 }
 
-Lattice two_cells() {
+// The lattice of a 2x1x1 box at `resolution` cells along its longest side.
+Lattice fem_box_lattice(int resolution) {
   SurfaceMesh m;
-  // A 2x1x1 box: corners.
   for (int i = 0; i < 8; ++i) m.vertices.push_back({(i & 1) * 2.0, double((i >> 1) & 1), double((i >> 2) & 1)});
   const int q[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
   for (const auto& f : q) {
     m.triangles.push_back({f[0], f[1], f[2]});
     m.triangles.push_back({f[0], f[2], f[3]});
   }
-  return build_lattice(m, 2, 1000);
+  return build_lattice(m, resolution, 1000);
 }
+
+Lattice two_cells() { return fem_box_lattice(2); }
 }  // namespace
 
 TEST(Fem, RestIsStressFree) {
@@ -121,16 +123,7 @@ TEST(Fem, LatticeGradientAndHessianMatchFiniteDifferences) {
 
 namespace {
 // A 4 x 2 x 2 box lattice (16 cells) for the reduced-Hessian checks.
-Lattice fem_reduced_box() {
-  SurfaceMesh m;
-  for (int i = 0; i < 8; ++i) m.vertices.push_back({(i & 1) * 2.0, double((i >> 1) & 1), double((i >> 2) & 1)});
-  const int q[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
-  for (const auto& f : q) {
-    m.triangles.push_back({f[0], f[1], f[2]});
-    m.triangles.push_back({f[0], f[2], f[3]});
-  }
-  return build_lattice(m, 4, 1000);
-}
+Lattice fem_reduced_box() { return fem_box_lattice(4); }
 
 double fem_reduced_rel(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
   return (a - b).cwiseAbs().maxCoeff() / b.cwiseAbs().maxCoeff();
