@@ -233,32 +233,11 @@ TEST(MeshContact, CollidingMeshCubesConserveMomentum) {
                                   "mm_momentum.xml");
   std::filesystem::remove(a);
   std::filesystem::remove(b);
-  SimOptions o;
-  o.dt = 0.005;
-  o.contact.self_collision = true;
-  o.contact.friction = FrictionModel::None;
-  o.lm_relative_tolerance = 0;
-  o.lm_tolerance = 1e-12;
-  State s = state_init(m);
-  s.qvel.head<3>() << 1.0, 0.1, 0;
-  s.qvel.segment<3>(6) << -0.5, 0, 0.05;
-  SimWorkspace ws;
-  const auto momentum = [&](const State& st) {
-    return Vec3(m.bodies[1].mass * st.qvel.head<3>() + m.bodies[2].mass * st.qvel.segment<3>(6));
-  };
-  const Vec3 p0 = momentum(s);
-  const double vx0 = s.qvel[0] - s.qvel[6];
-  size_t most = 0;
-  double worst = 0;
-  for (int i = 0; i < 60; ++i) {
-    ASSERT_TRUE(sim_step(m, o, s, ws));
-    if (i > 0) worst = std::max(worst, (momentum(s) - p0).norm() / p0.norm());
-    most = std::max(most, pair_test::pair_contacts_at(m, s.qpos).size());
-  }
-  EXPECT_GT(most, 0u);
-  EXPECT_LT(worst, 1e-6);
-  EXPECT_LT((s.qvel[0] - s.qvel[6]) * vx0, 0);  // bounced
-  std::printf("mesh-mesh momentum drift %.3g relative, up to %zu contacts\n", worst, most);
+  const pair_test::CollisionMomentum r = pair_test::collide_two_free_bodies(m);
+  EXPECT_GT(r.most_contacts, 0u);
+  EXPECT_LT(r.worst, 1e-6);
+  EXPECT_TRUE(r.bounced);
+  std::printf("mesh-mesh momentum drift %.3g relative, up to %zu contacts\n", r.worst, r.most_contacts);
 }
 
 // ---- Explicit pairs: margin and condim ----
