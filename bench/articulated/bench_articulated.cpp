@@ -364,6 +364,61 @@ void cost_per_step_case() {
   }
 }
 
+// `steps` steps from `initial`, the fastest of `reps` runs in thread CPU time; the
+// last run's LM iteration and contact statistics (sums over the steps) and its end.
+struct TimedRollout {
+  double cpu_s = 1e300;
+  double iterations = 0, max_iterations = 0;
+  double contacts = 0, pair_contacts = 0, max_pair_depth = 0;
+  State final;
+};
+TimedRollout timed_rollout(const Model& m, const SimOptions& o, const State& initial, int steps, int reps) {
+  TimedRollout t;
+  for (int rep = 0; rep < reps; ++rep) {
+    State s = initial;
+    SimWorkspace ws;
+    double cpu = 0;
+    t.iterations = t.max_iterations = t.contacts = t.pair_contacts = t.max_pair_depth = 0;
+    for (int i = 0; i < steps; ++i) {
+      StepInfo info;
+      const double t0 = thread_cpu_s();
+      sim_step(m, o, s, ws, &info);
+      cpu += thread_cpu_s() - t0;
+      t.iterations += info.iterations;
+      t.max_iterations = std::max<double>(t.max_iterations, info.iterations);
+      t.contacts += ws.contacts.size();
+      t.pair_contacts += ws.pair_contacts.size();
+      for (const PairContact& c : ws.pair_contacts) t.max_pair_depth = std::max(t.max_pair_depth, c.depth);
+    }
+    t.cpu_s = std::min(t.cpu_s, cpu);
+    t.final = s;
+  }
+  return t;
+}
+
+// One contact evaluation's nearest-triangle queries (points in the mesh's frame)
+// through the tree and by the brute-force scan: seconds per evaluation, fastest of
+// 3 x 20; `sink` sums the distances so neither loop is optimised away.
+struct MeshQuery {
+  const MeshShape* mesh;
+  const MeshBvh* bvh;
+  Vec3 p;
+};
+void time_tree_vs_scan(const std::vector<MeshQuery>& queries, double* tree, double* scan, double* sink) {
+  *tree = *scan = 1e300;
+  for (int rep = 0; rep < 3; ++rep) {
+    Vec3 n;
+    double t0 = thread_cpu_s();
+    for (int r = 0; r < 20; ++r)
+      for (const MeshQuery& q : queries) *sink += mesh_signed_distance(*q.mesh, *q.bvh, q.p, &n);
+    *tree = std::min(*tree, (thread_cpu_s() - t0) / 20);
+    t0 = thread_cpu_s();
+    for (int r = 0; r < 20; ++r)
+      for (const MeshQuery& q : queries) *sink += mesh_signed_distance(*q.mesh, q.p, &n);
+    *scan = std::min(*scan, (thread_cpu_s() - t0) / 20);
+  }
+}
+
 // Body-body contact (assets/scenes/articulated_pile.json: 3 boxes, 2 capsules and a
 // ball dropped on each other and the ground, pbad3, dt 0.01, 3 s): cost per step and LM
 // iterations with self-collision, and the same bodies without it (they fall through
@@ -375,26 +430,9 @@ void pile_case(bool quick) {
   for (int on = 1; on >= 0; --on) {
     SimOptions o = a.options;
     o.contact.self_collision = on;
-    double best = 1e300, iterations = 0, max_iterations = 0, max_depth = 0, contacts = 0;
-    for (int rep = 0; rep < (quick ? 1 : 3); ++rep) {
-      State s = a.initial;
-      SimWorkspace ws;
-      double cpu = 0;
-      iterations = max_iterations = max_depth = contacts = 0;
-      for (int i = 0; i < a.steps; ++i) {
-        StepInfo info;
-        const double t0 = thread_cpu_s();
-        sim_step(a.model, o, s, ws, &info);
-        cpu += thread_cpu_s() - t0;
-        iterations += info.iterations;
-        max_iterations = std::max<double>(max_iterations, info.iterations);
-        if (on) {
-          for (const PairContact& c : ws.pair_contacts) max_depth = std::max(max_depth, c.depth);
-          contacts += ws.pair_contacts.size();
-        }
-      }
-      best = std::min(best, cpu);
-    }
+    const TimedRollout t = timed_rollout(a.model, o, a.initial, a.steps, quick ? 1 : 3);
+    const double best = t.cpu_s, iterations = t.iterations, max_iterations = t.max_iterations;
+    const double max_depth = on ? t.max_pair_depth : 0, contacts = on ? t.pair_contacts : 0;
     per_step[on] = best / a.steps;
     emit({{"case", "pile"}, {"method", "pbad3"}, {"self_collision", bool(on)}, {"dt", a.options.dt},
           {"bodies", a.model.bodies.size() - 1}, {"steps", a.steps}, {"us_per_step", 1e6 * per_step[on]},
@@ -413,34 +451,14 @@ void pile_case(bool quick) {
 void mesh_mesh_case(bool quick) {
   const std::string path = std::string(PLIANT_RESULTS_DIR) + "/../../assets/scenes/articulated_mesh_stack.json";
   const ArticulatedScene a = articulated_compile(pliant::load_scene(path));
-  double best = 1e300, iterations = 0, max_iterations = 0, contacts = 0, max_depth = 0;
-  State s;
-  for (int rep = 0; rep < (quick ? 1 : 3); ++rep) {
-    s = a.initial;
-    SimWorkspace ws;
-    double cpu = 0;
-    iterations = max_iterations = contacts = max_depth = 0;
-    for (int i = 0; i < a.steps; ++i) {
-      StepInfo info;
-      const double t0 = thread_cpu_s();
-      sim_step(a.model, a.options, s, ws, &info);
-      cpu += thread_cpu_s() - t0;
-      iterations += info.iterations;
-      max_iterations = std::max<double>(max_iterations, info.iterations);
-      contacts += ws.pair_contacts.size();
-      for (const PairContact& c : ws.pair_contacts) max_depth = std::max(max_depth, c.depth);
-    }
-    best = std::min(best, cpu);
-  }
+  const TimedRollout t = timed_rollout(a.model, a.options, a.initial, a.steps, quick ? 1 : 3);
+  const double best = t.cpu_s, iterations = t.iterations, max_iterations = t.max_iterations;
+  const double contacts = t.pair_contacts, max_depth = t.max_pair_depth;
+  const State& s = t.final;
   // The final state's queries: each mesh's samples inside the other's bounding box.
   Kinematics k;
   kinematics(a.model, s.qpos, &k);
-  struct Query {
-    const MeshShape* mesh;
-    const MeshBvh* bvh;
-    Vec3 p;
-  };
-  std::vector<Query> queries;
+  std::vector<MeshQuery> queries;
   const std::vector<GeomPair> pairs = contact_geom_pairs(a.model);
   for (const GeomPair& pr : pairs) {
     if (!pr.mesh_a || !pr.mesh_b) continue;
@@ -458,18 +476,8 @@ void mesh_mesh_case(bool quick) {
       }
     }
   }
-  double tree = 1e300, scan = 1e300, sink = 0;
-  for (int rep = 0; rep < 3; ++rep) {
-    Vec3 n;
-    double t0 = thread_cpu_s();
-    for (int r = 0; r < 20; ++r)
-      for (const Query& q : queries) sink += mesh_signed_distance(*q.mesh, *q.bvh, q.p, &n);
-    tree = std::min(tree, (thread_cpu_s() - t0) / 20);
-    t0 = thread_cpu_s();
-    for (int r = 0; r < 20; ++r)
-      for (const Query& q : queries) sink += mesh_signed_distance(*q.mesh, q.p, &n);
-    scan = std::min(scan, (thread_cpu_s() - t0) / 20);
-  }
+  double tree, scan, sink = 0;
+  time_tree_vs_scan(queries, &tree, &scan, &sink);
   emit({{"case", "mesh_mesh"}, {"method", "pbad3"}, {"dt", a.options.dt}, {"bodies", a.model.bodies.size() - 1},
         {"steps", a.steps}, {"us_per_step", 1e6 * best / a.steps}, {"lm_iterations", iterations / a.steps},
         {"lm_iterations_max", max_iterations}, {"pair_contacts_per_step", contacts / a.steps},
@@ -540,43 +548,20 @@ void mesh_terrain_case(bool quick) {
   o.dt = 0.01;
   o.contact.mu = 0.6;
   const int steps = 100;
-  double best = 1e300, iterations = 0, contacts = 0;
-  State s;
-  for (int rep = 0; rep < (quick ? 1 : 3); ++rep) {
-    s = state_init(m);
-    SimWorkspace ws;
-    double cpu = 0;
-    iterations = contacts = 0;
-    for (int i = 0; i < steps; ++i) {
-      StepInfo info;
-      const double t0 = thread_cpu_s();
-      sim_step(m, o, s, ws, &info);
-      cpu += thread_cpu_s() - t0;
-      iterations += info.iterations;
-      contacts += ws.contacts.size();
-    }
-    best = std::min(best, cpu);
-  }
+  const TimedRollout t = timed_rollout(m, o, state_init(m), steps, quick ? 1 : 3);
+  const double best = t.cpu_s, iterations = t.iterations, contacts = t.contacts;
+  const State& s = t.final;
   // One energy evaluation's distance queries at the final state: every contact point
   // against the terrain (mesh frame = world here), tree and scan.
   Kinematics k;
   kinematics(m, s.qpos, &k);
-  std::vector<Vec3> queries;
-  for (const ContactPoint& cp : contact_points(m)) queries.push_back(k.xpos[cp.body] + k.xmat[cp.body] * cp.local);
   const MeshShape& mesh = *m.geoms[0].mesh;
   const MeshBvh bvh = mesh_bvh(mesh);
-  double tree = 1e300, scan = 1e300, sink = 0;
-  for (int rep = 0; rep < 3; ++rep) {
-    Vec3 nn;
-    double t0 = thread_cpu_s();
-    for (int r = 0; r < 20; ++r)
-      for (const Vec3& p : queries) sink += mesh_signed_distance(mesh, bvh, p, &nn);
-    tree = std::min(tree, (thread_cpu_s() - t0) / 20);
-    t0 = thread_cpu_s();
-    for (int r = 0; r < 20; ++r)
-      for (const Vec3& p : queries) sink += mesh_signed_distance(mesh, p, &nn);
-    scan = std::min(scan, (thread_cpu_s() - t0) / 20);
-  }
+  std::vector<MeshQuery> queries;
+  for (const ContactPoint& cp : contact_points(m))
+    queries.push_back({&mesh, &bvh, k.xpos[cp.body] + k.xmat[cp.body] * cp.local});
+  double tree, scan, sink = 0;
+  time_tree_vs_scan(queries, &tree, &scan, &sink);
   std::vector<double> z;
   for (int b = 0; b < 6; ++b) z.push_back(s.qpos[7 * b + 2]);
   emit({{"case", "mesh_terrain"}, {"method", "pbad3"}, {"dt", o.dt}, {"triangles", mesh.triangles.size()},
