@@ -572,6 +572,38 @@ void mesh_terrain_case(bool quick) {
         {"timing", "thread CPU time, fastest of 3 runs (1 in --quick); queries: one evaluation's, fastest of 3 x 20"}});
 }
 
+// Static box corners and spheres against moving meshes (mesh_feature_contacts): two
+// 320-triangle pebbles (assets/models/pebble.obj), one dropped on a tripod of three
+// 1 cm static spheres, one on a static box standing on its corner, a plane below;
+// pbad3, dt 0.01, 1 s, Coulomb mu 0.8. Cost per step, LM iterations, contacts, final
+// centres. Thread CPU time, fastest of 3 (1 in --quick).
+void mesh_features_case(bool quick) {
+  const std::string obj = std::string(PLIANT_RESULTS_DIR) + "/../../assets/models/pebble.obj";
+  const std::string xml =
+      "<mujoco><asset><mesh name=\"pebble\" file=\"" + obj + "\"/></asset><worldbody>"
+      "<geom type=\"plane\" pos=\"0 0 -0.2\" size=\"1 1 0.1\"/>"
+      "<geom type=\"sphere\" size=\"0.01\" pos=\"0.02 0 0\"/>"
+      "<geom type=\"sphere\" size=\"0.01\" pos=\"-0.01 0.0173 0\"/>"
+      "<geom type=\"sphere\" size=\"0.01\" pos=\"-0.01 -0.0173 0\"/>"
+      "<geom type=\"box\" size=\"0.04 0.04 0.04\" pos=\"0.5 0 0\" quat=\"0.8880738 0.3250576 -0.3250576 0\"/>"
+      "<body pos=\"0.003 0.002 0.04\"><freejoint/><geom type=\"mesh\" mesh=\"pebble\" mass=\"0.1\"/></body>"
+      "<body pos=\"0.5 0.004 0.1\"><freejoint/><geom type=\"mesh\" mesh=\"pebble\" mass=\"0.1\"/></body>"
+      "</worldbody></mujoco>";
+  const Model m = model_from_mjcf(xml, "mesh_features.xml");
+  SimOptions o;
+  o.integrator = Integrator::Pbad3;
+  o.dt = 0.01;
+  o.contact.mu = 0.8;
+  const int steps = 100;
+  const TimedRollout t = timed_rollout(m, o, state_init(m), steps, quick ? 1 : 3);
+  const State& s = t.final;
+  emit({{"case", "mesh_features"}, {"method", "pbad3"}, {"dt", o.dt}, {"triangles_per_mesh", m.geoms.back().mesh->triangles.size()},
+        {"bodies", m.bodies.size() - 1}, {"steps", steps}, {"us_per_step", 1e6 * t.cpu_s / steps},
+        {"lm_iterations", t.iterations / steps}, {"contacts_per_step", t.contacts / steps},
+        {"final_xyz_m", std::vector<double>{s.qpos[0], s.qpos[1], s.qpos[2], s.qpos[7], s.qpos[8], s.qpos[9]}},
+        {"load_average", load_average()}, {"timing", "thread CPU time, fastest of 3 runs (1 in --quick)"}});
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -605,13 +637,16 @@ int main(int argc, char** argv) {
     else if (!std::strcmp(argv[i], "--methods") && i + 1 < argc) only_methods = argv[++i], filtered = true;
     else {
       std::fprintf(stderr, "usage: bench_articulated [--quick] [--out FILE] [--links 10,40] [--dt 0.02,0.05] "
-                           "[--case chain_swing|chain_tilt|pile|mesh_mesh|mesh_terrain] [--methods pbad3,pbad4,mujoco] [--chains-only]\n");
+                           "[--case chain_swing|chain_tilt|pile|mesh_mesh|mesh_terrain|mesh_features] [--methods pbad3,pbad4,mujoco] [--chains-only]\n");
       return 2;
     }
   }
   g_machine = pliant::bench::machine_description();
-  if (only_case == "pile" || only_case == "mesh_mesh" || only_case == "mesh_terrain") {  // a contact case alone
-    (only_case == "pile" ? pile_case : only_case == "mesh_mesh" ? mesh_mesh_case : mesh_terrain_case)(quick);
+  if (only_case == "pile" || only_case == "mesh_mesh" || only_case == "mesh_terrain" || only_case == "mesh_features") {
+    (only_case == "pile"        ? pile_case
+     : only_case == "mesh_mesh" ? mesh_mesh_case
+     : only_case == "mesh_terrain" ? mesh_terrain_case
+                                   : mesh_features_case)(quick);
     if (explicit_out) std::ofstream(out) << g_results.dump(1) << "\n";
     return 0;
   }
@@ -764,6 +799,7 @@ int main(int argc, char** argv) {
     pile_case(quick);
     mesh_mesh_case(quick);
     mesh_terrain_case(quick);
+    mesh_features_case(quick);
   }
   if (filtered && !explicit_out) return 0;
   std::filesystem::create_directories(std::filesystem::path(out).parent_path());

@@ -130,20 +130,35 @@ double obstacle_distance(const Geom& g, const MeshBvh* tree, const Vec3& x, Vec3
 }
 
 void mesh_feature_contacts(const Model& m, const Kinematics& k, const std::vector<int>& obs,
-                           std::vector<Contact>* out) {
+                           const std::vector<MeshBvh>& mesh_trees, std::vector<Contact>* out) {
+  const int nt = static_cast<int>(mesh_trees.size());
   for (int o : obs) {
     const Geom& ob = m.geoms[o];
-    if (ob.type != GeomType::Box && ob.type != GeomType::Sphere) continue;
-    const int nfeat = ob.type == GeomType::Box ? 8 : 1;
-    for (const Geom& g : m.geoms) {
+    int nfeat = 0;
+    if (ob.type == GeomType::Box) nfeat = 8;
+    else if (ob.type == GeomType::Sphere) nfeat = 1;
+    else if (ob.type == GeomType::Mesh) nfeat = static_cast<int>(ob.mesh->vertices.size());
+    else continue;
+    const Mat3 obr = ob.quat.toRotationMatrix();
+    for (int gi = 0; gi < static_cast<int>(m.geoms.size()); ++gi) {
+      const Geom& g = m.geoms[gi];
       if (g.body == 0 || !g.contact || g.type != GeomType::Mesh) continue;
+      const MeshBvh* tree = gi < nt && !mesh_trees[gi].nodes.empty() ? &mesh_trees[gi] : nullptr;
       const Mat3 gr = k.xmat[g.body] * g.quat.toRotationMatrix();
       const Vec3 gp = k.xpos[g.body] + k.xmat[g.body] * g.pos;
       for (int f = 0; f < nfeat; ++f) {
-        const Vec3 c = ob.type == GeomType::Box ? Vec3(ob.pos + ob.quat * box_corner(ob.size, f)) : ob.pos;
+        const Vec3 c = ob.type == GeomType::Box    ? Vec3(ob.pos + ob.quat * box_corner(ob.size, f))
+                       : ob.type == GeomType::Mesh ? Vec3(ob.pos + obr * ob.mesh->vertices[f])
+                                                   : ob.pos;
         const double radius = ob.type == GeomType::Sphere ? ob.size[0] : 0.0;
+        const Vec3 p = gr.transpose() * (c - gp);
+        // Farther than the radius from the tree's root box: cannot reach the mesh.
+        if (tree) {
+          const double b2 = (tree->nodes[0].lo - p).cwiseMax(0.0).cwiseMax(p - tree->nodes[0].hi).squaredNorm();
+          if (b2 > 0 && b2 >= radius * radius) continue;
+        }
         Vec3 n;
-        const double d = mesh_signed_distance(*g.mesh, gr.transpose() * (c - gp), &n) - radius;
+        const double d = (tree ? mesh_signed_distance(*g.mesh, *tree, p, &n) : mesh_signed_distance(*g.mesh, p, &n)) - radius;
         if (d >= 0) continue;
         Contact ct;
         ct.slot = -1;
@@ -157,6 +172,13 @@ void mesh_feature_contacts(const Model& m, const Kinematics& k, const std::vecto
   }
 }
 
+std::vector<MeshBvh> moving_mesh_trees(const Model& m) {
+  std::vector<MeshBvh> trees(m.geoms.size());
+  for (size_t g = 0; g < m.geoms.size(); ++g)
+    if (m.geoms[g].body != 0 && m.geoms[g].contact && m.geoms[g].type == GeomType::Mesh) trees[g] = mesh_bvh(*m.geoms[g].mesh);
+  return trees;
+}
+
 std::vector<MeshBvh> obstacle_trees(const Model& m, const std::vector<int>& obs) {
   std::vector<MeshBvh> trees(obs.size());
   for (size_t o = 0; o < obs.size(); ++o)
@@ -165,7 +187,8 @@ std::vector<MeshBvh> obstacle_trees(const Model& m, const std::vector<int>& obs)
 }
 
 void find_contacts(const Model& m, const Kinematics& k, const std::vector<ContactPoint>& pts,
-                   const std::vector<int>& obs, const std::vector<MeshBvh>& trees, std::vector<Contact>* out) {
+                   const std::vector<int>& obs, const std::vector<MeshBvh>& trees,
+                   const std::vector<MeshBvh>& mesh_trees, std::vector<Contact>* out) {
   out->clear();
   const int no = static_cast<int>(obs.size());
   const int nt = static_cast<int>(trees.size());
@@ -185,7 +208,7 @@ void find_contacts(const Model& m, const Kinematics& k, const std::vector<Contac
       out->push_back(ct);
     }
   }
-  mesh_feature_contacts(m, k, obs, out);
+  mesh_feature_contacts(m, k, obs, mesh_trees, out);
 }
 
 // ---- Body-body contact ----

@@ -87,7 +87,7 @@ void pbad_begin(const Model& m, const SimOptions& o, State& s, PbadStep& p, SimW
     kinematics(m, s.qpos, &ws.kin);
     ws.kin_at.resize(0);
     s.normal_force_prev.assign(ws.points.size() * ws.obstacles.size(), 0.0);
-    find_contacts(m, ws.kin, ws.points, ws.obstacles, ws.obstacle_trees, &ws.contacts);
+    find_contacts(m, ws.kin, ws.points, ws.obstacles, ws.obstacle_trees, ws.mesh_trees, &ws.contacts);
     for (const Contact& c : ws.contacts)
       if (c.slot >= 0) s.normal_force_prev[c.slot] = o.contact.stiffness * c.depth;
   }
@@ -125,16 +125,17 @@ void pbad_begin(const Model& m, const SimOptions& o, State& s, PbadStep& p, SimW
   p.any_damping = false;
   for (const Joint& j : m.joints) p.any_damping = p.any_damping || j.damping > 0;
   p.any_limits = any_limits(m);
-  bool moving_mesh = false, box_or_sphere = false;
+  bool moving_mesh = false, static_feature = false;
   for (const Geom& g : m.geoms) {
     moving_mesh = moving_mesh || (g.body != 0 && g.contact && g.type == GeomType::Mesh);
-    box_or_sphere = box_or_sphere || (g.body == 0 && g.contact && (g.type == GeomType::Box || g.type == GeomType::Sphere));
+    static_feature = static_feature || (g.body == 0 && g.contact &&
+                                      (g.type == GeomType::Box || g.type == GeomType::Sphere || g.type == GeomType::Mesh));
   }
-  p.any_mesh_features = moving_mesh && box_or_sphere;
+  p.any_mesh_features = moving_mesh && static_feature;  // box corners, spheres, static mesh vertices
   p.feature_anchors.clear();
   if (p.any_mesh_features && o.contact.enabled) {
     ws.feature_contacts.clear();
-    mesh_feature_contacts(m, k0, ws.obstacles, &ws.feature_contacts);
+    mesh_feature_contacts(m, k0, ws.obstacles, ws.mesh_trees, &ws.feature_contacts);
     for (const Contact& c : ws.feature_contacts)
       p.feature_anchors.push_back({c.body, k0.xmat[c.body].transpose() * (c.point - k0.xpos[c.body]), c.point, c.normal,
                                    o.contact.stiffness * c.depth});
@@ -234,7 +235,7 @@ void pbad_finish(const Model& m, const SimOptions& o, State& s, const PbadStep& 
   }
   projected_velocity(m, o, s, ws);
   s.normal_force_prev.assign(ws.points.size() * ws.obstacles.size(), 0.0);
-  find_contacts(m, ws.kin, ws.points, ws.obstacles, ws.obstacle_trees, &ws.contacts);
+  find_contacts(m, ws.kin, ws.points, ws.obstacles, ws.obstacle_trees, ws.mesh_trees, &ws.contacts);
   for (const Contact& c : ws.contacts)
     if (c.slot >= 0) s.normal_force_prev[c.slot] = o.contact.stiffness * c.depth;
   frame_store(s.qpos, ws);  // next step's q_i

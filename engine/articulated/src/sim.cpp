@@ -53,6 +53,7 @@ void sim_prepare(const Model& m, SimWorkspace& ws) {
   ws.points = contact_points(m);
   ws.obstacles = contact_obstacles(m);
   ws.obstacle_trees = obstacle_trees(m, ws.obstacles);
+  ws.mesh_trees = moving_mesh_trees(m);
   ws.pairs = contact_geom_pairs(m);
   ws.cached_for = &m;
 }
@@ -101,7 +102,7 @@ Energy state_energy(const Model& m, const SimOptions& o, const State& s, SimWork
   e.kinetic = kinetic_energy(m, ws.kin, s.qvel);
   e.potential = potential_energy(m, ws.kin) + limit_terms(m, o, s.qpos, nullptr, nullptr);
   if (o.contact.enabled) {
-    find_contacts(m, ws.kin, ws.points, ws.obstacles, ws.obstacle_trees, &ws.contacts);
+    find_contacts(m, ws.kin, ws.points, ws.obstacles, ws.obstacle_trees, ws.mesh_trees, &ws.contacts);
     for (const Contact& c : ws.contacts) e.potential += 0.5 * o.contact.stiffness * c.depth * c.depth;
     if (pair_contact_on(m, o.contact)) {
       find_pair_contacts(m, ws.kin, ws.pairs, &ws.pair_contacts, o.contact.self_collision);

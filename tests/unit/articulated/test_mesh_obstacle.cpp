@@ -100,8 +100,8 @@ TEST(MeshObstacle, BallJustOutsideASharpStaticEdgeIsNotInContact) {
     Kinematics k;
     kinematics(m, m.qpos0, &k);
     std::vector<Contact> tree_contacts, scan_contacts;
-    find_contacts(m, k, ws.points, ws.obstacles, ws.obstacle_trees, &tree_contacts);
-    find_contacts(m, k, ws.points, ws.obstacles, {}, &scan_contacts);
+    find_contacts(m, k, ws.points, ws.obstacles, ws.obstacle_trees, ws.mesh_trees, &tree_contacts);
+    find_contacts(m, k, ws.points, ws.obstacles, {}, {}, &scan_contacts);
     EXPECT_TRUE(tree_contacts.empty()) << "side " << side;
     scan_hits += static_cast<int>(scan_contacts.size());
     if (!scan_contacts.empty()) EXPECT_GT(scan_contacts[0].depth, 0.015);  // the scan's wrong sign

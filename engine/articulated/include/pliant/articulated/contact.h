@@ -75,8 +75,8 @@ inline double obstacle_distance(const Geom& g, const Vec3& x, Vec3* normal) {
 
 // Signed distance (positive outside) of point p (mesh frame) to a closed mesh: the
 // nearest triangle gives the distance, its face normal the sign (exact on faces, an
-// approximation near edges and vertices: the reference for the tree below, and the
-// query of mesh_feature_contacts). O(triangles) per query (mesh_distance.cpp).
+// approximation near edges and vertices: the reference for the tree below, used by
+// the queries given no tree). O(triangles) per query (mesh_distance.cpp).
 double mesh_signed_distance(const MeshShape& mesh, const Vec3& p, Vec3* normal);
 // A bounding-volume tree over a mesh's triangles (median splits on the centroids'
 // widest axis, leaves of <= 4 triangles), built once per model.
@@ -109,17 +109,25 @@ std::vector<MeshBvh> obstacle_trees(const Model& m, const std::vector<int>& obs)
 // Active contacts at kinematics k: body points against obstacles (mesh obstacles
 // through trees[o], the scan where trees is shorter), then (appended, slot -1)
 // obstacle features against moving meshes (mesh_feature_contacts).
+// mesh_trees: per geom, a moving mesh's tree (moving_mesh_trees) for the reverse query.
 void find_contacts(const Model& m, const Kinematics& k, const std::vector<ContactPoint>& pts,
-                   const std::vector<int>& obs, const std::vector<MeshBvh>& trees, std::vector<Contact>* out);
+                   const std::vector<int>& obs, const std::vector<MeshBvh>& trees,
+                   const std::vector<MeshBvh>& mesh_trees, std::vector<Contact>* out);
 // The reverse query for moving meshes, exact where sampling is not: every corner of a
-// static box and every static sphere (centre, radius) against every moving mesh geom
-// (signed distance to its nearest face). The contact acts on the mesh's body at the
-// corner (the deepest point of the sphere), normal = the direction the body is pushed
-// (minus the mesh's outward normal), so the penalty k/2 depth^2 has the same gradient
-// form as a body point's. PBAD: Gauss-Newton Hessian, friction on the slip of the
-// mesh's material point under the obstacle point at q_i (sim.cpp). Appends to out.
+// static box, every static sphere (centre, radius) and every vertex of a static mesh
+// (a spike's tip) against every moving mesh geom. The moving mesh is queried through
+// mesh_trees[geom] (moving_mesh_trees: culled by the root box, sign from the nearest
+// feature's pseudo-normal); where mesh_trees is shorter or the tree empty, by the
+// brute-force scan with the face-normal sign (the reference). The contact acts on the
+// mesh's body at the corner (the deepest point of the sphere), normal = the direction
+// the body is pushed (minus the mesh's outward normal), so the penalty k/2 depth^2 has
+// the same gradient form as a body point's. PBAD: Gauss-Newton Hessian, friction on the
+// slip of the mesh's material point under the obstacle point at q_i (sim.cpp). Appends.
 void mesh_feature_contacts(const Model& m, const Kinematics& k, const std::vector<int>& obs,
-                           std::vector<Contact>* out);
+                           const std::vector<MeshBvh>& mesh_trees, std::vector<Contact>* out);
+// Per geom: a moving (body != 0) contact mesh geom's MeshBvh, empty for the others.
+// Built once per model (sim_prepare, SimWorkspace::mesh_trees).
+std::vector<MeshBvh> moving_mesh_trees(const Model& m);
 
 // ---- Body-body contact (ContactOptions::self_collision, Model::contact_pairs) ----
 // Candidate geom pairs, found once per model: sphere, capsule, box and mesh geoms of

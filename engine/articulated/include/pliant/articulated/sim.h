@@ -163,6 +163,7 @@ struct SimWorkspace {
   VecX pair_col, pair_sol, pair_alpha;
   std::vector<int> obstacles;
   std::vector<MeshBvh> obstacle_trees;  // per obstacle: a mesh's tree (obstacle_trees), cached
+  std::vector<MeshBvh> mesh_trees;      // per geom: a moving mesh's tree (moving_mesh_trees), cached
   const Model* cached_for = nullptr;
   PbadStep pbad;  // sim_step's PBAD iterate
 };
