@@ -478,12 +478,19 @@ void playback_rotation_strain(const std::string& scene, int frames) {
   decrement_stop_override(m);
   const Eigen::VectorXd th = initial_theta(m.problem) * 20;
   SoftPlayback pb = soft_playback_start(m, th);
+  std::ofstream traj;
+  if (const char* e = std::getenv("RS_TRAJECTORY"))
+    traj.open(std::string(e) + "_" + scene.substr(0, scene.find('.')) + ".bin", std::ios::binary);
   const auto t = Clock::now();
   const double c0 = cpu_s();
   long iterations = 0;
   for (int f = 0; f < frames; ++f) {
     soft_playback_step(m, pb);
     iterations += pb.last.newton_iterations;
+    if (traj) {  // RS_TRAJECTORY=PREFIX: per frame q, c (raw doubles) for comparing builds
+      traj.write(reinterpret_cast<const char*>(pb.state.q.data()), std::streamsize(8 * pb.state.q.size()));
+      traj.write(reinterpret_cast<const char*>(pb.state.c.data()), 24);
+    }
   }
   const double s = since(t), cs = cpu_s() - c0;
   emit({{"case", "playback_" + scene.substr(0, scene.find('.')) + "_rotation_strain"},

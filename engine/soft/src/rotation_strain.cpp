@@ -47,11 +47,22 @@ void rs_solve(RsWork& w, const RsFactor& f, cholmod_dense* B, cholmod_dense** X,
     throw std::runtime_error("rotation_strain: CHOLMOD solve failed");
 }
 
-const RsEval& rs_evaluate(RsWork& w, const Lattice& lat, const RotationStrain& rs, const Eigen::VectorXd& z) {
+// Fills Js of an evaluation from its rotation vectors and stored coefficients.
+void rs_fill_jacobians(RsEval& ev) {
+  const size_t S = ev.Es.size();
+  ev.Js.resize(S);
+  for (size_t i = 0; i < S; ++i)
+    so3_left_jacobian(ev.v.segment<3>(3 * i), ev.cb[2 * i], ev.cb[2 * i + 1], &ev.Js[i]);
+  ev.has_j = true;
+}
+
+const RsEval& rs_evaluate(RsWork& w, const Lattice& lat, const RotationStrain& rs, const Eigen::VectorXd& z,
+                          bool need_j) {
   for (int k = 0; k < 2; ++k) {
-    const RsEval& c = w.slot[k];
+    RsEval& c = w.slot[k];
     if (c.key == rs.id && rs.id != 0 && c.key_z.size() == z.size() && c.key_z == z) {
       w.next = 1 - k;
+      if (need_j && !c.has_j) rs_fill_jacobians(c);
       return c;
     }
   }
@@ -66,8 +77,9 @@ const RsEval& rs_evaluate(RsWork& w, const Lattice& lat, const RotationStrain& r
   w.d.resize(3 * n);
   w.d.noalias() = rs.U * z;
   ev.Es.resize(size_t(rs.samples));
-  ev.Js.resize(size_t(rs.samples));
   ev.Fs.resize(size_t(rs.samples));
+  ev.cb.resize(2 * rs.samples);
+  ev.has_j = false;
   w.ensure(w.B, n, 3);
   double* b = static_cast<double*>(w.B->x);
   std::fill(b, b + 3 * size_t(n), 0.0);
@@ -84,7 +96,15 @@ const RsEval& rs_evaluate(RsWork& w, const Lattice& lat, const RotationStrain& r
       const Matrix3d Hq = Dc * G[q];
       ev.v.segment<3>(3 * i) = 0.5 * Vector3d(Hq(2, 1) - Hq(1, 2), Hq(0, 2) - Hq(2, 0), Hq(1, 0) - Hq(0, 1));
       Eigen::Map<Matrix3d>(ev.sv.data() + 9 * i) = 0.5 * (Hq + Hq.transpose());
-      exp_and_jacobian(ev.v.segment<3>(3 * i), &ev.Es[i], &ev.Js[i]);
+      {
+        const Vector3d v = ev.v.segment<3>(3 * i);
+        double sc, cc, bc;
+        exp_coefficients(v, &sc, &cc, &bc);
+        const Matrix3d V = cross_matrix(v), vv = v * v.transpose();
+        ev.Es[i] = sc * V + cc * vv;
+        ev.Es[i].diagonal().array() += 1 - cc * v.squaredNorm();
+        ev.cb[2 * i] = cc, ev.cb[2 * i + 1] = bc;
+      }
       ev.Fs[i].noalias() = ev.Es[i] * (Matrix3d::Identity() + Eigen::Map<const Matrix3d>(ev.sv.data() + 9 * i));
       P.noalias() += G[q] * ev.Fs[i].transpose();
     }
@@ -99,6 +119,7 @@ const RsEval& rs_evaluate(RsWork& w, const Lattice& lat, const RotationStrain& r
   rs_gather_centred(w, w.X, rs.mass_fraction, xm);
   ev.key_z = z;
   ev.key = rs.id;
+  if (need_j) rs_fill_jacobians(ev);
   return ev;
 }
 
@@ -171,7 +192,7 @@ void rotation_strain_positions(const Lattice& lat, const RotationStrain& rs, con
   if (!rs.factor || z.size() != rs.r || lat.nodes() != rs.nodes)
     throw std::invalid_argument("rotation_strain_positions: basis and lattice do not match");
   RsWork& w = rs_work();
-  const RsEval& ev = rs_evaluate(w, lat, rs, z);
+  const RsEval& ev = rs_evaluate(w, lat, rs, z, jacobian != nullptr);
   const int n = rs.nodes, r = rs.r, ncell = int(lat.cells.size());
   if (x.size() != 3 * n) x.resize(3 * n);
   x = ev.xc;
@@ -193,8 +214,10 @@ void rotation_strain_positions(const Lattice& lat, const RotationStrain& rs, con
       const Matrix3d &E = ev.Es[i], &J = ev.Js[i], &F = ev.Fs[i];
       for (int k = 0; k < r; ++k) {
         const Vector3d dv = J * Eigen::Map<const Vector3d>(rs.rot.data() + size_t(k) * ld_rot + 3 * size_t(i));
+        // [dv]x F column by column as dv x F.col: the same two products per entry as the
+        // 3x3 product (its third term is 0 * F), without the zero multiplies.
         Matrix3d dF;
-        dF.noalias() = cross_matrix(dv) * F;
+        for (int col = 0; col < 3; ++col) dF.col(col) = dv.cross(F.col(col));
         dF.noalias() += E * Eigen::Map<const Matrix3d>(rs.strain.data() + size_t(k) * ld_strain + 9 * size_t(i));
         w.Pk[k].noalias() += G[q] * dF.transpose();
       }

@@ -59,12 +59,13 @@ const double* adjoint_multipliers(RsWork& w, const Lattice& lat, const RotationS
   return static_cast<const double*>(w.X->x);
 }
 
-// grad lambda at sample q of a cell: Lam(s, c) = sum_a lambda(ids[a], s) G_q(a, c).
-Matrix3d adjoint_gradient(const double* lam, int n, const std::array<int, 8>& ids, const Eigen::Matrix<double, 8, 3>& Gq) {
+// A cell's multipliers Lc(s, a) = lambda(ids[a], s), gathered once for its 8 samples;
+// grad lambda at sample q is Lc G_q.
+Eigen::Matrix<double, 3, 8> adjoint_cell(const double* lam, int n, const std::array<int, 8>& ids) {
   Eigen::Matrix<double, 3, 8> Lc;
   for (int a = 0; a < 8; ++a)
     for (int s = 0; s < 3; ++s) Lc(s, a) = lam[size_t(s) * size_t(n) + size_t(ids[a])];
-  return Lc * Gq;
+  return Lc;
 }
 
 Vector3d axial2(const Matrix3d& A) { return Vector3d(A(2, 1) - A(1, 2), A(0, 2) - A(2, 0), A(1, 0) - A(0, 1)); }
@@ -90,9 +91,10 @@ void rotation_strain_vjp(const Lattice& lat, const RotationStrain& rs, const Eig
   for (int e = 0; e < ncell; ++e) {
     const auto& ids = lat.cells[e];
     Eigen::Matrix<double, 3, 8> Tc = Eigen::Matrix<double, 3, 8>::Zero();
+    const Eigen::Matrix<double, 3, 8> Lc = adjoint_cell(lam, n, ids);
     for (int q = 0; q < 8; ++q) {
       const int i = 8 * e + q;
-      const Matrix3d Lam = adjoint_gradient(lam, n, ids, G[q]);
+      const Matrix3d Lam = Lc * G[q];
       const Vector3d ax = ev->Js[i].transpose() * axial2(Lam * ev->Fs[i].transpose());
       const Matrix3d A2 = ev->Es[i].transpose() * Lam;
       const Matrix3d T = 0.5 * (cross_matrix(ax) + A2 + A2.transpose());
@@ -126,10 +128,10 @@ void rotation_strain_curvature(const Lattice& lat, const RotationStrain& rs, con
   if (w.Bc.rows() != 9 * rs.samples || w.Bc.cols() != r) w.Bc.resize(9 * rs.samples, r);
   static const int km[3] = {2, 0, 1}, jm[3] = {1, 2, 0};  // axial(X)_m = X(km, jm) - X(jm, km)
   for (int e = 0; e < ncell; ++e) {
-    const auto& ids = lat.cells[e];
+    const Eigen::Matrix<double, 3, 8> Lc = adjoint_cell(lam, n, lat.cells[e]);
     for (int q = 0; q < 8; ++q) {
       const int i = 8 * e + q;
-      const Matrix3d Lam = adjoint_gradient(lam, n, ids, G[q]);
+      const Matrix3d Lam = Lc * G[q];
       const Matrix3d &E = ev->Es[i], &J = ev->Js[i], &F = ev->Fs[i];
       const Vector3d v = ev->v.segment<3>(3 * i);
       const JacobianScalars c = jacobian_scalars(v.squaredNorm());

@@ -32,24 +32,35 @@ struct RsFactor {
 
 // exp([v]x) (Rodrigues) and the left Jacobian of SO(3):
 // d/dt exp([v + t d]x) = [J(v) d]x exp([v]x), J = I + a [v]x + b [v]x^2.
-inline void exp_and_jacobian(const Eigen::Vector3d& v, Eigen::Matrix3d* E, Eigen::Matrix3d* J) {
+// exp_coefficients: s = sin t / t, c = (1 - cos t) / t^2 (= a), b = (t - sin t) / t^3.
+inline void exp_coefficients(const Eigen::Vector3d& v, double* s, double* c, double* b) {
   const double t2 = v.squaredNorm(), t = std::sqrt(t2);
-  double s, c, a, b;  // sin t / t, (1 - cos t) / t^2, and the Jacobian's (t - sin t) / t^3
   if (t < 1e-4) {
-    s = 1 - t2 / 6, c = 0.5 - t2 / 24, b = 1.0 / 6 - t2 / 120;
+    *s = 1 - t2 / 6, *c = 0.5 - t2 / 24, *b = 1.0 / 6 - t2 / 120;
   } else {
     const double it = 1 / t, sn = std::sin(t);  // one division: they are most of the latency
-    s = sn * it, c = (1 - std::cos(t)) * (it * it), b = (t - sn) * (it * it * it);
+    *s = sn * it, *c = (1 - std::cos(t)) * (it * it), *b = (t - sn) * (it * it * it);
   }
-  a = c;
+}
+
+// J from v and its coefficients a (= c) and b: the map builds it only where a
+// Jacobian, adjoint or curvature reads it (line-search trials do not).
+inline void so3_left_jacobian(const Eigen::Vector3d& v, double a, double b, Eigen::Matrix3d* J) {
+  const double t2 = v.squaredNorm();
+  const Eigen::Matrix3d V = cross_matrix(v), vv = v * v.transpose();
+  *J = a * V + b * vv;
+  J->diagonal().array() += 1 - b * t2;
+}
+
+inline void exp_and_jacobian(const Eigen::Vector3d& v, Eigen::Matrix3d* E, Eigen::Matrix3d* J) {
+  double s, c, b;
+  exp_coefficients(v, &s, &c, &b);
+  const double t2 = v.squaredNorm();
   // [v]x^2 = v v^T - t^2 I.
   const Eigen::Matrix3d V = cross_matrix(v), vv = v * v.transpose();
   *E = s * V + c * vv;
   E->diagonal().array() += 1 - c * t2;
-  if (J) {
-    *J = a * V + b * vv;
-    J->diagonal().array() += 1 - b * t2;
-  }
+  if (J) so3_left_jacobian(v, c, b, J);
 }
 
 // One evaluation of the map: per-sample rotation vector, strain, rotation E, left
@@ -58,6 +69,8 @@ struct RsEval {
   std::uint64_t key = 0;  // RotationStrain::id (0: empty)
   Eigen::VectorXd key_z, xc, v, sv;  // z; positions (3N); rotation vectors (3 S), strains (9 S)
   std::vector<Eigen::Matrix3d> Es, Js, Fs;
+  Eigen::VectorXd cb;      // per sample the Jacobian's coefficients a, b (2 S)
+  bool has_j = false;      // Js filled (rs_evaluate with need_j)
 };
 
 // Per-thread reconstruction buffers (sized on first use) and the last two
@@ -109,8 +122,9 @@ void rs_gather_centred(const RsWork& w, const cholmod_dense* X, const Eigen::Vec
   (void)w;
 }
 
-// Evaluates the map at z (per-sample E, J, F and the centred positions), unless a
-// slot already holds z for this basis.
-const RsEval& rs_evaluate(RsWork& w, const Lattice& lat, const RotationStrain& rs, const Eigen::VectorXd& z);
+// Evaluates the map at z (per-sample E, F and the centred positions; J too with
+// need_j), unless a slot already holds z for this basis (then J is added if missing).
+const RsEval& rs_evaluate(RsWork& w, const Lattice& lat, const RotationStrain& rs, const Eigen::VectorXd& z,
+                          bool need_j = true);
 
 }  // namespace pliant::soft
