@@ -129,16 +129,42 @@ double obstacle_distance(const Geom& g, const MeshBvh* tree, const Vec3& x, Vec3
   return shape_distance(g.type, g.size, g.pos, r, x, normal);
 }
 
+namespace {
+
+// Obstacle point c (world; a sphere's centre with its radius) against moving mesh
+// geom g at (gr, gp), through its tree where there is one (culled by the root box).
+void feature_against_mesh(const Geom& g, const MeshBvh* tree, const Mat3& gr, const Vec3& gp, const Vec3& c,
+                          double radius, std::vector<Contact>* out) {
+  const Vec3 p = gr.transpose() * (c - gp);
+  // Farther than the radius from the tree's root box: cannot reach the mesh.
+  if (tree) {
+    const double b2 = (tree->nodes[0].lo - p).cwiseMax(0.0).cwiseMax(p - tree->nodes[0].hi).squaredNorm();
+    if (b2 > 0 && b2 >= radius * radius) return;
+  }
+  Vec3 n;
+  const double d = (tree ? mesh_signed_distance(*g.mesh, *tree, p, &n) : mesh_signed_distance(*g.mesh, p, &n)) - radius;
+  if (d >= 0) return;
+  Contact ct;
+  ct.slot = -1;
+  ct.body = g.body;
+  ct.normal = -(gr * n);
+  ct.point = c + radius * ct.normal;
+  ct.depth = -d;
+  out->push_back(ct);
+}
+
+}  // namespace
+
 void mesh_feature_contacts(const Model& m, const Kinematics& k, const std::vector<int>& obs,
-                           const std::vector<MeshBvh>& mesh_trees, std::vector<Contact>* out) {
+                           const std::vector<MeshBvh>& obstacle_trees, const std::vector<MeshBvh>& mesh_trees,
+                           std::vector<Contact>* out) {
   const int nt = static_cast<int>(mesh_trees.size());
-  for (int o : obs) {
-    const Geom& ob = m.geoms[o];
-    int nfeat = 0;
-    if (ob.type == GeomType::Box) nfeat = 8;
-    else if (ob.type == GeomType::Sphere) nfeat = 1;
-    else if (ob.type == GeomType::Mesh) nfeat = static_cast<int>(ob.mesh->vertices.size());
-    else continue;
+  for (size_t oi = 0; oi < obs.size(); ++oi) {
+    const Geom& ob = m.geoms[obs[oi]];
+    if (ob.type != GeomType::Box && ob.type != GeomType::Sphere && ob.type != GeomType::Mesh) continue;
+    const MeshBvh* otree = ob.type == GeomType::Mesh && oi < obstacle_trees.size() && !obstacle_trees[oi].nodes.empty()
+                               ? &obstacle_trees[oi]
+                               : nullptr;
     const Mat3 obr = ob.quat.toRotationMatrix();
     for (int gi = 0; gi < static_cast<int>(m.geoms.size()); ++gi) {
       const Geom& g = m.geoms[gi];
@@ -146,27 +172,37 @@ void mesh_feature_contacts(const Model& m, const Kinematics& k, const std::vecto
       const MeshBvh* tree = gi < nt && !mesh_trees[gi].nodes.empty() ? &mesh_trees[gi] : nullptr;
       const Mat3 gr = k.xmat[g.body] * g.quat.toRotationMatrix();
       const Vec3 gp = k.xpos[g.body] + k.xmat[g.body] * g.pos;
-      for (int f = 0; f < nfeat; ++f) {
-        const Vec3 c = ob.type == GeomType::Box    ? Vec3(ob.pos + ob.quat * box_corner(ob.size, f))
-                       : ob.type == GeomType::Mesh ? Vec3(ob.pos + obr * ob.mesh->vertices[f])
-                                                   : ob.pos;
-        const double radius = ob.type == GeomType::Sphere ? ob.size[0] : 0.0;
-        const Vec3 p = gr.transpose() * (c - gp);
-        // Farther than the radius from the tree's root box: cannot reach the mesh.
-        if (tree) {
-          const double b2 = (tree->nodes[0].lo - p).cwiseMax(0.0).cwiseMax(p - tree->nodes[0].hi).squaredNorm();
-          if (b2 > 0 && b2 >= radius * radius) continue;
+      if (ob.type == GeomType::Box) {
+        for (int f = 0; f < 8; ++f) feature_against_mesh(g, tree, gr, gp, ob.pos + ob.quat * box_corner(ob.size, f), 0.0, out);
+      } else if (ob.type == GeomType::Sphere) {
+        feature_against_mesh(g, tree, gr, gp, ob.pos, ob.size[0], out);
+      } else if (!otree || !tree) {
+        for (const Vec3& v : ob.mesh->vertices) feature_against_mesh(g, tree, gr, gp, ob.pos + obr * v, 0.0, out);
+      } else {
+        // Static mesh vertices near the moving mesh only: walk the static mesh's tree
+        // with the moving mesh's root box as a sphere (static mesh frame); each vertex
+        // once, from its owner triangle (every leaf holding it has a box around it).
+        const MeshBvh::Node& root = tree->nodes[0];
+        const double r2 = 0.25 * (root.hi - root.lo).squaredNorm() * (1 + 1e-9);
+        const Vec3 centre = obr.transpose() * (gp + gr * (0.5 * (root.lo + root.hi)) - ob.pos);
+        int stack[128];
+        int top = 0;
+        stack[top++] = 0;
+        while (top > 0) {
+          const int self = stack[--top];
+          const MeshBvh::Node& nd = otree->nodes[self];
+          if ((nd.lo - centre).cwiseMax(0.0).cwiseMax(centre - nd.hi).squaredNorm() > r2) continue;
+          if (nd.count == 0) {
+            stack[top++] = nd.right;
+            stack[top++] = self + 1;
+            continue;
+          }
+          for (int i = nd.first; i < nd.first + nd.count; ++i) {
+            const int t = otree->order[i];
+            for (int v : ob.mesh->triangles[t])
+              if (otree->vertex_owner[v] == t) feature_against_mesh(g, tree, gr, gp, ob.pos + obr * ob.mesh->vertices[v], 0.0, out);
+          }
         }
-        Vec3 n;
-        const double d = (tree ? mesh_signed_distance(*g.mesh, *tree, p, &n) : mesh_signed_distance(*g.mesh, p, &n)) - radius;
-        if (d >= 0) continue;
-        Contact ct;
-        ct.slot = -1;
-        ct.body = g.body;
-        ct.normal = -(gr * n);
-        ct.point = c + radius * ct.normal;
-        ct.depth = -d;
-        out->push_back(ct);
       }
     }
   }
@@ -208,7 +244,7 @@ void find_contacts(const Model& m, const Kinematics& k, const std::vector<Contac
       out->push_back(ct);
     }
   }
-  mesh_feature_contacts(m, k, obs, mesh_trees, out);
+  mesh_feature_contacts(m, k, obs, trees, mesh_trees, out);
 }
 
 // ---- Body-body contact ----

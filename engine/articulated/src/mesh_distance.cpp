@@ -131,6 +131,9 @@ MeshBvh mesh_bvh(const MeshShape& mesh) {
   // its faces' normals weighted by the face's angle there (unnormalised: only signs
   // of dot products are taken).
   bvh.vertex_normal.assign(mesh.vertices.size(), Vec3::Zero());
+  bvh.vertex_owner.assign(mesh.vertices.size(), -1);
+  for (int t = n - 1; t >= 0; --t)
+    for (int v : mesh.triangles[t]) bvh.vertex_owner[v] = t;
   bvh.edge_normal.assign(n, {Vec3::Zero(), Vec3::Zero(), Vec3::Zero()});
   std::map<std::pair<int, int>, Vec3> edge_sum;
   for (int t = 0; t < n; ++t) {

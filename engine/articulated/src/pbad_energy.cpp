@@ -117,7 +117,7 @@ double pbad_energy(const Model& m, const SimOptions& o, const State& s, const Pb
     // Obstacle corners against moving meshes (contact.h): normal penalty only, with
     // its Gauss-Newton Hessian.
     ws.feature_contacts.clear();
-    mesh_feature_contacts(m, k, ws.obstacles, ws.mesh_trees, &ws.feature_contacts);
+    mesh_feature_contacts(m, k, ws.obstacles, ws.obstacle_trees, ws.mesh_trees, &ws.feature_contacts);
     const double kk = o.contact.stiffness;
     for (const Contact& c : ws.feature_contacts) {
       e += 0.5 * kk * c.depth * c.depth;

@@ -135,7 +135,7 @@ void pbad_begin(const Model& m, const SimOptions& o, State& s, PbadStep& p, SimW
   p.feature_anchors.clear();
   if (p.any_mesh_features && o.contact.enabled) {
     ws.feature_contacts.clear();
-    mesh_feature_contacts(m, k0, ws.obstacles, ws.mesh_trees, &ws.feature_contacts);
+    mesh_feature_contacts(m, k0, ws.obstacles, ws.obstacle_trees, ws.mesh_trees, &ws.feature_contacts);
     for (const Contact& c : ws.feature_contacts)
       p.feature_anchors.push_back({c.body, k0.xmat[c.body].transpose() * (c.point - k0.xpos[c.body]), c.point, c.normal,
                                    o.contact.stiffness * c.depth});

@@ -174,7 +174,7 @@ TEST(Contact, MeshFeatureContactGradientMatchesFiniteDifferences) {
   Kinematics k;
   kinematics(m, s.qpos, &k);
   std::vector<Contact> features;
-  mesh_feature_contacts(m, k, contact_obstacles(m), moving_mesh_trees(m), &features);
+  mesh_feature_contacts(m, k, contact_obstacles(m), {}, moving_mesh_trees(m), &features);
   ASSERT_EQ(features.size(), 2u);  // the corner and the sphere
   for (const Contact& c : features) EXPECT_NEAR(c.depth, 0.005, 1e-6);
   const VecX q = s.qpos + Vec3(0.001, 0.02, -0.03);

@@ -7,6 +7,8 @@
 #include <filesystem>
 #include <fstream>
 #include <random>
+#include <tuple>
+#include <algorithm>
 
 #include "pliant/articulated/io.h"
 #include "pliant/articulated/sim.h"
@@ -47,8 +49,8 @@ TEST(MeshFeatures, TreeContactsEqualTheScanOnABoxMesh) {
     Kinematics k;
     kinematics(m, q, &k);
     std::vector<Contact> tree, scan;
-    mesh_feature_contacts(m, k, obs, trees, &tree);
-    mesh_feature_contacts(m, k, obs, {}, &scan);
+    mesh_feature_contacts(m, k, obs, {}, trees, &tree);
+    mesh_feature_contacts(m, k, obs, {}, {}, &scan);
     ASSERT_EQ(tree.size(), scan.size()) << "pose " << i;
     for (size_t c = 0; c < tree.size(); ++c) {
       EXPECT_EQ(tree[c].depth, scan[c].depth);
@@ -84,8 +86,8 @@ TEST(MeshFeatures, StaticBallJustOutsideAMovingSharpEdgeIsNotInContact) {
     Kinematics k;
     kinematics(m, m.qpos0, &k);
     std::vector<Contact> tree, scan;
-    mesh_feature_contacts(m, k, ws.obstacles, ws.mesh_trees, &tree);
-    mesh_feature_contacts(m, k, ws.obstacles, {}, &scan);
+    mesh_feature_contacts(m, k, ws.obstacles, ws.obstacle_trees, ws.mesh_trees, &tree);
+    mesh_feature_contacts(m, k, ws.obstacles, {}, {}, &scan);
     EXPECT_TRUE(tree.empty()) << "side " << side;
     scan_hits += static_cast<int>(scan.size());
     if (!scan.empty()) {
@@ -137,6 +139,56 @@ TEST(MeshFeatures, PlateRestsOnAStaticSpikeTip) {
   EXPECT_EQ(ws.contacts[0].slot, -1);  // the spike's tip, not a plate sample
   EXPECT_NEAR(ws.contacts[0].depth, depth, 1e-7);
   EXPECT_NEAR(ws.contacts[0].normal.z(), 1, 1e-9);
+}
+
+// A moving 432-triangle box mesh in random poses over a 1760-triangle static terrain:
+// the terrain's vertices found by walking its tree (the moving mesh's bounding sphere)
+// give the same contacts as testing every vertex (same set; the order differs).
+TEST(MeshFeatures, StaticMeshVerticesThroughTheTreeEqualTheFullLoop) {
+  const std::string terrain = mf_temp("pliant_mf_terrain");
+  {
+    const MeshShape t = test::terrain_mesh(20, [](double x, double y) { return 0.03 * std::sin(9 * x) * std::cos(7 * y); });
+    std::ofstream out(terrain);
+    out.precision(17);
+    for (const Vec3& v : t.vertices) out << "v " << v.x() << " " << v.y() << " " << v.z() << "\n";
+    for (const auto& f : t.triangles) out << "f " << f[0] + 1 << " " << f[1] + 1 << " " << f[2] + 1 << "\n";
+  }
+  const std::string box = test::write_grid_box_obj("pliant_mf_tbox", 0.12, 0.08, 0.05, 6);
+  const Model m = model_from_mjcf("<mujoco><asset><mesh name=\"t\" file=\"" + terrain + "\"/><mesh name=\"b\" file=\"" +
+                                      box + "\"/></asset><worldbody><geom type=\"mesh\" mesh=\"t\"/><body>"
+                                      "<freejoint/><geom type=\"mesh\" mesh=\"b\" mass=\"0.2\"/></body></worldbody></mujoco>",
+                                  "terrain.xml");
+  std::filesystem::remove(terrain);
+  std::filesystem::remove(box);
+  SimWorkspace ws;
+  sim_prepare(m, ws);
+  ASSERT_EQ(ws.obstacle_trees.size(), 1u);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1, 1);
+  int total = 0;
+  const auto key = [](const Contact& c) { return std::make_tuple(c.point.x(), c.point.y(), c.point.z()); };
+  for (int i = 0; i < 100; ++i) {
+    VecX q = m.qpos0;
+    q.head<3>() = Vec3(0.4 * u(rng), 0.4 * u(rng), 0.05 * u(rng));
+    const Quat r = Quat(Eigen::AngleAxisd(u(rng), Vec3(u(rng), u(rng), u(rng)).normalized()));
+    q.segment<4>(3) << r.w(), r.x(), r.y(), r.z();
+    Kinematics k;
+    kinematics(m, q, &k);
+    std::vector<Contact> walk, all;
+    mesh_feature_contacts(m, k, ws.obstacles, ws.obstacle_trees, ws.mesh_trees, &walk);
+    mesh_feature_contacts(m, k, ws.obstacles, {}, ws.mesh_trees, &all);
+    ASSERT_EQ(walk.size(), all.size()) << "pose " << i;
+    const auto less = [&](const Contact& a, const Contact& b) { return key(a) < key(b); };
+    std::sort(walk.begin(), walk.end(), less);
+    std::sort(all.begin(), all.end(), less);
+    for (size_t c = 0; c < walk.size(); ++c) {
+      EXPECT_EQ(walk[c].point, all[c].point);
+      EXPECT_EQ(walk[c].depth, all[c].depth);
+      EXPECT_EQ(walk[c].normal, all[c].normal);
+    }
+    total += static_cast<int>(walk.size());
+  }
+  EXPECT_GT(total, 200);
 }
 
 }  // namespace

@@ -92,6 +92,9 @@ struct MeshBvh {
   // triangle's edges (ab, bc, ca): the sign test near edges and vertices.
   std::vector<Vec3> vertex_normal;
   std::vector<std::array<Vec3, 3>> edge_normal;
+  // Per vertex, the lowest-index triangle using it (-1: none): visits each vertex
+  // once when a query walks the leaves (mesh_feature_contacts).
+  std::vector<int> vertex_owner;
 };
 MeshBvh mesh_bvh(const MeshShape& mesh);
 // The same query through the tree: O(log triangles) near the surface, the same
@@ -123,8 +126,11 @@ void find_contacts(const Model& m, const Kinematics& k, const std::vector<Contac
 // the body is pushed (minus the mesh's outward normal), so the penalty k/2 depth^2 has
 // the same gradient form as a body point's. PBAD: Gauss-Newton Hessian, friction on the
 // slip of the mesh's material point under the obstacle point at q_i (sim.cpp). Appends.
+// A static mesh's vertices are found by walking its tree (obstacle_trees[o]) with the
+// moving mesh's bounding sphere, else all of them are tested.
 void mesh_feature_contacts(const Model& m, const Kinematics& k, const std::vector<int>& obs,
-                           const std::vector<MeshBvh>& mesh_trees, std::vector<Contact>* out);
+                           const std::vector<MeshBvh>& obstacle_trees, const std::vector<MeshBvh>& mesh_trees,
+                           std::vector<Contact>* out);
 // Per geom: a moving (body != 0) contact mesh geom's MeshBvh, empty for the others.
 // Built once per model (sim_prepare, SimWorkspace::mesh_trees).
 std::vector<MeshBvh> moving_mesh_trees(const Model& m);
