@@ -8,6 +8,7 @@
 #include <Eigen/Dense>
 #include <Eigen/Geometry>
 #include <cmath>
+#include <cstdint>
 #include <stdexcept>
 #include <string>
 
@@ -42,11 +43,15 @@ Matrix3d rotation_exp(const Vector3d& w) {
 namespace {
 
 // x = R local(q) + c per node; local is a buffer.
+void place_local(const Character& ch, const VectorXd& local, const Matrix3d& R, const Vector3d& c, VectorXd& x) {
+  if (x.size() != local.size()) x.resize(local.size());
+  for (int j = 0; j < ch.lattice.nodes(); ++j) x.segment<3>(3 * j) = R * local.segment<3>(3 * j) + c;
+}
+
 void positions_of(const Character& ch, const VectorXd& q, const Matrix3d& R, const Vector3d& c, VectorXd& local,
                   VectorXd& x) {
   local_shape(ch, q, local);
-  if (x.size() != local.size()) x.resize(local.size());
-  for (int j = 0; j < ch.lattice.nodes(); ++j) x.segment<3>(3 * j) = R * local.segment<3>(3 * j) + c;
+  place_local(ch, local, R, c, x);
 }
 
 // Buffers of one reduced step, reused by every step of the thread (sizes only change
@@ -57,6 +62,11 @@ struct StepWork {
   MatrixXd H, H_el, Lm, ULm, Jrs, JH, MJ, Tc, Hgn, Hkin;
   Eigen::Matrix<double, 3, Eigen::Dynamic> J;
   Eigen::LDLT<MatrixXd> ldlt;
+  // Full rotation-strain map: the last step's start shape local(q) with q and the
+  // map's id; the next step's q_prev is that q, so its shape is copied, not
+  // re-evaluated (one map evaluation per frame; the same bits).
+  std::uint64_t prev_map = 0;
+  VectorXd prev_q, prev_local;
 };
 
 StepWork& step_work() {
@@ -88,8 +98,17 @@ void reduced_step(const Character& ch, const Environment& env, const SimParams& 
   const bool rs = ch.rotation_strain != nullptr;
   const SerialEigenProducts serial;  // small products: Eigen's own threads cost more (serial_eigen.h)
   StepWork& w = step_work();
+  const std::uint64_t map_id = (rs && !ch.rotation_strain->reduced) ? ch.rotation_strain->id : 0;
   positions_of(ch, s.q, s.R, s.c, w.local, w.x);
-  positions_of(ch, s.q_prev, s.R_prev, s.c_prev, w.local, w.xp);
+  if (map_id != 0 && w.prev_map == map_id && w.prev_q.size() == s.q_prev.size() && w.prev_q == s.q_prev)
+    place_local(ch, w.prev_local, s.R_prev, s.c_prev, w.xp);
+  else
+    positions_of(ch, s.q_prev, s.R_prev, s.c_prev, w.prev_local, w.xp);  // prev_local: scratch
+  if (map_id != 0) {
+    w.prev_map = map_id;
+    w.prev_q = s.q;
+    w.prev_local = w.local;
+  }
   StepTargets& T = w.T;
   make_targets(ch, env, dt, w.x, w.xp, T);
   if (nodal_force)
