@@ -104,7 +104,9 @@ TEST(MeshObstacle, BallJustOutsideASharpStaticEdgeIsNotInContact) {
     find_contacts(m, k, ws.points, ws.obstacles, {}, {}, &scan_contacts);
     EXPECT_TRUE(tree_contacts.empty()) << "side " << side;
     scan_hits += static_cast<int>(scan_contacts.size());
-    if (!scan_contacts.empty()) EXPECT_GT(scan_contacts[0].depth, 0.015);  // the scan's wrong sign
+    if (!scan_contacts.empty()) {
+      EXPECT_GT(scan_contacts[0].depth, 0.015);  // the scan's wrong sign
+    }
     SimOptions o;
     o.dt = 0.01;
     State s = state_init(m);
