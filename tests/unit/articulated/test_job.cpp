@@ -97,6 +97,30 @@ TEST(Job, MeshTileAndBallLimitScenesRun) {
   }
 }
 
+// Steps a compiled scene `steps` times from its initial state: the end state and
+// workspace, LM iterations per step and the deepest body-body contact of the run.
+struct JobSceneRun {
+  State s;
+  SimWorkspace ws;
+  double iterations_per_step = 0, max_pair_depth = 0;
+};
+JobSceneRun job_run_scene(const ArticulatedScene& a, int steps) {
+  JobSceneRun r;
+  r.s = a.initial;
+  double iterations = 0;
+  for (int i = 0; i < steps; ++i) {
+    StepInfo info;
+    if (!sim_step(a.model, a.options, r.s, r.ws, &info)) {
+      ADD_FAILURE() << "step " << i << " failed";
+      break;
+    }
+    iterations += info.iterations;
+    for (const PairContact& c : r.ws.pair_contacts) r.max_pair_depth = std::max(r.max_pair_depth, c.depth);
+  }
+  r.iterations_per_step = iterations / steps;
+  return r;
+}
+
 // Body-body contact scene: six free bodies dropped on each other; after 1.5 s every
 // body is above the ground, no pair deeper than a few penalty depths, and the frame
 // record lists the body-body contacts after the ground's.
@@ -104,19 +128,13 @@ TEST(Job, PileSceneBodiesRestOnEachOther) {
   const Scene sc = load_scene(std::filesystem::path(PLIANT_ASSETS_DIR) / "scenes" / "articulated_pile.json");
   const ArticulatedScene a = articulated_compile(sc);
   ASSERT_TRUE(a.options.contact.self_collision);
-  State s = a.initial;
-  SimWorkspace ws;
-  double max_depth = 0, iterations = 0;
-  const int steps = a.steps / 2;  // 1.5 s: the pile has settled (keeps the ASan pass short)
-  for (int i = 0; i < steps; ++i) {
-    StepInfo info;
-    ASSERT_TRUE(sim_step(a.model, a.options, s, ws, &info));
-    iterations += info.iterations;
-    for (const PairContact& c : ws.pair_contacts) max_depth = std::max(max_depth, c.depth);
-  }
-  std::printf("pile: max body-body depth %.3g m, %.2f LM iterations per step\n", max_depth, iterations / steps);
-  EXPECT_LT(max_depth, 3e-3);
-  EXPECT_LT(iterations / steps, 4);
+  JobSceneRun run = job_run_scene(a, a.steps / 2);  // 1.5 s: settled (keeps the ASan pass short)
+  const State& s = run.s;
+  SimWorkspace& ws = run.ws;  // the frame record reads (and may reuse) it
+  std::printf("pile: max body-body depth %.3g m, %.2f LM iterations per step\n", run.max_pair_depth,
+              run.iterations_per_step);
+  EXPECT_LT(run.max_pair_depth, 3e-3);
+  EXPECT_LT(run.iterations_per_step, 4);
   for (size_t b = 1; b < a.model.bodies.size(); ++b) EXPECT_GT(s.qpos[7 * (b - 1) + 2], 0.02) << b;
   const Record r = articulated_frame_record(a.model, a.options, s, 0, ws);
   EXPECT_EQ(r.find("contacts")->shape[0], ws.contacts.size() + ws.pair_contacts.size());
@@ -179,26 +197,20 @@ TEST(Job, PairsSceneBallTileAndRodRest) {
   const Scene sc = load_scene(std::filesystem::path(PLIANT_ASSETS_DIR) / "scenes" / "articulated_pairs.json");
   const ArticulatedScene a = articulated_compile(sc);
   ASSERT_EQ(a.model.contact_pairs.size(), 1u);
-  State s = a.initial;
-  SimWorkspace ws;
-  double iterations = 0;
-  for (int i = 0; i < 100; ++i) {
-    StepInfo info;
-    ASSERT_TRUE(sim_step(a.model, a.options, s, ws, &info));
-    iterations += info.iterations;
-  }
+  const JobSceneRun run = job_run_scene(a, 100);
+  const SimWorkspace& ws = run.ws;
   Kinematics k;
-  kinematics(a.model, s.qpos, &k);
+  kinematics(a.model, run.s.qpos, &k);
   int rod_contacts = 0;
   for (const PairContact& c : ws.pair_contacts) rod_contacts += c.body_b == 5 || c.body_a == 5;
   std::printf("pairs scene: %zu body-body contacts, rod on rail %d, %.2f LM iterations per step\n",
-              ws.pair_contacts.size(), rod_contacts, iterations / 100);
+              ws.pair_contacts.size(), rod_contacts, run.iterations_per_step);
   EXPECT_NEAR(k.xpos[3].z(), 0.08 + 0.04, 2e-3);   // ball on the box top
   EXPECT_NEAR(k.xpos[2].z(), 0.08 + 0.01, 2e-3);   // tile on the box top
   EXPECT_NEAR(k.xpos[5].z(), 0.05 + 0.05, 2e-3);   // rod on the rail
   EXPECT_EQ(rod_contacts, 2);
   EXPECT_LT(std::abs(k.xmat[5].col(2).z()), 1e-3);  // level
-  EXPECT_LT(iterations / 100, 4);
+  EXPECT_LT(run.iterations_per_step, 4);
 }
 
 // The mesh-mesh scene: after 2 s pebble a rests on the slab (mesh on mesh), pebble b on
@@ -207,27 +219,21 @@ TEST(Job, PairsSceneBallTileAndRodRest) {
 TEST(Job, MeshStackScenePebblesRestOnTheSlabAndOnEachOther) {
   const Scene sc = load_scene(std::filesystem::path(PLIANT_ASSETS_DIR) / "scenes" / "articulated_mesh_stack.json");
   const ArticulatedScene a = articulated_compile(sc);
-  State s = a.initial;
-  SimWorkspace ws;
-  double iterations = 0;
-  for (int i = 0; i < a.steps; ++i) {
-    StepInfo info;
-    ASSERT_TRUE(sim_step(a.model, a.options, s, ws, &info));
-    iterations += info.iterations;
-  }
+  const JobSceneRun run = job_run_scene(a, a.steps);
+  const SimWorkspace& ws = run.ws;
   Kinematics k;
-  kinematics(a.model, s.qpos, &k);
+  kinematics(a.model, run.s.qpos, &k);
   int a_b = 0;
   for (const PairContact& c : ws.pair_contacts) a_b += (c.body_a == 2 && c.body_b == 3) || (c.body_a == 3 && c.body_b == 2);
   std::printf("mesh stack: %zu body-body contacts (%d pebble on pebble), %.2f LM iterations per step\n",
-              ws.pair_contacts.size(), a_b, iterations / a.steps);
+              ws.pair_contacts.size(), a_b, run.iterations_per_step);
   const double top = 0.08, half = 0.022;  // slab top, pebble half height
   EXPECT_NEAR(k.xpos[2].z(), top + half, 3e-3);
   EXPECT_GT(k.xpos[3].z(), top + 2.5 * half);  // on pebble a (on its shoulder: 5 mm below its crown)
   EXPECT_LT(k.xpos[3].z(), top + 3 * half + 2e-3);
   EXPECT_NEAR(k.xpos[4].z(), top + half, 3e-3);
   EXPECT_GT(a_b, 0);
-  EXPECT_LT(s.qvel.head(12).lpNorm<Eigen::Infinity>(), 0.05);  // a and b at rest (c, dropped tilted, still rocks)
+  EXPECT_LT(run.s.qvel.head(12).lpNorm<Eigen::Infinity>(), 0.05);  // a and b at rest (c, dropped tilted, still rocks)
 }
 
 }  // namespace
