@@ -67,6 +67,24 @@ SoftLiveBuild build_live(const std::string& take_dir, const json& scene, const f
 }
 #endif
 
+size_t soft_live_reference_frames(const SoftLive& live) {
+#ifdef PLIANT_HAVE_SOFT
+  return live.start ? live.start->q_ref.size() : 0;
+#else
+  (void)live;
+  return 0;
+#endif
+}
+
+double soft_live_dt(const SoftLive& live) {
+#ifdef PLIANT_HAVE_SOFT
+  return live.model ? live.model->problem.sim.dt_s : 1.0 / 30;
+#else
+  (void)live;
+  return 1.0 / 30;
+#endif
+}
+
 }  // namespace
 
 bool soft_live_start(App& app) {
@@ -149,7 +167,6 @@ bool soft_live_frame(App& app) {
   live.clock_s += ImGui::GetIO().DeltaTime;
   int steps = std::min(int(std::floor(live.clock_s / dt)), kMaxStepsPerUiFrame);
   live.clock_s = std::min(live.clock_s - steps * dt, dt);
-  const bool fresh = live.shown_frame != live.frame();
   for (; steps > 0; --steps) {
     soft::SoftPlayback& pb = *live.pb;
     pb.track_kp = live.tracking ? kTrackKp : 0;
@@ -169,7 +186,7 @@ bool soft_live_frame(App& app) {
     const Eigen::Vector3d c = soft::centre_of_mass(m.character, pb.state);
     live.com.push_back({float(c.x()), float(c.y()), float(c.z())});
   }
-  if (fresh || live.shown_frame != live.frame()) {
+  if (live.shown_frame != live.frame()) {
     const Record r = soft::soft_frame_record(m, live.pb->state, live.frame(), /*with_triangles=*/true);
     app.renderer.set_frame(r, &live.scene);
     ++app.viewport.uploads;
@@ -224,24 +241,6 @@ void draw_soft_live_controls(App& app) {
     ImGui::TextDisabled("live frame %d (%.2f s)%s", live.frame(), live.frame() * soft_live_dt(live),
                         live.tracking && size_t(live.frame()) >= n ? ", past the tracked reference" : "");
   }
-}
-
-size_t soft_live_reference_frames(const SoftLive& live) {
-#ifdef PLIANT_HAVE_SOFT
-  return live.start ? live.start->q_ref.size() : 0;
-#else
-  (void)live;
-  return 0;
-#endif
-}
-
-double soft_live_dt(const SoftLive& live) {
-#ifdef PLIANT_HAVE_SOFT
-  return live.model ? live.model->problem.sim.dt_s : 1.0 / 30;
-#else
-  (void)live;
-  return 1.0 / 30;
-#endif
 }
 
 }  // namespace pliant::editor

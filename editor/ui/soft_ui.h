@@ -150,8 +150,6 @@ void soft_live_stop(App& app);
 void soft_live_restart(SoftLive& live);
 bool soft_live_frame(App& app);
 void draw_soft_live_controls(App& app);
-size_t soft_live_reference_frames(const SoftLive& live);
-double soft_live_dt(const SoftLive& live);
 
 // Dropping a mesh file on a soft scene (KindPanels::on_drop): sets
 // /character/mesh (relative to the scene's folder when saved), one undo step.

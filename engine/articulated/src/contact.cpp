@@ -337,7 +337,7 @@ void point_against(const Placed& s, int body, const Vec3& x, double radius, std:
 // The pair's margin enters as extra radius: depth = margin - distance, and the
 // contact point stays on the force's line.
 void corners_against(const Placed& box, const Placed& s, double margin, std::vector<PairContact>* out) {
-  for (int f = 0; f < 8; ++f) point_against(s, box.g->body, box.c + box.r * box_corner(box.g->size, f), 0.0 + margin, out);
+  for (int f = 0; f < 8; ++f) point_against(s, box.g->body, box.c + box.r * box_corner(box.g->size, f), margin, out);
 }
 
 void end_spheres_against(const Placed& cap, const Placed& s, double margin, std::vector<PairContact>* out) {
@@ -510,18 +510,13 @@ void mesh_against(const Placed& mesh, const MeshCollider& mc, const Placed& s, d
         point_against_mesh(mesh, mc.bvh, g.body, s.c + s.r.col(2) * (e * g.size[1]), g.size[0] + margin, out);
       break;
     case GeomType::Box:
-      for (int f = 0; f < 8; ++f) point_against_mesh(mesh, mc.bvh, g.body, s.c + s.r * box_corner(g.size, f), 0.0 + margin, out);
+      for (int f = 0; f < 8; ++f) point_against_mesh(mesh, mc.bvh, g.body, s.c + s.r * box_corner(g.size, f), margin, out);
       break;
     default: return;
   }
-  for (const Vec3& v : mc.samples) point_against(s, mesh.g->body, mesh.c + mesh.r * v, 0.0 + margin, out);
+  for (const Vec3& v : mc.samples) point_against(s, mesh.g->body, mesh.c + mesh.r * v, margin, out);
 }
 
-// Mesh against mesh: each mesh's contact samples (vertices, edge and face samples)
-// against the other's signed distance, both ways; each contact acts on the sample's
-// body (b) and the other mesh's body (a) at the sample, along the other mesh's
-// outward normal (as a box corner against a mesh). Samples outside the other's
-// bounding box are culled before the tree query (samples_against_mesh).
 // Samples of mesh f against mesh t. Pre-test in f's frame, before a sample's world
 // transform: t's bounding box (grown by the margin) as the axis-aligned box around it
 // there (half extents |R| h, widened by 1e-9 relative for round-off), so every sample
@@ -536,10 +531,14 @@ void samples_against_mesh(const Placed& f, const MeshCollider& mf, const Placed&
   const Vec3 reach = (rel.cwiseAbs() * half) * (1 + 1e-9) + Vec3::Constant(1e-12);
   for (const Vec3& v : mf.samples) {
     if (((v - centre).cwiseAbs() - reach).maxCoeff() > 0) continue;
-    point_against_mesh(t, mt.bvh, f.g->body, f.c + f.r * v, 0.0 + margin, out);
+    point_against_mesh(t, mt.bvh, f.g->body, f.c + f.r * v, margin, out);
   }
 }
 
+// Mesh against mesh: each mesh's contact samples (vertices, edge and face samples)
+// against the other's signed distance, both ways; each contact acts on the sample's
+// body (b) and the other mesh's body (a) at the sample, along the other mesh's
+// outward normal (as a box corner against a mesh).
 void mesh_mesh(const Placed& a, const MeshCollider& ma, const Placed& b, const MeshCollider& mb, double margin,
                std::vector<PairContact>* out) {
   samples_against_mesh(a, ma, b, mb, margin, out);
