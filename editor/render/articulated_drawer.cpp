@@ -28,6 +28,10 @@ ArticulatedFrameInfo& frame_info() {
   static ArticulatedFrameInfo i;
   return i;
 }
+int& highlight_body() {
+  static int b = 0;
+  return b;
+}
 
 using Shape = ArticulatedGeom::Shape;
 using GeomView = ArticulatedGeom;
@@ -96,11 +100,23 @@ void compile_model(const nlohmann::json* scene, ModelView* mv) {
 }
 
 // Body colours: distinct, mid-bright hues that read on the dark background.
+// The selected body is tinted towards a pale yellow (stands out from every hue).
 MeshDrawer::Color body_color(int b) {
   static const MeshDrawer::Color kPalette[] = {
       {0.90f, 0.55f, 0.25f, 1}, {0.35f, 0.65f, 0.90f, 1}, {0.55f, 0.80f, 0.40f, 1}, {0.85f, 0.40f, 0.55f, 1},
       {0.75f, 0.70f, 0.35f, 1}, {0.55f, 0.50f, 0.85f, 1}, {0.35f, 0.78f, 0.72f, 1}, {0.88f, 0.62f, 0.70f, 1}};
-  return kPalette[(b - 1 + 64) % 8];
+  MeshDrawer::Color c = kPalette[(b - 1 + 64) % 8];
+  if (b > 0 && b == highlight_body()) {
+    const float tint[3] = {1.0f, 0.97f, 0.55f};
+    for (int i = 0; i < 3; ++i) c[i] = 0.35f * c[i] + 0.65f * tint[i];
+  }
+  return c;
+}
+
+class ArticulatedDrawer;
+ArticulatedDrawer*& primary_drawer() {
+  static ArticulatedDrawer* d = nullptr;
+  return d;
 }
 
 // "Nice" tile size near x: 1, 2 or 5 times a power of ten.
@@ -113,6 +129,13 @@ float nice_step(float x) {
 
 class ArticulatedDrawer final : public FrameDrawer {
  public:
+  ArticulatedDrawer() {
+    if (!primary_drawer()) primary_drawer() = this;
+  }
+  ~ArticulatedDrawer() override {
+    if (primary_drawer() == this) primary_drawer() = nullptr;
+  }
+  const ArticulatedView& view() const { return view_; }
   const char* name() const override { return "articulated"; }
   bool init(std::string* err) override { return mesh_.init(err); }
 
@@ -143,6 +166,10 @@ class ArticulatedDrawer final : public FrameDrawer {
     if (opt.follow && model_.floating && nb > 0)
       shift = {reference_root_[0] - pos[1][0], reference_root_[1] - pos[1][1], 0};
     const Mat4 world = mat4_mul(kZupToYup, translation(shift));
+    world_ = world;
+    view_.model = use_model ? &model_ : nullptr;
+    view_.pos = pos;
+    view_.quat = quat;
 
     mesh_.clear();
     int geoms_drawn = 0;
@@ -196,6 +223,10 @@ class ArticulatedDrawer final : public FrameDrawer {
   int dim() const override { return 3; }
 
   void draw(const DrawContext& ctx) override {
+    view_.drawn = true;
+    view_.world_to_clip = mat4_mul(ctx.world_to_clip, world_);
+    view_.width = ctx.width;
+    view_.height = ctx.height;
     mesh_.draw(ctx.world_to_clip, ctx.world_to_view);
     if (ctx.lines)
       for (const Segment& s : segments_) ctx.lines->add(s.a, s.b, s.color);
@@ -205,6 +236,7 @@ class ArticulatedDrawer final : public FrameDrawer {
     mesh_.shutdown();
     model_ = ModelView{};
     have_reference_ = false;
+    view_ = ArticulatedView{};
   }
 
  private:
@@ -346,6 +378,8 @@ class ArticulatedDrawer final : public FrameDrawer {
   Vec3 reference_root_{0, 0, 0};
   bool have_reference_ = false;
   std::vector<Segment> segments_;
+  Mat4 world_ = mat4_identity();  // engine world -> display world of the last upload
+  ArticulatedView view_;
 };
 
 }  // namespace
@@ -359,6 +393,16 @@ void articulated_drawer_set_scene_dir(const fs::path& dir) { scene_dir() = dir; 
 void articulated_drawer_set_geometry_source(ArticulatedGeometryFn fn) { geometry_source() = fn; }
 
 const ArticulatedFrameInfo& articulated_last_frame_info() { return frame_info(); }
+
+const ArticulatedView* articulated_primary_view() {
+  return primary_drawer() && primary_drawer()->view().drawn ? &primary_drawer()->view() : nullptr;
+}
+
+bool articulated_drawer_set_highlight(int body) {
+  if (highlight_body() == body) return false;
+  highlight_body() = body;
+  return true;
+}
 
 std::unique_ptr<FrameDrawer> make_articulated_drawer() { return std::make_unique<ArticulatedDrawer>(); }
 

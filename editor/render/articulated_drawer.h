@@ -74,4 +74,22 @@ struct ArticulatedFrameInfo {
 };
 const ArticulatedFrameInfo& articulated_last_frame_info();
 
+// What the main viewport's drawer shows (the first articulated drawer alive;
+// A/B's comes later), for picking bodies under the mouse: the last frame's
+// body poses (engine world, [0] the world), its model (null when none
+// compiled) and the engine world -> clip matrix of its last draw (z-up -> y-up,
+// follow shift and framing included).
+struct ArticulatedView {
+  bool drawn = false;
+  Mat4 world_to_clip{};
+  int width = 0, height = 0;
+  const ArticulatedGeometry* model = nullptr;
+  std::vector<Vec3> pos;
+  std::vector<std::array<float, 4>> quat;
+};
+const ArticulatedView* articulated_primary_view();
+// The body drawn tinted as selected (0: none), applied at the next upload;
+// returns true when it changed (the caller then uploads the frame again).
+bool articulated_drawer_set_highlight(int body);
+
 }  // namespace pliant::editor

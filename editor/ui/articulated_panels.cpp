@@ -13,6 +13,7 @@
 #include "pliant/core/take.h"
 #include "render/articulated_drawer.h"
 #include "ui/app.h"
+#include "ui/articulated_select.h"
 #include "ui/json_widgets.h"
 #include "ui/panel_window.h"
 #include "ui/ui_mark.h"
@@ -155,6 +156,7 @@ void tooltip(const char* text) {
 void draw_inspector(App& app) {
   Document& doc = app.doc;
   point_drawer_at_take(app);
+  draw_selected_body(app);
   if (ImGui::CollapsingHeader("Model", ImGuiTreeNodeFlags_DefaultOpen)) {
     const json& s = doc.scene();
     if (has_key(s, "model") && s["model"].is_object()) {
@@ -377,6 +379,7 @@ void draw_jobs(App& app) {
 
 void draw_toolbar(App& app) {
   point_drawer_at_take(app);
+  articulated_selection(app);  // the highlight follows the selection before the frame uploads
   ArticulatedDrawOptions& o = articulated_draw_options();
   bool changed = ImGui::Checkbox("contacts", &o.show_contacts);
   ui_mark("show_contacts");
@@ -393,8 +396,9 @@ void draw_toolbar(App& app) {
   if (changed) app.viewport.shown_frame = -1;
 }
 
-void draw_overlay(App& app, float x, float y, int, int) {
+void draw_overlay(App& app, float x, float y, int w, int h) {
   if (!app.renderer.has_frame() || app.renderer.drawer_name() != "articulated") return;
+  articulated_viewport_pick(app, x, y, w, h);
   const ArticulatedFrameInfo& info = articulated_last_frame_info();
   ImDrawList* dl = ImGui::GetWindowDrawList();
   char text[200];

@@ -37,6 +37,8 @@ struct IntegratorRun {
   double drift_percent() const;
 };
 
+struct ArticulatedSelection;  // ui/articulated_select.h
+
 struct ArticulatedUiState : KindUiState {
   bool compare_pick[5] = {true, true, false, true, true};  // pbad2, pbad3, pbad4, euler, rk4
   std::vector<IntegratorRun> runs;                  // the newest comparison
@@ -44,6 +46,12 @@ struct ArticulatedUiState : KindUiState {
   // Model summary cache (per document revision).
   uint64_t summary_doc = 0, summary_revision = ~uint64_t(0);
   std::string summary;
+  // The body picked in the viewport (ui/articulated_select.cpp): UI state, not
+  // saved and not undoable. Its index in the shown take's model (0: none) and its
+  // name (a take with another model keeps the body of that name, if any).
+  int selected_body = 0;
+  std::string selected_name;
+  std::shared_ptr<ArticulatedSelection> selection;  // what the inspector shows
 };
 
 // Integrators "Compare integrators" can run, in the order of compare_pick.

@@ -3,7 +3,8 @@
 // screenshot; "Compare integrators" runs one job per integrator and reads every
 // run's energy curve; the hopper MPC scene (MJCF model by relative path, edited
 // so the job runs from a copy) simulates and plays; a dropped model file becomes
-// the scene's model in one undo step; mesh geoms are drawn as their meshes.
+// the scene's model in one undo step; mesh geoms are drawn as their meshes; a
+// click on a body selects it and the inspector shows its joint and contacts.
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -16,7 +17,12 @@
 #include "render/articulated_drawer.h"
 #include "render/image_compare.h"
 #include "render/screenshot.h"
+#include "render/articulated_drawer.h"
 #include "ui/articulated_panels.h"
+#include "ui/articulated_select.h"
+#ifdef PLIANT_HAVE_ARTICULATED
+#include "pliant/articulated/articulated.h"
+#endif
 
 namespace pliant::editor::test {
 
@@ -134,6 +140,116 @@ TEST(EditorArticulated, MeshTilesAreDrawnAsTheirMeshes) {
   EXPECT_GE(info.contacts, 2);  // each rests on its obstacle
   match_golden(h.dir / "tiles40.png", "articulated_mesh_tiles_frame40.png");
 }
+
+#ifdef PLIANT_HAVE_ARTICULATED
+namespace {
+
+// Window pixel where the primary articulated view draws world point p (engine
+// frame), the image's top-left corner at (x0, y0).
+std::array<float, 2> sel_test_pixel(const ArticulatedView& v, float x0, float y0, const Eigen::Vector3d& p) {
+  const auto c = mat4_apply(v.world_to_clip, {float(p.x()), float(p.y()), float(p.z()), 1.0f});
+  return {x0 + 0.5f * (c[0] / c[3] + 1) * v.width, y0 + 0.5f * (1 - c[1] / c[3]) * v.height};
+}
+
+}  // namespace
+
+// Click a body of the swinging chain at frame 21: it is selected, the inspector's
+// joint value is the engine's qpos at that frame (the same scene stepped here),
+// the contacts touching it are listed; scrubbing keeps it; empty space and Esc clear it.
+TEST(EditorArticulated, ClickedBodyIsSelectedWithItsJointValueAndContacts) {
+  EditorHarness h("art_select");
+  fs::path scene = h.copy_scene("articulated_chain.json");
+  h.start(scene, /*gl=*/true, 1280, 720);
+  ASSERT_EQ(h.run("wait 2\nclick_item Simulate\nwait_job 60\nexpect \": done\"\nwait_frames 61 10\n"
+                  "set_frame 21\nwait 3\n"),
+            "");
+  const size_t steps0 = h.app->doc.history().size();
+  // The engine's qpos per frame: the take's scene stepped like the job does.
+  TakeReader take(h.app->take.dir());
+  Scene sc;
+  sc.file = "scene";
+  sc.dir = h.dir;
+  sc.kind = "articulated";
+  sc.doc = take.manifest().scene;
+  const articulated::ArticulatedScene a = articulated::articulated_compile(sc);
+  std::vector<Eigen::VectorXd> qref = {a.initial.qpos};
+  {
+    articulated::State s = a.initial;
+    articulated::SimWorkspace ws;
+    for (int i = 1; i <= 30; ++i) {
+      ASSERT_TRUE(articulated::sim_step(a.model, a.options, s, ws));
+      qref.push_back(s.qpos);
+    }
+  }
+  articulated::Kinematics kin;
+  articulated::kinematics(a.model, qref[21], &kin, true);
+
+  const ArticulatedView* view = articulated_primary_view();
+  ASSERT_NE(view, nullptr);
+  ASSERT_NE(h.app->marks.find("viewport"), nullptr);
+  const UiRect vr = *h.app->marks.find("viewport");  // a copy: marks change every frame
+  const UiRect* vp = &vr;
+  // The middle of link2's capsule (body 2, from (0,0,0) to (0.1,0,0) in its frame).
+  const Eigen::Vector3d mid2 = kin.xpos[2] + kin.xmat[2] * Eigen::Vector3d(0.05, 0, 0);
+  auto px = sel_test_pixel(*view, vp->x0, vp->y0, mid2);
+  ASSERT_EQ(h.run("click " + std::to_string(px[0]) + " " + std::to_string(px[1]) + "\nwait 3\n"), "");
+  auto& st = h.app->kind_ui.get<ArticulatedUiState>("articulated");
+  EXPECT_EQ(st.selected_body, 2);
+  EXPECT_EQ(st.selected_name, "link2");
+  const ArticulatedSelection* sel = articulated_selection(*h.app);
+  ASSERT_NE(sel, nullptr);
+  EXPECT_EQ(sel->error, "");
+  EXPECT_EQ(sel->body_name, "link2");
+  EXPECT_EQ(sel->frame, 21);
+  ASSERT_EQ(sel->joints.size(), 1u);
+  EXPECT_EQ(sel->joints[0].type, "hinge");
+  const int qadr = a.model.joints[a.model.bodies[2].joints[0]].qadr;
+  ASSERT_EQ(sel->joints[0].qpos.size(), 1u);
+  EXPECT_NEAR(sel->joints[0].qpos[0], qref[21][qadr], 1e-4);
+  EXPECT_GT(std::abs(qref[21][qadr] - qref[0][qadr]), 0.05);  // the joint has moved: not the initial value
+  // qvel: the central difference of the engine's qpos.
+  EXPECT_NEAR(sel->joints[0].qvel[0], (qref[22][qadr] - qref[20][qadr]) / (2 * a.options.dt), 1e-2);
+  EXPECT_NEAR(sel->mass, a.model.bodies[2].mass, 1e-9);
+  for (int i = 0; i < 3; ++i) EXPECT_NEAR(sel->world_pos[i], kin.xpos[2][i], 1e-4);
+  EXPECT_NE(h.app->marks.find("selected_body"), nullptr);  // the inspector section is drawn
+  EXPECT_TRUE(sel->contacts.empty());  // link2 hangs in the air
+
+  // The box at link3's tip is on the floor at frame 21: its contacts, depth = |f| / k.
+  const Eigen::Vector3d box3 = kin.xpos[3] + kin.xmat[3] * Eigen::Vector3d(0.12, 0, 0);
+  px = sel_test_pixel(*view, vp->x0, vp->y0, box3);
+  ASSERT_EQ(h.run("click " + std::to_string(px[0]) + " " + std::to_string(px[1]) + "\nwait 3\n"), "");
+  EXPECT_EQ(st.selected_name, "link3");
+  sel = articulated_selection(*h.app);
+  ASSERT_NE(sel, nullptr);
+  ASSERT_EQ(sel->joints.size(), 1u);
+  EXPECT_NEAR(sel->joints[0].qpos[0], qref[21][a.model.joints[a.model.bodies[3].joints[0]].qadr], 1e-4);
+  const ArticulatedFrameInfo& info = articulated_last_frame_info();
+  ASSERT_GE(info.contacts, 1);
+  EXPECT_EQ(int(sel->contacts.size()), info.contacts);  // every contact of the frame is the box's
+  for (const ArticulatedContactInfo& c : sel->contacts) {
+    EXPECT_EQ(c.other, "plane obstacle");
+    EXPECT_NEAR(c.point[2], -0.22, 0.01);
+    EXPECT_NEAR(c.depth, c.magnitude / a.options.contact.stiffness, 1e-12);
+    EXPECT_GT(c.depth, 0);
+  }
+
+  // Scrubbing keeps the selection and follows the frame.
+  ASSERT_EQ(h.run("set_frame 30\nwait 3\n"), "");
+  sel = articulated_selection(*h.app);
+  ASSERT_NE(sel, nullptr);
+  EXPECT_EQ(sel->frame, 30);
+  EXPECT_NEAR(sel->joints[0].qpos[0], qref[30][a.model.joints[a.model.bodies[3].joints[0]].qadr], 1e-4);
+
+  // Empty space (the viewport's bottom-left corner) clears; Esc clears too.
+  ASSERT_EQ(h.run("click " + std::to_string(vp->x0 + 4) + " " + std::to_string(vp->y1 - 4) + "\nwait 2\n"), "");
+  EXPECT_EQ(st.selected_body, 0);
+  EXPECT_EQ(articulated_selection(*h.app), nullptr);
+  ASSERT_TRUE(articulated_select_body(*h.app, 1));
+  ASSERT_EQ(h.run("wait 2\nkey ESCAPE\nwait 2\n"), "");
+  EXPECT_EQ(st.selected_body, 0);
+  EXPECT_EQ(h.app->doc.history().size(), steps0);  // never a document edit
+}
+#endif
 
 TEST(EditorArticulated, CompareIntegratorsReadsAnEnergyCurvePerIntegrator) {
   EditorHarness h("art_compare");
