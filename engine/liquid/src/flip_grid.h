@@ -158,6 +158,21 @@ int apply_viscosity(const FlipGrid& g, const LiquidModel& m, FlipWorkspace& w, d
 // Extends w.vel from faces marked valid into `layers` rings of invalid faces.
 void extrapolate(const FlipGrid& g, FlipWorkspace& w, int layers);
 
+// Velocity of the source container's wall at world x (its path's linear and
+// tilt rates at time t; the pose is the source's pose at t).
+Vec3 source_point_velocity(const LiquidModel& m, double t, const Pose& pose, const Vec3& x);
+// Reach of a container from its origin (bounding sphere radius).
+double container_reach(const ContainerShape& c);
+// Face open fractions and solid velocities for the source (and a moving target)
+// at time t (flip_solids.cpp).
+void build_solids(const FlipGrid& g, const LiquidModel& m, FlipWorkspace& w, double t);
+// Faces closed by a solid take the solid's velocity.
+void set_solid_faces(const FlipGrid& g, FlipWorkspace& w);
+// Moves particle x out of solids (and into the domain), removing the inward
+// relative normal velocity v.
+void push_out(const FlipGrid& g, const LiquidModel& m, const Pose& pose, const Pose& tpose, double t, float* x,
+              float* v);
+
 // Signed distance to all solids at world x (negative inside), the source at
 // `source_pose`, the target at `target_pose`; *source_closest tells whether the
 // source wall is the nearest (else the target's, moving at target_velocity_mps).
