@@ -15,6 +15,28 @@ Vec3 box_corner(const Vec3& half, int c) {
 
 }  // namespace
 
+ContactMix contact_mix(const Geom& a, const Geom& b) {
+  ContactMix c;
+  c.margin = std::max(a.margin, b.margin);
+  int condim;
+  if (a.priority != b.priority) {
+    const Geom& w = a.priority > b.priority ? a : b;
+    condim = w.condim;
+    c.mu = w.friction;
+    c.scene_mu = w.friction < 0;
+  } else {
+    condim = std::max(a.condim, b.condim);
+    c.mu = std::max(a.friction, b.friction);  // unset (< 0) loses to any set value
+    c.scene_mu = a.friction < 0 || b.friction < 0;
+  }
+  c.frictionless = condim == 1;
+  return c;
+}
+
+ContactMix point_contact_mix(const Model& m, const ContactPoint& p, int obstacle) {
+  return p.geom < 0 ? ContactMix{} : contact_mix(m.geoms[p.geom], m.geoms[obstacle]);
+}
+
 std::vector<Vec3> mesh_contact_samples(const MeshShape& mesh) {
   std::vector<Vec3> out(mesh.vertices.begin(), mesh.vertices.end());
   if (mesh.vertices.empty()) return out;
@@ -47,19 +69,20 @@ std::vector<Vec3> mesh_contact_samples(const MeshShape& mesh) {
 
 std::vector<ContactPoint> contact_points(const Model& m) {
   std::vector<ContactPoint> pts;
-  for (const Geom& g : m.geoms) {
+  for (int gi = 0; gi < static_cast<int>(m.geoms.size()); ++gi) {
+    const Geom& g = m.geoms[gi];
     if (g.body == 0 || !g.contact) continue;
     const Mat3 r = g.quat.toRotationMatrix();
     switch (g.type) {
-      case GeomType::Sphere: pts.push_back({g.body, g.pos, g.size[0]}); break;
+      case GeomType::Sphere: pts.push_back({g.body, g.pos, g.size[0], gi}); break;
       case GeomType::Capsule:
-        for (int s : {-1, 1}) pts.push_back({g.body, g.pos + r.col(2) * (s * g.size[1]), g.size[0]});
+        for (int s : {-1, 1}) pts.push_back({g.body, g.pos + r.col(2) * (s * g.size[1]), g.size[0], gi});
         break;
       case GeomType::Box:
-        for (int c = 0; c < 8; ++c) pts.push_back({g.body, g.pos + r * box_corner(g.size, c), 0.0});
+        for (int c = 0; c < 8; ++c) pts.push_back({g.body, g.pos + r * box_corner(g.size, c), 0.0, gi});
         break;
       case GeomType::Mesh:  // vertices plus edge and face samples
-        for (const Vec3& v : mesh_contact_samples(*g.mesh)) pts.push_back({g.body, g.pos + r * v, 0.0});
+        for (const Vec3& v : mesh_contact_samples(*g.mesh)) pts.push_back({g.body, g.pos + r * v, 0.0, gi});
         break;
       case GeomType::Plane: break;
     }
@@ -134,7 +157,7 @@ namespace {
 // Obstacle point c (world; a sphere's centre with its radius) against moving mesh
 // geom g at (gr, gp), through its tree where there is one (culled by the root box).
 void feature_against_mesh(const Geom& g, const MeshBvh* tree, const Mat3& gr, const Vec3& gp, const Vec3& c,
-                          double radius, std::vector<Contact>* out) {
+                          double radius, const ContactMix& mix, std::vector<Contact>* out) {
   const Vec3 p = gr.transpose() * (c - gp);
   // Farther than the radius from the tree's root box: cannot reach the mesh.
   if (tree) {
@@ -150,6 +173,7 @@ void feature_against_mesh(const Geom& g, const MeshBvh* tree, const Mat3& gr, co
   ct.normal = -(gr * n);
   ct.point = c + radius * ct.normal;
   ct.depth = -d;
+  ct.mix = mix;
   out->push_back(ct);
 }
 
@@ -172,18 +196,21 @@ void mesh_feature_contacts(const Model& m, const Kinematics& k, const std::vecto
       const MeshBvh* tree = gi < nt && !mesh_trees[gi].nodes.empty() ? &mesh_trees[gi] : nullptr;
       const Mat3 gr = k.xmat[g.body] * g.quat.toRotationMatrix();
       const Vec3 gp = k.xpos[g.body] + k.xmat[g.body] * g.pos;
+      const ContactMix mix = contact_mix(g, ob);
+      const double mg = mix.margin;  // as extra radius: depth = margin - distance
       if (ob.type == GeomType::Box) {
-        for (int f = 0; f < 8; ++f) feature_against_mesh(g, tree, gr, gp, ob.pos + ob.quat * box_corner(ob.size, f), 0.0, out);
+        for (int f = 0; f < 8; ++f) feature_against_mesh(g, tree, gr, gp, ob.pos + ob.quat * box_corner(ob.size, f), mg, mix, out);
       } else if (ob.type == GeomType::Sphere) {
-        feature_against_mesh(g, tree, gr, gp, ob.pos, ob.size[0], out);
+        feature_against_mesh(g, tree, gr, gp, ob.pos, ob.size[0] + mg, mix, out);
       } else if (!otree || !tree) {
-        for (const Vec3& v : ob.mesh->vertices) feature_against_mesh(g, tree, gr, gp, ob.pos + obr * v, 0.0, out);
+        for (const Vec3& v : ob.mesh->vertices) feature_against_mesh(g, tree, gr, gp, ob.pos + obr * v, mg, mix, out);
       } else {
         // Static mesh vertices near the moving mesh only: walk the static mesh's tree
         // with the moving mesh's root box as a sphere (static mesh frame); each vertex
         // once, from its owner triangle (every leaf holding it has a box around it).
         const MeshBvh::Node& root = tree->nodes[0];
-        const double r2 = 0.25 * (root.hi - root.lo).squaredNorm() * (1 + 1e-9);
+        double r2 = 0.25 * (root.hi - root.lo).squaredNorm() * (1 + 1e-9);
+        if (mg > 0) r2 = (std::sqrt(r2) + mg) * (std::sqrt(r2) + mg);  // reach grown by the margin
         const Vec3 centre = obr.transpose() * (gp + gr * (0.5 * (root.lo + root.hi)) - ob.pos);
         int stack[128];
         int top = 0;
@@ -200,7 +227,7 @@ void mesh_feature_contacts(const Model& m, const Kinematics& k, const std::vecto
           for (int i = nd.first; i < nd.first + nd.count; ++i) {
             const int t = otree->order[i];
             for (int v : ob.mesh->triangles[t])
-              if (otree->vertex_owner[v] == t) feature_against_mesh(g, tree, gr, gp, ob.pos + obr * ob.mesh->vertices[v], 0.0, out);
+              if (otree->vertex_owner[v] == t) feature_against_mesh(g, tree, gr, gp, ob.pos + obr * ob.mesh->vertices[v], mg, mix, out);
           }
         }
       }
@@ -233,14 +260,17 @@ void find_contacts(const Model& m, const Kinematics& k, const std::vector<Contac
     const Vec3 c = k.xpos[cp.body] + k.xmat[cp.body] * cp.local;
     for (int o = 0; o < no; ++o) {
       Vec3 n;
-      const double d = obstacle_distance(m.geoms[obs[o]], o < nt ? &trees[o] : nullptr, c, &n) - cp.radius;
+      const ContactMix mix = point_contact_mix(m, cp, obs[o]);
+      const double reach = cp.radius + mix.margin;  // the margin as extra radius
+      const double d = obstacle_distance(m.geoms[obs[o]], o < nt ? &trees[o] : nullptr, c, &n) - reach;
       if (d >= 0) continue;
       Contact ct;
       ct.slot = static_cast<int>(i) * no + o;
       ct.body = cp.body;
-      ct.point = c - cp.radius * n;
+      ct.point = c - reach * n;
       ct.normal = n;
       ct.depth = -d;
+      ct.mix = mix;
       out->push_back(ct);
     }
   }
@@ -303,15 +333,19 @@ std::vector<GeomPair> contact_geom_pairs(const Model& m) {
       const std::array<int, 2> key{std::min(ga.body, gb.body), std::max(ga.body, gb.body)};
       if (std::find(m.contact_exclude.begin(), m.contact_exclude.end(), key) != m.contact_exclude.end()) continue;
       if (is_explicit(static_cast<int>(i), static_cast<int>(j))) continue;  // listed below, with its own friction
-      out.push_back(pair_of(static_cast<int>(i), static_cast<int>(j)));
+      GeomPair p = pair_of(static_cast<int>(i), static_cast<int>(j));
+      p.mix = contact_mix(ga, gb);
+      p.reach += p.mix.margin;
+      out.push_back(p);
     }
   }
   for (const ContactPair& cp : m.contact_pairs) {
     GeomPair p = pair_of(cp.geom1, cp.geom2);
     p.explicit_pair = true;
-    p.mu = cp.mu;
-    p.margin = cp.margin;
-    p.frictionless = cp.frictionless;
+    p.mix.mu = cp.mu;  // the pair's own values, not the geoms' (as MuJoCo's <pair>)
+    p.mix.scene_mu = cp.mu < 0;
+    p.mix.margin = cp.margin;
+    p.mix.frictionless = cp.frictionless;
     p.reach += cp.margin;
     out.push_back(p);
   }
@@ -569,7 +603,7 @@ void find_pair_contacts(const Model& m, const Kinematics& k, const std::vector<G
     };
     if (rank(hi->g->type) < rank(lo->g->type)) std::swap(lo, hi), std::swap(mesh_lo, mesh_hi);
     const int pair = rank(lo->g->type) * 3 + rank(hi->g->type);
-    const double mg = pr.margin;
+    const double mg = pr.mix.margin;
     if (lo->g->type == GeomType::Mesh) {
       mesh_mesh(*lo, *mesh_lo, *hi, *mesh_hi, mg, out);
     } else if (hi->g->type == GeomType::Mesh) {  // against a sphere, capsule or box
@@ -592,8 +626,7 @@ void find_pair_contacts(const Model& m, const Kinematics& k, const std::vector<G
         default: break;
       }
     }
-    if (pr.mu >= 0 || pr.frictionless)
-      for (size_t i = first; i < out->size(); ++i) (*out)[i].mu = pr.mu, (*out)[i].frictionless = pr.frictionless;
+    for (size_t i = first; i < out->size(); ++i) (*out)[i].mix = pr.mix;
   }
 }
 

@@ -49,13 +49,14 @@ void explicit_forces(const Model& m, const SimOptions& o, const State& s, const 
     return Vec3(fn * n + ft);
   };
   for (Contact& c : ws.contacts) {
-    c.force = contact_force(v[c.body].tail<3>() + v[c.body].head<3>().cross(c.point), c.normal, c.depth, o.contact.mu);
+    c.force = contact_force(v[c.body].tail<3>() + v[c.body].head<3>().cross(c.point), c.normal, c.depth,
+                            contact_mu(c.mix, o.contact.mu), c.mix.frictionless);
     w[c.body] += point_wrench(c.point, c.force);
   }
   for (const PairContact& c : ws.pair_contacts) {
     const Vec3 va = v[c.body_a].tail<3>() + v[c.body_a].head<3>().cross(c.point);
     const Vec3 vb = v[c.body_b].tail<3>() + v[c.body_b].head<3>().cross(c.point);
-    const Vec3 f = contact_force(vb - va, c.normal, c.depth, c.mu < 0 ? o.contact.mu : c.mu, c.frictionless);
+    const Vec3 f = contact_force(vb - va, c.normal, c.depth, contact_mu(c.mix, o.contact.mu), c.mix.frictionless);
     w[c.body_b] += point_wrench(c.point, f);
     w[c.body_a] -= point_wrench(c.point, f);
   }

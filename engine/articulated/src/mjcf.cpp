@@ -235,10 +235,35 @@ double number(const Ctx& c, const XmlElement& e, const std::string& path, const 
   return v;
 }
 
+// A geom's contact parameters (contact_mix mixes them per contact): friction "slide
+// [torsion [roll]]" (the sliding value is the Coulomb coefficient; torsion and roll are
+// read, checked and unused: only condim 4 / 6 would use them, and those are refused),
+// margin, condim 1 or 3, priority (an integer, as MuJoCo's).
+void read_geom_contact_params(const Ctx& c, const XmlElement& e, const std::string& path, Geom* g) {
+  if (e.attr("friction")) {
+    const auto f = numbers(c, e, path, "friction", 1, 3);
+    for (double v : f)
+      if (v < 0) throw InputError(c.file, path + "/@friction", "friction coefficients must be >= 0");
+    g->friction = f[0];
+  }
+  g->margin = number(c, e, path, "margin", 0, 0);
+  if (e.attr("condim")) {
+    const double cd = numbers(c, e, path, "condim", 1, 1)[0];
+    const std::string problem = contact_pair_condim_problem(cd);
+    if (!problem.empty()) throw InputError(c.file, path + "/@condim", problem);
+    g->condim = static_cast<int>(cd);
+  }
+  if (e.attr("priority")) {
+    const double pr = numbers(c, e, path, "priority", 1, 1)[0];
+    if (pr != std::floor(pr) || std::abs(pr) > 0x7fffffff) throw InputError(c.file, path + "/@priority", "must be an integer");
+    g->priority = static_cast<int>(pr);
+  }
+}
+
 void read_geom(Ctx& c, const XmlElement& e, const std::string& path, int body) {
   check_attrs(c, e, path,
               {"name", "type", "size", "pos", "quat", "axisangle", "euler", "xyaxes", "zaxis", "fromto", "density", "mass", "rgba", "contype", "mesh",
-               "conaffinity", "friction", "condim", "material", "group", "margin"});
+               "conaffinity", "friction", "condim", "material", "group", "margin", "priority"});
   Geom g;
   g.body = body;
   if (const auto* n = e.attr("name")) g.name = *n;
@@ -310,6 +335,7 @@ void read_geom(Ctx& c, const XmlElement& e, const std::string& path, int body) {
   g.contype = static_cast<int>(contype);
   g.conaffinity = static_cast<int>(conaff);
   g.contact = contype != 0 || conaff != 0;
+  read_geom_contact_params(c, e, path, &g);
   c.m.geoms.push_back(g);
 }
 

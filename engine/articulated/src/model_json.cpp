@@ -46,6 +46,21 @@ Geom read_geom(JsonReader& r, int body, const std::filesystem::path& base_dir) {
   // Body-body filter (MuJoCo's bitmask rule); "contact": false also clears both.
   g.contype = static_cast<int>(r.integer("contype", g.contact ? 1 : 0, 0, 0x7fffffff));
   g.conaffinity = static_cast<int>(r.integer("conaffinity", g.contact ? 1 : 0, 0, 0x7fffffff));
+  // Contact parameters, MJCF's names (contact_mix): "friction" a number or [slide,
+  // torsion, roll] (the sliding value is used), "margin" (m), "condim" 1 or 3,
+  // "priority" (integer).
+  if (r.has("friction")) {
+    const auto f = r.value()["friction"].is_array() ? r.numbers("friction", {}, 1, 3, 0) : std::vector<double>{r.number("friction", 0, 0)};
+    g.friction = f[0];
+  }
+  g.margin = r.number("margin", 0, 0);
+  if (r.has("condim")) {
+    const double cd = r.number("condim", 3, 0);
+    const std::string why = contact_pair_condim_problem(cd);
+    if (!why.empty()) r.fail("condim", why);
+    g.condim = static_cast<int>(cd);
+  }
+  g.priority = static_cast<int>(r.integer("priority", 0, -0x7fffffff, 0x7fffffff));
   const size_t need = g.type == GeomType::Box ? 3 : (g.type == GeomType::Capsule && !r.has("fromto") ? 2 : 1);
   if (g.type == GeomType::Mesh) {
     // As MJCF's <asset><mesh file scale>: the file relative to the model's folder.

@@ -22,8 +22,8 @@ void add_point_force(SimWorkspace& ws, int b, const Vec3& x, const Vec3& f, bool
 // Friction on the tangential slip st under normal force fn, as a dissipation
 // potential: dry Coulomb mu fn (sqrt(|st|^2 + eps^2) - eps) or C_k's g/2 |st|^2.
 // Returns the energy; *g is the coefficient of its gradient g st and of its
-// Gauss-Newton Hessian g P_t. mu: Coulomb coefficient (an explicit pair's, else the
-// scene's).
+// Gauss-Newton Hessian g P_t. mu: the contact's Coulomb coefficient (contact_mu: its
+// geoms' or an explicit pair's, else the scene's); C_k ignores it (contact.h).
 double slip_friction(const SimOptions& o, double fn, const Vec3& st, double* g, double mu) {
   if (o.contact.friction == FrictionModel::Coulomb) {
     const double eps = o.contact.slip_eps, r = std::sqrt(st.squaredNorm() + eps * eps);
@@ -92,7 +92,8 @@ double pbad_energy(const Model& m, const SimOptions& o, const State& s, const Pb
         const int slot = static_cast<int>(i) * no + ob;
         Vec3 n;
         const MeshBvh* tree = ob < static_cast<int>(ws.obstacle_trees.size()) ? &ws.obstacle_trees[ob] : nullptr;
-        const double dist = obstacle_distance(m.geoms[ws.obstacles[ob]], tree, x, &n) - cp.radius;
+        const ContactMix mix = point_contact_mix(m, cp, ws.obstacles[ob]);
+        const double dist = obstacle_distance(m.geoms[ws.obstacles[ob]], tree, x, &n) - (cp.radius + mix.margin);
         if (dist < 0) {
           e += 0.5 * kk * dist * dist;
           if (derivs) {
@@ -101,11 +102,11 @@ double pbad_energy(const Model& m, const SimOptions& o, const State& s, const Pb
           }
         }
         const double fn = slot < static_cast<int>(s.normal_force_prev.size()) ? s.normal_force_prev[slot] : 0;
-        if (fn <= 0 || o.contact.friction == FrictionModel::None) continue;
+        if (fn <= 0 || o.contact.friction == FrictionModel::None || mix.frictionless) continue;
         const Mat3 pt = Mat3::Identity() - n * n.transpose();
         const Vec3 st = pt * (x - p.prev_points[i]);
         double g;
-        e += slip_friction(o, fn, st, &g, o.contact.mu);
+        e += slip_friction(o, fn, st, &g, contact_mu(mix, o.contact.mu));
         if (derivs) {
           add_point_force(ws, cp.body, x, g * st, exact);
           ws.h[cp.body] += point_hessian(x, g * pt);
@@ -134,7 +135,7 @@ double pbad_energy(const Model& m, const SimOptions& o, const State& s, const Pb
       const Mat3 pt = Mat3::Identity() - fa.normal * fa.normal.transpose();
       const Vec3 st = pt * (x - fa.point);
       double g;
-      e += slip_friction(o, fa.normal_force, st, &g, o.contact.mu);
+      e += slip_friction(o, fa.normal_force, st, &g, fa.mu);
       if (derivs) {
         add_point_force(ws, fa.body, x, g * st, exact);
         ws.h[fa.body] += point_hessian(x, g * pt);
@@ -165,7 +166,7 @@ double pbad_energy(const Model& m, const SimOptions& o, const State& s, const Pb
       const Mat3 pt = Mat3::Identity() - pa.normal * pa.normal.transpose();
       const Vec3 st = pt * (xb - xa);
       double g;
-      e += slip_friction(o, pa.normal_force, st, &g, pa.mu < 0 ? o.contact.mu : pa.mu);
+      e += slip_friction(o, pa.normal_force, st, &g, pa.mu);
       if (!derivs) continue;
       add_point_force(ws, pa.body_b, xb, g * st, exact);
       add_point_force(ws, pa.body_a, xa, -(g * st), exact);

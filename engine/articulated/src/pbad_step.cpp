@@ -137,18 +137,19 @@ void pbad_begin(const Model& m, const SimOptions& o, State& s, PbadStep& p, SimW
     ws.feature_contacts.clear();
     mesh_feature_contacts(m, k0, ws.obstacles, ws.obstacle_trees, ws.mesh_trees, &ws.feature_contacts);
     for (const Contact& c : ws.feature_contacts)
-      p.feature_anchors.push_back({c.body, k0.xmat[c.body].transpose() * (c.point - k0.xpos[c.body]), c.point, c.normal,
-                                   o.contact.stiffness * c.depth});
+      if (!c.mix.frictionless)  // condim 1: no friction anchor
+        p.feature_anchors.push_back({c.body, k0.xmat[c.body].transpose() * (c.point - k0.xpos[c.body]), c.point,
+                                     c.normal, o.contact.stiffness * c.depth, contact_mu(c.mix, o.contact.mu)});
   }
   p.any_pairs = pair_contact_on(m, o.contact) && !ws.pairs.empty();
   p.pair_anchors.clear();
   if (p.any_pairs && o.contact.friction != FrictionModel::None) {
     find_pair_contacts(m, k0, ws.pairs, &ws.pair_contacts, o.contact.self_collision);
     for (const PairContact& c : ws.pair_contacts)
-      if (!c.frictionless)  // condim 1 pair: no friction anchor
+      if (!c.mix.frictionless)  // condim 1: no friction anchor
         p.pair_anchors.push_back({c.body_a, c.body_b, k0.xmat[c.body_a].transpose() * (c.point - k0.xpos[c.body_a]),
                                   k0.xmat[c.body_b].transpose() * (c.point - k0.xpos[c.body_b]), c.normal,
-                                  o.contact.stiffness * c.depth, c.mu});
+                                  o.contact.stiffness * c.depth, contact_mu(c.mix, o.contact.mu)});
   }
   p.q = s.qpos;
   qpos_integrate(m, p.q, 2 * qpos_difference(m, s.qpos, q1) - qpos_difference(m, q1, s.past[1]), 1.0);

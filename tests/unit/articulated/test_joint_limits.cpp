@@ -127,7 +127,7 @@ Scene limits_scene_of(const nlohmann::json& limits) {
   return parse_scene(j.dump(), "s.json", PLIANT_ASSETS_DIR "/scenes");
 }
 
-std::string error_of(const nlohmann::json& limits) {
+std::string limits_error_of(const nlohmann::json& limits) {
   try {
     articulated_compile(limits_scene_of(limits));
   } catch (const InputError& e) {
@@ -142,12 +142,12 @@ TEST(JointLimits, SceneKeysSetTheLimitsAndBadOnesNameTheirPointer) {
   EXPECT_TRUE(a.model.joints[0].twist_limited);
   EXPECT_EQ(a.model.joints[0].twist_min, -0.2);
   EXPECT_EQ(a.model.joints[0].twist_max, 0.4);
-  EXPECT_NE(error_of({{"shouldr", {{"swing", 0.7}}}}).find("/joint_limits/shouldr | no ball joint named \"shouldr\"; did you mean \"shoulder\""),
+  EXPECT_NE(limits_error_of({{"shouldr", {{"swing", 0.7}}}}).find("/joint_limits/shouldr | no ball joint named \"shouldr\"; did you mean \"shoulder\""),
             std::string::npos);
-  EXPECT_NE(error_of({{"shoulder", {{"swing", -1}}}}).find("/joint_limits/shoulder/swing"), std::string::npos);
-  EXPECT_NE(error_of({{"shoulder", {{"twist", {0.4, -0.2}}}}}).find("/joint_limits/shoulder/twist | lower bound"),
+  EXPECT_NE(limits_error_of({{"shoulder", {{"swing", -1}}}}).find("/joint_limits/shoulder/swing"), std::string::npos);
+  EXPECT_NE(limits_error_of({{"shoulder", {{"twist", {0.4, -0.2}}}}}).find("/joint_limits/shoulder/twist | lower bound"),
             std::string::npos);
-  EXPECT_NE(error_of({{"shoulder", {{"swng", 0.3}}}}).find("/joint_limits/shoulder/swng"), std::string::npos);
+  EXPECT_NE(limits_error_of({{"shoulder", {{"swng", 0.3}}}}).find("/joint_limits/shoulder/swng"), std::string::npos);
 }
 
 

@@ -238,5 +238,39 @@ TEST(MujocoReference, AllOrientationFormsAndFromtoMatch) {
   EXPECT_EQ(m.actuators[1].gear, 2);
 }
 
+// Geom contact parameters (friction's sliding value, margin, condim, priority), set
+// directly, through nested default classes, class= and childclass=, compile to
+// MuJoCo's geom_friction / geom_margin / geom_condim / geom_priority (by geom name).
+// A geom without friction is unset in Pliant (the scene's contact.mu stands in for
+// it) where MuJoCo holds its default 1.
+TEST(MujocoReference, GeomContactParametersMatch) {
+  const std::string xml = R"(<mujoco>
+    <default><geom margin="0.001"/>
+      <default class="rubber"><geom friction="1.3 0.01 0.0002" condim="3"/>
+        <default class="slick"><geom friction="0.05" condim="1" priority="2"/></default></default></default>
+    <worldbody><geom name="floor" type="plane" size="1 1 0.1" friction="0.9" margin="0.004"/>
+      <geom name="wall" type="box" size="0.1 1 1" pos="2 0 0"/>
+      <body name="a" childclass="rubber"><freejoint/><geom name="a0" type="box" size="0.1 0.1 0.1"/>
+        <geom name="a1" class="slick" size="0.05" pos="0 0 0.2"/>
+        <geom name="a2" size="0.05" pos="0 0 -0.2" margin="0.02" priority="-1"/>
+        <body name="b"><joint type="hinge"/><geom name="b0" class="main" type="capsule" size="0.02 0.1"/></body>
+      </body>
+    </worldbody></mujoco>)";
+  const Model ours = model_from_mjcf(xml, "model.xml");
+  mjModel* mj = load_mujoco(xml);
+  ASSERT_NE(mj, nullptr);
+  ASSERT_EQ(mj->ngeom, static_cast<int>(ours.geoms.size()));
+  for (const Geom& g : ours.geoms) {
+    const int id = mj_name2id(mj, mjOBJ_GEOM, g.name.c_str());
+    ASSERT_GE(id, 0) << g.name;
+    if (g.friction >= 0) EXPECT_EQ(g.friction, mj->geom_friction[3 * id]) << g.name;
+    else EXPECT_EQ(mj->geom_friction[3 * id], 1.0) << g.name;
+    EXPECT_EQ(g.margin, mj->geom_margin[id]) << g.name;
+    EXPECT_EQ(g.condim, mj->geom_condim[id]) << g.name;
+    EXPECT_EQ(g.priority, mj->geom_priority[id]) << g.name;
+  }
+  mj_deleteModel(mj);
+}
+
 }  // namespace
 }  // namespace pliant::articulated

@@ -13,6 +13,7 @@
 // Explicit integrators use the same laws on velocities (coulomb regularised with
 // slip speed eps/dt).
 #pragma once
+#include <algorithm>
 #include <array>
 #include <memory>
 #include <vector>
@@ -37,23 +38,48 @@ struct ContactOptions {
   bool self_collision = false;
 };
 
+// A contact's parameters from its two geoms (contact_mix) or an explicit pair.
+struct ContactMix {
+  double mu = -1;         // Coulomb coefficient; see contact_mu
+  bool scene_mu = true;   // the scene's contact.mu takes part (a geom without friction)
+  double margin = 0;      // touching below this distance: depth = margin - distance
+  bool frictionless = false;  // condim 1: no friction whatever the model
+};
+// MuJoCo 2.2.2's rule for automatic (non-pair) contacts (mj_contactParam): the geom
+// of higher priority gives friction and condim; equal priorities take the larger of
+// each (condim, sliding friction); the margin is always the larger. A geom without
+// friction counts with the scene's contact.mu (contact_mu resolves it), so with no
+// geom friction anywhere every contact keeps the scene's coefficient exactly. World
+// geoms (obstacles, the floor) count as any geom.
+ContactMix contact_mix(const Geom& a, const Geom& b);
+// The Coulomb coefficient of a contact for the scene's contact.mu. Used by the
+// Coulomb model only: C_k (s/m, a viscous coefficient) has no Coulomb coefficient to
+// scale, so geom friction leaves it alone; condim 1 (frictionless) applies to both.
+inline double contact_mu(const ContactMix& c, double scene_mu) {
+  return c.scene_mu ? std::max(c.mu, scene_mu) : c.mu;
+}
+
 // A contact candidate: one body point, one obstacle.
 struct ContactPoint {
   int body;
   Vec3 local;      // in body frame
   double radius;
+  int geom = -1;   // the geom it belongs to (contact_mix with the obstacle)
 };
 
 struct Contact {
   int slot;        // point * nobstacles + obstacle
   int body;
-  Vec3 point;      // deepest point on the body surface, world
+  Vec3 point;      // deepest point on the body surface (grown by the margin), world
   Vec3 normal;     // out of the obstacle
-  double depth;    // penetration > 0
+  double depth;    // penetration > 0 (margin - distance)
   Vec3 force{0, 0, 0};
+  ContactMix mix;  // of the body's geom and the obstacle
 };
 
 std::vector<ContactPoint> contact_points(const Model& m);
+// contact_mix of point p's geom and obstacle geom `obstacle` (defaults without a geom).
+ContactMix point_contact_mix(const Model& m, const ContactPoint& p, int obstacle);
 // A moving mesh's contact points (geom frame): its vertices, plus points along its
 // edges and inside its faces at a spacing of 1/kMeshSamplesPerExtent of the mesh's
 // largest bounding-box extent (none where the mesh is already that fine), so that
@@ -152,9 +178,9 @@ struct GeomPair {
   int a, b;      // geom indices (a < b for filtered pairs; explicit: as written)
   double reach;  // bounding radius of a + of b (about each geom's centre) + margin
   bool explicit_pair = false;  // from Model::contact_pairs: on without self_collision
-  double mu = -1;              // friction coefficient; < 0: the scene's
-  double margin = 0;           // active below this distance (explicit pairs' margin)
-  bool frictionless = false;   // explicit pair with condim 1
+  // Friction, margin, condim: contact_mix of the two geoms, or an explicit pair's own
+  // (its mu, else the scene's; its margin; its condim).
+  ContactMix mix;
   // Geom a's / b's collision data where it is a mesh.
   std::shared_ptr<const MeshCollider> mesh_a, mesh_b;
 };
@@ -185,8 +211,7 @@ struct PairContact {
   Vec3 point;   // world: the deepest point of b's surface (a point of both bodies' lines of action)
   Vec3 normal;  // unit, pushes body_b away from body_a
   double depth; // > 0
-  double mu = -1;  // the pair's friction coefficient; < 0: the scene's
-  bool frictionless = false;  // the pair's condim is 1: no friction whatever the model
+  ContactMix mix{};  // the pair's (GeomPair::mix)
 };
 // Active contacts of the pairs at kinematics k (out is cleared; no allocation once
 // its capacity suffices). self_collision false: explicit pairs only. Depth = the

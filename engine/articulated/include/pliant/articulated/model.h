@@ -76,6 +76,14 @@ struct Geom {
   // (contype_a & conaffinity_b) || (contype_b & conaffinity_a).
   int contype = 1, conaffinity = 1;
   std::shared_ptr<const MeshShape> mesh;  // GeomType::Mesh only
+  // Contact parameters (MJCF friction / margin / condim / priority), mixed per contact
+  // by contact_mix (contact.h) as MuJoCo 2.2.2 mixes them for automatic contacts.
+  // friction: the sliding (Coulomb) coefficient; < 0: unset, the scene's contact.mu
+  // stands in for it (the scene's mu plays MuJoCo's default geom friction 1).
+  double friction = -1;
+  double margin = 0;  // touching below this distance (depth = margin - distance)
+  int condim = 3;     // 1 frictionless, 3 sliding friction (4 / 6 rejected)
+  int priority = 0;   // the higher-priority geom's friction and condim win
 };
 
 struct Body {

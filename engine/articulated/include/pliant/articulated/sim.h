@@ -83,6 +83,7 @@ struct FeatureAnchor {
   int body;
   Vec3 local, point, normal;
   double normal_force;
+  double mu = -1;  // the contact's Coulomb coefficient (contact_mu, resolved)
 };
 
 // Friction of a body-body contact (find_pair_contacts) found at q_i: the material
@@ -92,7 +93,7 @@ struct PairAnchor {
   int body_a, body_b;
   Vec3 local_a, local_b, normal;
   double normal_force;
-  double mu = -1;  // an explicit pair's Coulomb coefficient; < 0: the scene's
+  double mu = -1;  // the contact's Coulomb coefficient (contact_mu, resolved)
 };
 
 struct PbadStep {
