@@ -132,6 +132,7 @@ void soft_live_restart(SoftLive& live) {
   live.clock_s = 0;
   live.push_frames = 0;
   live.shown_frame = -1;
+  live.drag_steps = 0;
   live.com.clear();
   const Eigen::Vector3d c = soft::centre_of_mass(live.model->character, live.pb->state);
   live.com.push_back({float(c.x()), float(c.y()), float(c.z())});
@@ -175,6 +176,11 @@ bool soft_live_frame(App& app) {
       pb.push_n = Eigen::Vector3d(0, 0, kPushAccel * m.character.mass_kg);
       --live.push_frames;
     }
+    if (live.drag_vertex >= 0) {
+      const Vec3& f = live.drag_force;
+      pb.push_n += Eigen::Vector3d(f[0], f[1], f[2]);
+      live.drag_steps += f[0] != 0 || f[1] != 0 || f[2] != 0;
+    }
     try {
       soft::soft_playback_step(m, pb);
     } catch (const std::exception& e) {
@@ -188,6 +194,7 @@ bool soft_live_frame(App& app) {
   }
   if (live.shown_frame != live.frame()) {
     const Record r = soft::soft_frame_record(m, live.pb->state, live.frame(), /*with_triangles=*/true);
+    if (const Field* v = r.find("vertices")) live.vertices = v->data;  // the drag push picks on these
     app.renderer.set_frame(r, &live.scene);
     ++app.viewport.uploads;
     live.shown_frame = live.frame();

@@ -331,7 +331,10 @@ void draw_soft_overlay(App& app, float x, float y, int w, int h) {
   if (!soft_drawer_primary_view(&m, &dw, &dh) || dw != w || dh != h) return;
   TakeReader* rd = app.take.reader();
   const SoftTakeData* data = rd ? soft_drawer_take_data(soft_scene_key(rd->manifest().scene)) : nullptr;
-  if (!data || data->com.empty() || data->rest_vertices.size() < 3) return;
+  if (!data || data->com.empty() || data->rest_vertices.size() < 3) {
+    soft_live_drag(app, m, x, y, w, h);
+    return;
+  }
   // The body's extent at frame 0 sizes the handles.
   Vec3 lo{data->rest_vertices[0], data->rest_vertices[1], data->rest_vertices[2]}, hi = lo;
   for (size_t i = 0; i + 2 < data->rest_vertices.size(); i += 3)
@@ -341,6 +344,7 @@ void draw_soft_overlay(App& app, float x, float y, int w, int h) {
     }
   const float size = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2], 1e-3f});
   soft_gizmos(app, m, data->com[0], size, x, y, w, h);
+  soft_live_drag(app, m, x, y, w, h);  // after the handles: a held handle keeps the mouse
 }
 
 }  // namespace

@@ -73,6 +73,15 @@ struct SoftLive {
   int shown_frame = -1;  // the frame last handed to the renderer
   std::vector<std::array<float, 3>> com;  // centre of mass per live frame (tests, readout)
   std::string error;
+  // Click-and-drag push (ui/soft_live_drag.cpp): the shown frame's surface (xyz,
+  // for picking), the picked vertex while the button is held (-1: none), the
+  // force the drag asks for (world N, horizontal; acts on every step while held),
+  // the view held still meanwhile, and how many steps a drag push acted (tests).
+  std::vector<float> vertices;
+  int drag_vertex = -1;
+  Vec3 drag_force{0, 0, 0};
+  OrbitCamera drag_camera;
+  int drag_steps = 0;
   int frame() const;
 };
 
@@ -150,6 +159,13 @@ void soft_live_stop(App& app);
 void soft_live_restart(SoftLive& live);
 bool soft_live_frame(App& app);
 void draw_soft_live_controls(App& app);
+// Live playback's drag push over the result view (image rectangle x, y, w, h;
+// world -> clip m): press on the body (the nearest drawn surface vertex within
+// 12 px, front-most), drag, release. While held, the body is pushed along the
+// drag in the ground plane: from the picked vertex to where the mouse ray meets
+// the horizontal plane through it, kDragPushAccel x mass at a drag of one body
+// length or more, less in proportion below. Drawn as an arrow.
+void soft_live_drag(App& app, const Mat4& m, float x, float y, int w, int h);
 
 // Dropping a mesh file on a soft scene (KindPanels::on_drop): sets
 // /character/mesh (relative to the scene's folder when saved), one undo step.

@@ -6,7 +6,8 @@
 // editing the document; a vertex pin and a gizmo drag are one undo step each;
 // a pin's target is dragged afterwards (one undo step); the body compiles off
 // the UI thread (frames keep coming, a newer edit supersedes an older one); live
-// playback of the take's controller replays the take and takes a push.
+// playback of the take's controller replays the take, takes a push and a
+// click-and-drag push along the drag.
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -156,7 +157,19 @@ TEST(EditorSoft, OptimizeWalkMatchesGoldenAndExportsObj) {
 // Live playback: the engine's realtime simulation of the take's controller replays
 // the take (same centre of mass frame by frame), runs past its end, and a push
 // moves the body sideways; Tracking and Restart are UI state only.
-TEST(EditorSoft, LivePlaybackReplaysTheTakeAndTakesAPush) {
+// Where the ray through window pixel (sx, sy) of the image (x0, y0, w, h) meets the
+// plane y = py (the drag push's ground plane), for the test's expected direction.
+std::array<float, 3> live_test_ground_hit(const Mat4& m, float sx, float sy, const UiRect& r, int w, int h, float py) {
+  const Mat4 inv = mat4_inverse(m);
+  const float nx = 2 * (sx - r.x0) / w - 1, ny = 1 - 2 * (sy - r.y0) / h;
+  const auto a = mat4_apply(inv, {nx, ny, -1, 1}), b = mat4_apply(inv, {nx, ny, 1, 1});
+  std::array<float, 3> p, q;
+  for (int i = 0; i < 3; ++i) p[i] = a[i] / a[3], q[i] = b[i] / b[3];
+  const float t = (py - p[1]) / (q[1] - p[1]);
+  return {p[0] + t * (q[0] - p[0]), py, p[2] + t * (q[2] - p[2])};
+}
+
+TEST(EditorSoft, LivePlaybackReplaysTheTakeAndTakesAPushAndADrag) {
   EditorHarness h("soft_live");
   h.start(spider_scene(h), /*gl=*/true, 1280, 720);
   ASSERT_EQ(h.run("wait 2\nclick_item soft_optimize\nwait_job 90\nexpect \"Job 1: done\"\nwait_frames 16 10\n"), "");
@@ -188,11 +201,57 @@ TEST(EditorSoft, LivePlaybackReplaysTheTakeAndTakesAPush) {
   for (int i = 0; i < 3; ++i) travel = std::max(travel, double(std::abs(take_com[15][i] - take_com[0][i])));
   EXPECT_GT(travel, 1e-3) << take_com[0][0] << " " << take_com[0][1] << " " << take_com[0][2] << " -> "
                           << take_com[15][0] << " " << take_com[15][1] << " " << take_com[15][2];
+  const std::vector<std::array<float, 3>> undisturbed = live.com;  // frames 0..>=20, no push
+
+  // Restart and drag the body 160 px to the right on screen: press on a surface
+  // vertex near the centre of mass (away from the gizmo handles), release after
+  // 20 UI frames (~10 steps). At frame 20 the centre of mass has moved along the
+  // drag's ground direction against the undisturbed run.
+  ASSERT_EQ(h.run("click_item soft_live_restart\nwait 2\n"), "");
+  Mat4 m;
+  int vw = 0, vh = 0;
+  ASSERT_TRUE(soft_drawer_primary_view(&m, &vw, &vh));
+  ASSERT_NE(h.app->marks.find("viewport"), nullptr);
+  const UiRect vr = *h.app->marks.find("viewport");  // a copy: marks change every frame
+  auto screen = [&](const std::array<float, 3>& p) {
+    const auto c = mat4_apply(m, {p[0], p[1], p[2], 1});
+    return std::array<float, 2>{vr.x0 + 0.5f * (c[0] / c[3] + 1) * vw, vr.y0 + 0.5f * (1 - c[1] / c[3]) * vh};
+  };
+  const auto c0 = screen(live.com.back());
+  int pick = -1;
+  float best = 1e30f;
+  for (size_t i = 0; 3 * i + 2 < live.vertices.size(); ++i) {
+    const auto p = screen({live.vertices[3 * i], live.vertices[3 * i + 1], live.vertices[3 * i + 2]});
+    bool near_handle = false;
+    for (const auto& hd : soft_ui(*h.app).handles)
+      near_handle = near_handle || std::hypot(hd.x - p[0], hd.y - p[1]) < 30;
+    const float d = std::hypot(p[0] - c0[0], p[1] - c0[1]);
+    if (!near_handle && d < best) best = d, pick = int(i);
+  }
+  ASSERT_GE(pick, 0);
+  const std::array<float, 3> pv{live.vertices[3 * pick], live.vertices[3 * pick + 1], live.vertices[3 * pick + 2]};
+  const auto p0 = screen(pv);
+  const float x1 = p0[0] + 160, y1 = p0[1];
+  ASSERT_EQ(h.run("drag " + num(p0[0]) + " " + num(p0[1]) + " " + num(x1) + " " + num(y1) + " 20\n"), "");
+  EXPECT_GT(live.drag_steps, 3);
+  EXPECT_EQ(live.drag_vertex, -1);  // released
+  for (int i = 0; i < 300 && live.frame() < 20 && live.on; ++i) ASSERT_EQ(h.run("wait 0.1\n"), "");
+  ASSERT_GE(live.com.size(), 21u);
+  ASSERT_GE(undisturbed.size(), 21u);
+  const auto g0 = live_test_ground_hit(m, p0[0], p0[1], vr, vw, vh, pv[1]);
+  const auto g1 = live_test_ground_hit(m, x1, y1, vr, vw, vh, pv[1]);
+  const float ex = g1[0] - g0[0], ez = g1[2] - g0[2], el = std::hypot(ex, ez);
+  const float dx = live.com[20][0] - undisturbed[20][0], dz = live.com[20][2] - undisturbed[20][2];
+  const float moved = std::hypot(dx, dz);
+  EXPECT_GT(moved, 1e-3) << dx << " " << dz;
+  EXPECT_GT((dx * ex + dz * ez) / (moved * el), 0.9) << "moved (" << dx << ", " << dz << "), drag (" << ex << ", "
+                                                      << ez << ")";
   // Restart and push at once: the centre of mass leaves the take's path sideways (+z).
   ASSERT_EQ(h.run("click_item soft_live_restart\nclick_item soft_live_push\n"), "");
   for (int i = 0; i < 300 && live.frame() < 15 && live.on; ++i) ASSERT_EQ(h.run("wait 0.1\n"), "");
   ASSERT_GE(live.com.size(), 16u);
   EXPECT_GT(live.com[15][2] - take_com[15][2], 1e-3);
+  EXPECT_EQ(live.drag_steps, 0);  // the button pushes without a drag
   // Tracking toggles the engine's feedback gains; Live off shows the take again.
   ASSERT_EQ(h.run("click_item soft_live_tracking\nwait 0.5\n"), "");
   EXPECT_TRUE(live.tracking);

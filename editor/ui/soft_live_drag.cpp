@@ -1,0 +1,161 @@
+// Click-and-drag push in Live playback (see soft_ui.h): the animator grabs the
+// body and pulls it the way it should be shoved. The push acts while the
+// button is held, not as an impulse on release: the body answers while the
+// arrow is on screen (a spring-like pull one can steer, stop or aim again), the
+// arrow never shows a force that has not acted yet, and the strength follows
+// the drag length continuously instead of a guessed duration. The force goes
+// to the engine's playback push (SoftPlayback::push_n: every lattice node, in
+// proportion to its mass), the one external force the playback takes.
+#include <imgui.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "ui/app.h"
+#include "ui/soft_ui.h"
+#include "ui/ui_mark.h"
+
+#ifdef PLIANT_HAVE_SOFT
+#include "pliant/soft/soft.h"
+#endif
+
+namespace pliant::editor {
+
+namespace {
+
+// Full drag (one body length or more): the Push button's 20 m/s^2.
+constexpr float kDragPushAccel = 20;
+constexpr float kPickRadiusPx = 12;
+
+struct DragScreen {
+  float x = 0, y = 0, depth = 0;
+  bool ok = false;
+};
+
+DragScreen drag_project(const Mat4& m, const Vec3& p, float x0, float y0, int w, int h) {
+  const auto c = mat4_apply(m, {p[0], p[1], p[2], 1.0f});
+  if (!(c[3] > 1e-6f)) return {};
+  return {x0 + 0.5f * (c[0] / c[3] + 1.0f) * float(w), y0 + 0.5f * (1.0f - c[1] / c[3]) * float(h), c[2] / c[3], true};
+}
+
+// Where the ray through screen point (sx, sy) meets the plane y = plane_y.
+bool drag_ray_plane(const Mat4& m, float sx, float sy, float x0, float y0, int w, int h, float plane_y, Vec3* hit) {
+  const Mat4 inv = mat4_inverse(m);
+  const float nx = 2.0f * (sx - x0) / float(w) - 1.0f, ny = 1.0f - 2.0f * (sy - y0) / float(h);
+  auto unproject = [&](float z) {
+    const auto p = mat4_apply(inv, {nx, ny, z, 1.0f});
+    return Vec3{p[0] / p[3], p[1] / p[3], p[2] / p[3]};
+  };
+  const Vec3 a = unproject(-1.0f), b = unproject(1.0f);
+  const float dy = b[1] - a[1];
+  if (std::abs(dy) < 1e-9f) return false;
+  const float t = (plane_y - a[1]) / dy;
+  if (!(t >= 0.0f)) return false;
+  *hit = {a[0] + t * (b[0] - a[0]), plane_y, a[2] + t * (b[2] - a[2])};
+  return true;
+}
+
+Vec3 live_vertex(const SoftLive& live, int v) {
+  const size_t i = 3 * size_t(v);
+  return {live.vertices[i], live.vertices[i + 1], live.vertices[i + 2]};
+}
+
+// The front-most surface vertex within kPickRadiusPx of the mouse (-1: none).
+int pick_live_vertex(const SoftLive& live, const Mat4& m, const ImVec2& mouse, float x, float y, int w, int h) {
+  int best = -1;
+  float best_z = 1e30f;
+  for (size_t i = 0; 3 * i + 2 < live.vertices.size(); ++i) {
+    const DragScreen s = drag_project(m, live_vertex(live, int(i)), x, y, w, h);
+    const float dx = s.x - mouse.x, dy = s.y - mouse.y;
+    // Depth with a bias for screen distance: the vertex right under the mouse wins a tie.
+    const float z = s.depth + 1e-3f * (dx * dx + dy * dy);
+    if (s.ok && dx * dx + dy * dy < kPickRadiusPx * kPickRadiusPx && z < best_z) {
+      best_z = z;
+      best = int(i);
+    }
+  }
+  return best;
+}
+
+float live_mass_kg(const SoftLive& live) {
+#ifdef PLIANT_HAVE_SOFT
+  return live.model ? float(live.model->character.mass_kg) : 0.0f;
+#else
+  (void)live;
+  return 0.0f;
+#endif
+}
+
+// Horizontal extent of the shown surface: the drag length of a full push.
+float live_body_length(const SoftLive& live) {
+  float lo[2] = {1e30f, 1e30f}, hi[2] = {-1e30f, -1e30f};
+  for (size_t i = 0; i + 2 < live.vertices.size(); i += 3)
+    for (int k = 0; k < 2; ++k) {
+      const float v = live.vertices[i + 2 * k];  // x, z
+      lo[k] = std::min(lo[k], v);
+      hi[k] = std::max(hi[k], v);
+    }
+  return std::max({hi[0] - lo[0], hi[1] - lo[1], 1e-3f});
+}
+
+}  // namespace
+
+void soft_live_drag(App& app, const Mat4& m, float x, float y, int w, int h) {
+  SoftUi& ui = soft_ui(app);
+  SoftLive& live = ui.live;
+  if (!live.on || !live.pb || live.vertices.empty()) {
+    live.drag_vertex = -1;
+    live.drag_force = {0, 0, 0};
+    return;
+  }
+  const ImGuiIO& io = ImGui::GetIO();
+  const ImVec2 mouse = io.MousePos;
+  const bool inside = mouse.x >= x && mouse.y >= y && mouse.x < x + w && mouse.y < y + h;
+  // The press has just made the canvas button active: hovered despite it.
+  if (live.drag_vertex < 0 && ui.drag_handle == 0 && inside &&
+      ImGui::IsWindowHovered(ImGuiHoveredFlags_AllowWhenBlockedByActiveItem) &&
+      ImGui::IsMouseClicked(ImGuiMouseButton_Left)) {
+    live.drag_vertex = pick_live_vertex(live, m, mouse, x, y, w, h);
+    live.drag_camera = app.viewport.camera;
+  }
+
+  if (live.drag_vertex < 0) return;
+  if (!ImGui::IsMouseDown(ImGuiMouseButton_Left) || 3 * size_t(live.drag_vertex) + 2 >= live.vertices.size()) {
+    live.drag_vertex = -1;
+    live.drag_force = {0, 0, 0};
+    return;
+  }
+  // The canvas orbits on a left drag; keep the view still while the body is held.
+  app.viewport.camera = live.drag_camera;
+  const Vec3 a = live_vertex(live, live.drag_vertex);
+  Vec3 hit;
+  live.drag_force = {0, 0, 0};
+  if (!drag_ray_plane(m, mouse.x, mouse.y, x, y, w, h, a[1], &hit)) return;
+  const float dx = hit[0] - a[0], dz = hit[2] - a[2], len = std::sqrt(dx * dx + dz * dz);
+  const float full = live_body_length(live);
+  const float frac = std::min(len / full, 1.0f);
+  const float f = kDragPushAccel * live_mass_kg(live) * frac;
+  if (len > 1e-6f) live.drag_force = {f * dx / len, 0, f * dz / len};
+
+  // The arrow: from the picked vertex along the drag, capped at the full length.
+  const float shown = std::min(len, full);
+  const Vec3 tip = len > 1e-6f ? Vec3{a[0] + shown * dx / len, a[1], a[2] + shown * dz / len} : a;
+  const DragScreen s0 = drag_project(m, a, x, y, w, h), s1 = drag_project(m, tip, x, y, w, h);
+  if (!s0.ok || !s1.ok) return;
+  ImDrawList* dl = ImGui::GetWindowDrawList();
+  const ImU32 col = IM_COL32(255, 120, 60, 255);
+  dl->AddCircleFilled(ImVec2(s0.x, s0.y), 4, col);
+  dl->AddLine(ImVec2(s0.x, s0.y), ImVec2(s1.x, s1.y), col, 2.5f);
+  const float ex = s1.x - s0.x, ey = s1.y - s0.y, el = std::sqrt(ex * ex + ey * ey);
+  if (el > 4) {
+    const float ux = ex / el, uy = ey / el, head = std::min(12.0f, 0.4f * el);
+    for (int side : {-1, 1})
+      dl->AddLine(ImVec2(s1.x, s1.y), ImVec2(s1.x - head * ux + side * 0.5f * head * uy, s1.y - head * uy - side * 0.5f * head * ux),
+                  col, 2.5f);
+  }
+  char label[64];
+  std::snprintf(label, sizeof label, "push %.3g N (%.0f%%)", f, 100 * frac);
+  dl->AddText(ImVec2(s1.x + 8, s1.y - 8), col, label);
+}
+
+}  // namespace pliant::editor
