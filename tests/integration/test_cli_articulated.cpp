@@ -253,5 +253,17 @@ TEST_F(ArticulatedCli, ContactPairCondimFourExitsTwoNamingTheAttribute) {
   EXPECT_TRUE(contains(r.err, "supported: 1 (frictionless) and 3")) << r.err;
 }
 
+// A geom asking for torsional friction, or a negative geom friction, exits 2 naming
+// the geom's attribute.
+TEST_F(ArticulatedCli, GeomCondimFourAndNegativeFrictionExitTwoNamingTheAttribute) {
+  ProcessResult r = validate_mjcf("<mujoco><worldbody><body><freejoint/><geom size=\"0.1\" condim=\"4\"/></body></worldbody></mujoco>");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_TRUE(contains(r.err, "/mujoco/worldbody[0]/body[0]/geom[0]/@condim")) << r.err;
+  EXPECT_TRUE(contains(r.err, "supported: 1 (frictionless) and 3")) << r.err;
+  r = validate_mjcf("<mujoco><worldbody><geom type=\"plane\" friction=\"-1\"/></worldbody></mujoco>");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_TRUE(contains(r.err, "/mujoco/worldbody[0]/geom[0]/@friction")) << r.err;
+}
+
 }  // namespace
 }  // namespace pliant::test
