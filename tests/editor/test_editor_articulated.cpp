@@ -284,9 +284,26 @@ TEST(EditorArticulated, CompareIntegratorsReadsAnEnergyCurvePerIntegrator) {
   // Same initial state, different schemes: equal first energy, different curves.
   EXPECT_FLOAT_EQ(st.runs[0].total.front(), st.runs[2].total.front());
   EXPECT_NE(st.runs[0].total[15], st.runs[2].total[15]);
-  // A legend click shows that run's take.
+  // A legend click shows that run's take; a selected body stays selected there
+  // (by name) and is read from that take.
+  ASSERT_EQ(h.run("click_item legend_pbad2\nwait 2\n"), "");
+  ASSERT_TRUE(articulated_select_body(*h.app, 3));
+  ASSERT_EQ(h.run("set_frame 40\nwait 2\n"), "");
+  const ArticulatedSelection* sel = articulated_selection(*h.app);
+  ASSERT_NE(sel, nullptr);
+  EXPECT_EQ(sel->take_dir, st.runs[0].take.string());
+  ASSERT_EQ(sel->joints.size(), 1u);
+  const double q_pbad2 = sel->joints[0].qpos[0];
   ASSERT_EQ(h.run("click_item legend_euler\nwait 2\n"), "");
   EXPECT_EQ(h.app->take.dir(), st.runs[2].take);
+  ASSERT_EQ(h.run("set_frame 40\nwait 2\n"), "");
+  sel = articulated_selection(*h.app);
+  ASSERT_NE(sel, nullptr);
+  EXPECT_EQ(sel->body_name, "link3");
+  EXPECT_EQ(sel->take_dir, st.runs[2].take.string());
+  EXPECT_EQ(sel->frame, 40);
+  ASSERT_EQ(sel->joints.size(), 1u);
+  EXPECT_NE(sel->joints[0].qpos[0], q_pbad2);  // another scheme, another trajectory
   // A second comparison right away gets takes of its own.
   const fs::path first = st.runs[0].take;
   ASSERT_TRUE(articulated_compare_integrators(*h.app, {"pbad2"}));
