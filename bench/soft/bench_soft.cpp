@@ -260,6 +260,12 @@ void optimizers(const std::string& scene, int iterations) {
     if (const char* e = std::getenv("LBFGS_STEP0")) os.lbfgs_initial_step = std::atof(e);
     if (extra) os.lbfgs_initial_step = step0;
     if (const char* e = std::getenv("BROYDEN")) os.broyden_reuse = std::atoi(e);
+    // FUSED=0|1 (optimizer.fused_trials), LM_DAMPING=marquardt|trust_region.
+    if (const char* e = std::getenv("FUSED")) os.fused_trials = std::atoi(e) != 0;
+    // BASELINE_FUSED=0|1: the same for L-BFGS and LM only (each baseline at its best).
+    if (const char* e = std::getenv("BASELINE_FUSED"); e && baseline) os.fused_trials = std::atoi(e) != 0;
+    if (const char* e = std::getenv("LM_DAMPING"))
+      os.lm_damping = std::string(e) == "trust_region" ? OptimizerSettings::Damping::TrustRegion : OptimizerSettings::Damping::Marquardt;
     // JACOBIAN=fd|sensitivity overrides the scene's optimizer.jacobian.
     if (const char* e = std::getenv("JACOBIAN"))
       os.jacobian = std::string(e) == "fd" ? JacobianKind::FiniteDifference : JacobianKind::Sensitivity;
@@ -289,7 +295,8 @@ void optimizers(const std::string& scene, int iterations) {
       if (const char* e = std::getenv("SPACETIME_STALL")) ss.stall = std::atof(e);
       spacetime_optimize(p, ss, st, on_it, &rep);
     } else {
-      optimize([&p](const Eigen::VectorXd& th) { return residuals(p, th); }, os, st, on_it, problem_jacobian(p, os));
+      optimize([&p](const Eigen::VectorXd& th) { return residuals(p, th); }, os, st, on_it, problem_jacobian(p, os),
+               problem_residual_jacobian(p, os));
     }
     const double wall = since(t0), cpu = cpu_s() - c0;
     // Re-simulate the optimized controller independently over the take length.
@@ -308,6 +315,8 @@ void optimizers(const std::string& scene, int iterations) {
                         {"lbfgs_initial_step", os.lbfgs_initial_step},
                         {"lm_lambda_initial", os.lambda_initial},
                         {"broyden_reuse", os.broyden_reuse},
+                        {"fused_trials", os.fused_trials},
+                        {"lm_damping", os.lm_damping == OptimizerSettings::Damping::TrustRegion ? "trust_region" : "marquardt"},
                         {"jacobian", os.jacobian == JacobianKind::Sensitivity ? "sensitivity" : "finite_difference"},
                         {"method", optimizer_name(k)},
                         {"iterations", st.iteration},

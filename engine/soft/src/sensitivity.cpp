@@ -376,4 +376,10 @@ JacobianFn problem_jacobian(const Problem& p, const OptimizerSettings& s) {
   };
 }
 
+ResidualJacobianFn problem_residual_jacobian(const Problem& p, const OptimizerSettings& s) {
+  if (s.jacobian != JacobianKind::Sensitivity || !s.fused_trials) return {};
+  const Problem* pp = &p;
+  return [pp](const VectorXd& th, VectorXd& r) { return sensitivity_jacobian(*pp, th, &r); };
+}
+
 }  // namespace pliant::soft

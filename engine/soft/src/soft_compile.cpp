@@ -228,6 +228,12 @@ SoftModel soft_compile(const Scene& scene) {
     m.optimizer.lambda_initial = oj->number("lm_lambda_initial", m.optimizer.lambda_initial, 1e-12, 1e12);
     m.optimizer.broyden_reuse = int(oj->integer("broyden_reuse", m.optimizer.broyden_reuse, 0, 1000));
     m.optimizer.lbfgs_initial_step = oj->number("lbfgs_initial_step", m.optimizer.lbfgs_initial_step, 1e-12, 1e12);
+    // Fused trials and the LM damping schedule (optimizer.h; tenth session).
+    m.optimizer.fused_trials = oj->boolean("fused_trials", m.optimizer.fused_trials);
+    const std::string damping = oj->choice(
+        "lm_damping", m.optimizer.lm_damping == OptimizerSettings::Damping::TrustRegion ? "trust_region" : "marquardt",
+        {"marquardt", "trust_region"});
+    m.optimizer.lm_damping = damping == "trust_region" ? OptimizerSettings::Damping::TrustRegion : OptimizerSettings::Damping::Marquardt;
     // Rollout Jacobian: exact forward sensitivities or finite differences (optimizer.h).
     const std::string jac = oj->choice("jacobian", m.optimizer.jacobian == JacobianKind::Sensitivity ? "sensitivity" : "finite_difference",
                                        {"sensitivity", "finite_difference"});

@@ -110,7 +110,7 @@ nlohmann::json run_navigation(JobContext& ctx, SoftModel& m, std::chrono::steady
             ctx.progress.check_cancelled();
             return true;
           },
-          problem_jacobian(pk, m.optimizer));
+          problem_jacobian(pk, m.optimizer), problem_residual_jacobian(pk, m.optimizer));
       theta = st.theta;
     }
     ck.index = k;

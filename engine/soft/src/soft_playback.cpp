@@ -38,7 +38,8 @@ double soft_optimize(const SoftModel& m, OptimizerState& st, const IterationFn& 
   }
   if (st.theta.size() == 0) st.theta = initial_theta(p);
   const ResidualFn rf = [&p](const Eigen::VectorXd& th) { return residuals(p, th); };
-  optimize(rf, m.optimizer, st, on_iteration, problem_jacobian(p, m.optimizer));
+  optimize(rf, m.optimizer, st, on_iteration, problem_jacobian(p, m.optimizer),
+           problem_residual_jacobian(p, m.optimizer));
   if (st.history.empty()) {
     st.objective = 0.5 * residuals(p, st.theta).squaredNorm();
     st.history.push_back(st.objective);

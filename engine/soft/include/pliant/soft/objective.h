@@ -122,6 +122,9 @@ Eigen::MatrixXd step_sensitivity(const Character& ch, const Environment& env, co
 // The optimizer's Jacobian for s.jacobian: sensitivity_jacobian where it applies
 // (falls back to finite differences otherwise), empty (= finite differences) for FD.
 JacobianFn problem_jacobian(const Problem& p, const OptimizerSettings& s);
+// r and J from one sensitivity pass (s.fused_trials with the sensitivity Jacobian),
+// empty otherwise; r is residuals(p, theta) to the last bit.
+ResidualJacobianFn problem_residual_jacobian(const Problem& p, const OptimizerSettings& s);
 
 // Largest COM height gain over a rollout of n frames (for checks and metrics).
 double max_height_gain(const Problem& p, const Eigen::VectorXd& theta, int n);

@@ -53,6 +53,21 @@ struct OptimizerSettings {
   // 2). The hybrid's first L-BFGS step instead has its last LM step's length.
   double lbfgs_initial_step = 1.0;
   JacobianKind jacobian = JacobianKind::Sensitivity;
+  // Fused trials (tenth session): every trial point (LM trial, L-BFGS line-search
+  // point) is evaluated together with its exact Jacobian (the caller's
+  // ResidualJacobianFn: the forward-sensitivity pass is itself a rollout), so an
+  // accepted trial hands the next iteration its Jacobian without a second rollout of
+  // the same point. A trial then costs ~1.2-1.6 rollouts instead of 1 but an accepted
+  // one saves a whole Jacobian pass; L-BFGS gets the same (LBFGS++ evaluates f and
+  // the gradient together at every line-search point). Broyden reuse is off then
+  // (its only purpose is saving a Jacobian). Needs the sensitivity Jacobian.
+  bool fused_trials = false;
+  // LM damping schedule: Marquardt's (lambda / 3 after an accepted step, x 4 after a
+  // rejected one), or a trust region in Marquardt's scaling (Moré 1978): lambda is
+  // chosen so the step's scaled length meets the radius, which is halved after a
+  // rejected trial or a gain ratio < 1/4 and at least doubled above 3/4.
+  enum class Damping { Marquardt, TrustRegion };
+  Damping lm_damping = Damping::Marquardt;
 };
 
 struct OptimizerState {
@@ -71,11 +86,16 @@ using ResidualFn = std::function<Eigen::VectorXd(const Eigen::VectorXd&)>;
 using IterationFn = std::function<bool(const OptimizerState&)>;
 // J(theta) given r0 = r(theta); an empty result means "use finite differences".
 using JacobianFn = std::function<Eigen::MatrixXd(const Eigen::VectorXd& theta, const Eigen::VectorXd& r0)>;
+// r(theta) and J(theta) from one pass (settings.fused_trials): writes r, returns J.
+using ResidualJacobianFn = std::function<Eigen::MatrixXd(const Eigen::VectorXd& theta, Eigen::VectorXd& r)>;
 
 // Continues from `state` (theta set; history may hold a resumed run). jacobian
 // (optional) replaces the finite-difference Jacobian; it counts as one rollout.
+// fused (optional) is used when s.fused_trials is set; a fused evaluation counts as
+// one rollout.
 void optimize(const ResidualFn& r, const OptimizerSettings& s, OptimizerState& state,
-              const IterationFn& on_iteration = {}, const JacobianFn& jacobian = {});
+              const IterationFn& on_iteration = {}, const JacobianFn& jacobian = {},
+              const ResidualJacobianFn& fused = {});
 
 // Broyden's rank-1 secant update: J += (dr - J d) d^T / |d|^2, so J d = dr after it
 // and J is unchanged on vectors orthogonal to d.
