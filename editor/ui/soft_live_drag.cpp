@@ -154,7 +154,7 @@ void soft_live_drag(App& app, const Mat4& m, float x, float y, int w, int h) {
                   col, 2.5f);
   }
   char label[64];
-  std::snprintf(label, sizeof label, "push %.3g N (%.0f%%)", f, 100 * frac);
+  std::snprintf(label, sizeof label, "push %.4g N (%.0f%%)", f, 100 * frac);
   dl->AddText(ImVec2(s1.x + 8, s1.y - 8), col, label);
 }
 
