@@ -10,7 +10,9 @@
 #include <vector>
 
 #include "pliant/core/scene.h"
+#include "pliant/core/error.h"
 #include "pliant/soft/soft.h"
+#include "soft_test_scenes.h"
 
 using namespace pliant;
 using namespace pliant::soft;
@@ -181,4 +183,25 @@ TEST(OptimizerTrials, SmallTShapeHighJumpReachesNinetyPercentInResimulation) {
   const double after = max_height_gain(m.problem, st.theta, m.frames);
   EXPECT_LT(before, 0.05 * 0.4);
   EXPECT_GE(after, 0.9 * 0.4);
+}
+
+TEST(OptimizerTrials, SceneKeysReachTheSettingsAndBadValuesAreInputErrors) {
+  const char* obj = pliant::soft::test::t_shape_jump_objectives();
+  const SoftModel d = soft_compile(pliant::soft::test::t_shape_scene(obj, R"({"iterations": 0})"));
+  EXPECT_FALSE(d.optimizer.fused_trials);  // opt-in: the shipped results stay as they were
+  EXPECT_EQ(d.optimizer.lm_damping, OptimizerSettings::Damping::Marquardt);
+  const SoftModel m = soft_compile(pliant::soft::test::t_shape_scene(
+      obj, R"({"iterations": 0, "fused_trials": true, "lm_damping": "trust_region"})"));
+  EXPECT_TRUE(m.optimizer.fused_trials);
+  EXPECT_EQ(m.optimizer.lm_damping, OptimizerSettings::Damping::TrustRegion);
+  auto pointer_of = [&](const std::string& optimizer) {
+    try {
+      soft_compile(pliant::soft::test::t_shape_scene(obj, optimizer));
+    } catch (const InputError& e) {
+      return e.pointer();
+    }
+    return std::string("no error");
+  };
+  EXPECT_EQ(pointer_of(R"({"lm_damping": "nielsen"})"), "/optimizer/lm_damping");
+  EXPECT_EQ(pointer_of(R"({"fused_trials": 2})"), "/optimizer/fused_trials");
 }
