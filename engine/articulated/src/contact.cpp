@@ -15,26 +15,10 @@ Vec3 box_corner(const Vec3& half, int c) {
 
 }  // namespace
 
-ContactMix contact_mix(const Geom& a, const Geom& b) {
-  ContactMix c;
-  c.margin = std::max(a.margin, b.margin);
-  int condim;
-  if (a.priority != b.priority) {
-    const Geom& w = a.priority > b.priority ? a : b;
-    condim = w.condim;
-    c.mu = w.friction;
-    c.scene_mu = w.friction < 0;
-  } else {
-    condim = std::max(a.condim, b.condim);
-    c.mu = std::max(a.friction, b.friction);  // unset (< 0) loses to any set value
-    c.scene_mu = a.friction < 0 || b.friction < 0;
-  }
-  c.frictionless = condim == 1;
-  return c;
-}
-
-ContactMix point_contact_mix(const Model& m, const ContactPoint& p, int obstacle) {
-  return p.geom < 0 ? ContactMix{} : contact_mix(m.geoms[p.geom], m.geoms[obstacle]);
+bool geom_contact_params_set(const Model& m) {
+  for (const Geom& g : m.geoms)
+    if (g.friction >= 0 || g.margin != 0 || g.condim != 3 || g.priority != 0) return true;
+  return false;
 }
 
 std::vector<Vec3> mesh_contact_samples(const MeshShape& mesh) {
@@ -255,12 +239,13 @@ void find_contacts(const Model& m, const Kinematics& k, const std::vector<Contac
   out->clear();
   const int no = static_cast<int>(obs.size());
   const int nt = static_cast<int>(trees.size());
+  const bool mixed = geom_contact_params_set(m);
   for (size_t i = 0; i < pts.size(); ++i) {
     const ContactPoint& cp = pts[i];
     const Vec3 c = k.xpos[cp.body] + k.xmat[cp.body] * cp.local;
     for (int o = 0; o < no; ++o) {
       Vec3 n;
-      const ContactMix mix = point_contact_mix(m, cp, obs[o]);
+      const ContactMix mix = mixed ? point_contact_mix(m, cp, obs[o]) : ContactMix{};
       const double reach = cp.radius + mix.margin;  // the margin as extra radius
       const double d = obstacle_distance(m.geoms[obs[o]], o < nt ? &trees[o] : nullptr, c, &n) - reach;
       if (d >= 0) continue;

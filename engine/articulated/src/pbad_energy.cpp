@@ -92,7 +92,7 @@ double pbad_energy(const Model& m, const SimOptions& o, const State& s, const Pb
         const int slot = static_cast<int>(i) * no + ob;
         Vec3 n;
         const MeshBvh* tree = ob < static_cast<int>(ws.obstacle_trees.size()) ? &ws.obstacle_trees[ob] : nullptr;
-        const ContactMix mix = point_contact_mix(m, cp, ws.obstacles[ob]);
+        const ContactMix mix = ws.geom_mix ? point_contact_mix(m, cp, ws.obstacles[ob]) : ContactMix{};
         const double dist = obstacle_distance(m.geoms[ws.obstacles[ob]], tree, x, &n) - (cp.radius + mix.margin);
         if (dist < 0) {
           e += 0.5 * kk * dist * dist;

@@ -55,6 +55,7 @@ void sim_prepare(const Model& m, SimWorkspace& ws) {
   ws.obstacle_trees = obstacle_trees(m, ws.obstacles);
   ws.mesh_trees = moving_mesh_trees(m);
   ws.pairs = contact_geom_pairs(m);
+  ws.geom_mix = geom_contact_params_set(m);
   ws.cached_for = &m;
 }
 

@@ -165,6 +165,7 @@ struct SimWorkspace {
   std::vector<int> obstacles;
   std::vector<MeshBvh> obstacle_trees;  // per obstacle: a mesh's tree (obstacle_trees), cached
   std::vector<MeshBvh> mesh_trees;      // per geom: a moving mesh's tree (moving_mesh_trees), cached
+  bool geom_mix = false;  // geom_contact_params_set(model), cached
   const Model* cached_for = nullptr;
   PbadStep pbad;  // sim_step's PBAD iterate
 };
