@@ -14,6 +14,7 @@
 #include "pliant/articulated/io.h"
 #include "pliant/articulated/sim.h"
 #include "pliant/core/error.h"
+#include "mesh_fixture.h"
 
 namespace pliant::articulated {
 namespace {
@@ -277,6 +278,46 @@ TEST(GeomContact, CondimOneMakesContactsFrictionless) {
   SimWorkspace pw;
   for (int i = 0; i < 50; ++i) ASSERT_TRUE(sim_step(pile, o, p, pw));
   EXPECT_NEAR(p.qpos[0], 0.5, 0.002);
+}
+
+// Obstacle features against a moving mesh (mesh_feature_contacts) mix too: a mesh tile
+// on two slides resting on an upturned box corner, pushed at 0.2 m/s, stops after
+// v^2 / (2 mu g) = 8.15 mm with the tile's geom friction 0.25 (the scene's 0.05 alone:
+// 40.8 mm), and a margin of 5 mm on the box holds the tile that far above the corner
+// (without it the tile would drop 5 mm).
+TEST(GeomContact, MeshOnABoxCornerTakesTheGeomsFrictionAndMargin) {
+  const std::string obj = test::write_box_obj("pliant_gc_tile", 0.1, 0.1, 0.01);
+  const Quat up = Quat::FromTwoVectors(Vec3(1, 1, 1), Vec3::UnitZ());
+  const double tip = 0.04 * std::sqrt(3.0), k = 1e5, rest = 0.5 * 9.81 / k;
+  const auto tile_model = [&](const std::string& tile, const std::string& box, double margin) {
+    std::ostringstream x;
+    x.precision(17);
+    x << "<mujoco><asset><mesh name=\"tile\" file=\"" << obj << "\"/></asset><worldbody><geom type=\"box\" "
+      << "size=\"0.04 0.04 0.04\" quat=\"" << up.w() << " " << up.x() << " " << up.y() << " " << up.z() << "\" " << box
+      << "/><body pos=\"0 0 " << tip + 0.01 + margin - rest << "\"><joint type=\"slide\" axis=\"1 0 0\"/>"
+      << "<joint type=\"slide\" axis=\"0 0 1\"/><geom type=\"mesh\" mesh=\"tile\" mass=\"0.5\" " << tile
+      << "/></body></worldbody></mujoco>";
+    return model_from_mjcf(x.str(), "m.xml");
+  };
+  const Model slide = tile_model("friction=\"0.25\"", "", 0), lifted = tile_model("", "margin=\"0.005\"", 0.005);
+  std::filesystem::remove(obj);
+  SimOptions o;
+  o.dt = 0.005;
+  o.contact.stiffness = k;
+  o.contact.mu = 0.05;
+  State s = state_init(slide);
+  s.qvel[0] = 0.2;
+  SimWorkspace ws;
+  for (int i = 0; i < 80; ++i) ASSERT_TRUE(sim_step(slide, o, s, ws));
+  const double stop = 0.04 / (2 * 0.25 * 9.81);
+  State l = state_init(lifted);
+  SimWorkspace lw;
+  for (int i = 0; i < 80; ++i) ASSERT_TRUE(sim_step(lifted, o, l, lw));
+  std::printf("tile on a corner: stops at %.5f m (v^2 / (2 mu g) %.5f), margin 5 mm: %.3e m off its rest height\n",
+              s.qpos[0], stop, l.qpos[1]);
+  EXPECT_NEAR(s.qpos[0], stop, 0.03 * stop);
+  EXPECT_NEAR(s.qvel[0], 0, 1e-3);
+  EXPECT_NEAR(l.qpos[1], 0, 2e-5);  // slide z from the rest height with the margin
 }
 
 // The shipped scene (JSON geoms through the scene loader): after 1 s on the 20 degree
