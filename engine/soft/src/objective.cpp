@@ -45,6 +45,10 @@ SoftState simulate(const Problem& p, const Eigen::VectorXd& theta, int n,
   return s;
 }
 
+int steady_window_frames(const Objectives& o, double period_s, double dt_s) {
+  return std::max(1, int(std::lround(o.steady_periods * period_s / dt_s)));
+}
+
 double heading_yaw(const SoftState& s, const Eigen::Vector3d& axis) {
   const Eigen::Vector3d h = s.R * axis;
   return std::atan2(h[2], h[0]);
@@ -68,6 +72,18 @@ class ResidualAccumulator {
     if (o_.w_jump > 0) n += 1;
     if (o_.w_distance > 0) n += 1;
     if (o_.w_turn > 0) n += 2;
+    if (o_.w_steady > 0) n += 2;
+    if (o_.w_steady_periodic > 0) n += 3;
+    if (o_.w_steady > 0 || o_.w_steady_periodic > 0) {
+      // Window ends: frames F - P and F - 2P (clamped to the start state, frame 0).
+      const int P = steady_window_frames(o_, p.dmp.period_s, dt_);
+      steady_frame_[0] = std::max(0, p.frames - P);
+      steady_frame_[1] = std::max(0, steady_frame_[0] - P);
+      for (int k = 0; k < 2; ++k) steady_com_[k] = com0_, steady_yaw_at_[k] = 0;
+      steady_yaw_prev_ = heading_yaw(s0_, o_.steady_axis);
+      steady_normal_ = Eigen::Vector3d(o_.steady_direction[2], 0, -o_.steady_direction[0]);
+      if (steady_normal_.norm() > 1e-12) steady_normal_.normalize();
+    }
     shuffle_at_ = n;
     if (o_.w_shuffle > 0) n += p.frames;
     course_at_ = n;
@@ -95,6 +111,13 @@ class ResidualAccumulator {
       const double yaw = heading_yaw(s, o_.turn_axis);
       yaw_total_ += std::remainder(yaw - yaw_prev_, 2 * M_PI);  // unwrapped
       yaw_prev_ = yaw;
+    }
+    if (o_.w_steady > 0 || o_.w_steady_periodic > 0) {
+      const double yaw = heading_yaw(s, o_.steady_axis);
+      steady_yaw_ += std::remainder(yaw - steady_yaw_prev_, 2 * M_PI);  // unwrapped
+      steady_yaw_prev_ = yaw;
+      for (int k = 0; k < 2; ++k)
+        if (frame_ == steady_frame_[k]) steady_com_[k] = com, steady_yaw_at_[k] = steady_yaw_;
     }
     if (o_.w_heading > 0) heading_sum_ += s.R * o_.heading_axis - o_.heading_direction.normalized();
     if (o_.w_jump > 0) {
@@ -169,6 +192,24 @@ class ResidualAccumulator {
       if (h0.norm() > 1e-12) h0.normalize();
       res_[at++] = std::sqrt(o_.w_turn) * ((com - com0_).dot(h0) / T - o_.turn_speed_m_per_s);
     }
+    if (o_.w_steady > 0 || o_.w_steady_periodic > 0) {
+      // Mean rates over the last window [F - P, F] and the one before [F - 2P, F - P].
+      const double t1 = (p_.frames - steady_frame_[0]) * dt_, t2 = (steady_frame_[0] - steady_frame_[1]) * dt_;
+      const Eigen::Vector3d v1 = t1 > 0 ? Eigen::Vector3d((com - steady_com_[0]) / t1) : Eigen::Vector3d::Zero();
+      const Eigen::Vector3d v2 = t2 > 0 ? Eigen::Vector3d((steady_com_[0] - steady_com_[1]) / t2) : v1;
+      const double w1 = t1 > 0 ? (steady_yaw_ - steady_yaw_at_[0]) / t1 : 0;
+      const double w2 = t2 > 0 ? (steady_yaw_at_[0] - steady_yaw_at_[1]) / t2 : w1;
+      if (o_.w_steady > 0) {
+        res_[at++] = std::sqrt(o_.w_steady) * w1;
+        res_[at++] = std::sqrt(o_.w_steady) * v1.dot(steady_normal_);
+      }
+      if (o_.w_steady_periodic > 0) {
+        const double sw = std::sqrt(o_.w_steady_periodic);
+        res_[at++] = sw * (v1[0] - v2[0]);
+        res_[at++] = sw * (v1[2] - v2[2]);
+        res_[at++] = sw * (w1 - w2);
+      }
+    }
     res_.segment(effort_at_, theta.size()) = std::sqrt(o_.w_effort) * theta;
     return std::move(res_);
   }
@@ -191,6 +232,10 @@ class ResidualAccumulator {
   Eigen::Vector3d heading_sum_ = Eigen::Vector3d::Zero();
   double lse_max_ = -1e300, lse_sum_ = 0;
   double yaw_prev_, yaw_total_ = 0;
+  // steady: window-end frames, COM and unwrapped yaw there; lateral unit normal.
+  int steady_frame_[2] = {0, 0};
+  Eigen::Vector3d steady_com_[2], steady_normal_ = Eigen::Vector3d::Zero();
+  double steady_yaw_at_[2] = {0, 0}, steady_yaw_prev_ = 0, steady_yaw_ = 0;
   int frame_ = 0;
 };
 

@@ -2,6 +2,8 @@
 // suggestion), mesh problems turned into InputError at /character/mesh.
 #include <Eigen/Dense>
 #include <cmath>
+#include <optional>
+#include <string>
 
 #include "pliant/core/json_reader.h"
 #include "pliant/core/scene.h"
@@ -144,6 +146,7 @@ SoftModel soft_compile(const Scene& scene) {
 
   // Objectives.
   Objectives& o = p.obj;
+  std::optional<JsonReader> steady_reader;  // its horizon check waits for the optimizer block
   if (auto oj = root.object("objectives")) {
     if (auto t = oj->object("velocity")) {
       o.velocity_m_per_s = vec3(*t, "target_m_per_s", Eigen::Vector3d::Zero());
@@ -175,6 +178,17 @@ SoftModel soft_compile(const Scene& scene) {
       o.turn_speed_m_per_s = t->number("speed_m_per_s", 0, 0, 100);
       o.w_turn = t->number("weight", 1, 0);
       t->finish();
+    }
+    if (auto t = oj->object("steady")) {
+      o.steady_axis = unit3(*t, "body_axis", Eigen::Vector3d::UnitX());
+      o.steady_direction = unit3(*t, "direction", Eigen::Vector3d::UnitX());
+      if (std::hypot(o.steady_direction.x(), o.steady_direction.z()) < 1e-6)
+        t->fail("direction", "expected a direction with a horizontal (x or z) part: the walk's course on the ground");
+      o.steady_periods = int(t->integer("periods", 1, 1, 1000));
+      o.w_steady = t->number("weight", 1, 0);
+      o.w_steady_periodic = t->number("periodicity_weight", 0, 0);
+      t->finish();
+      steady_reader = *t;
     }
     if (auto t = oj->object("jump")) {
       o.jump_height_m = t->required_number("height_m", 0, 1e3);
@@ -244,6 +258,16 @@ SoftModel soft_compile(const Scene& scene) {
     sp.w_dmp_initial = oj->number("dmp_weight_initial", sp.w_dmp_initial, 1e-12, 1e16);
     sp.w_dmp_max = oj->number("dmp_weight_max", sp.w_dmp_max, sp.w_dmp_initial, 1e16);
     oj->finish();
+  }
+  if (steady_reader) {
+    // The windows must lie inside the horizon: one for the rates, two with periodicity.
+    const int P = steady_window_frames(o, p.dmp.period_s, p.sim.dt_s);
+    const int need = (o.w_steady_periodic > 0 ? 2 : 1) * P;
+    if (p.frames < need)
+      steady_reader->fail("periods", "the optimizer's horizon_frames (" + std::to_string(p.frames) + ") is shorter than the " +
+                                         std::to_string(need) + " frames the steady windows need (" +
+                                         std::to_string(o.steady_periods) + " period(s) of " + std::to_string(P) +
+                                         " frames each)");
   }
   m.spacetime.max_iterations = m.optimizer.max_iterations;
   m.spacetime.tolerance = m.optimizer.tolerance;

@@ -18,6 +18,13 @@
 //   turn       mean yaw rate of a body axis about +y minus target (rad/s), and COM
 //              progress along the initial heading per second minus target speed
 //              (the gaits of navigation.h)
+//   steady     over the last `periods` controller periods of the horizon: yaw rate
+//              of a body axis (rad/s) and COM velocity normal to a ground direction
+//              (m/s) (2); with a periodicity weight also the change of the horizontal
+//              COM displacement (2) and of the yaw (1) from the period before, per
+//              second (3). turn at rate 0 holds only the horizon's NET yaw, so a gait
+//              may turn out and back or still be turning at its end; an open-loop
+//              replay repeats the last period, so that is the one to hold straight
 //   effort     theta itself (keeps the problem well posed)
 #pragma once
 #include <Eigen/Core>
@@ -56,8 +63,15 @@ struct Objectives {
   double w_turn = 0;
   Eigen::Vector3d turn_axis = Eigen::Vector3d::UnitX();
   double turn_rate_rad_per_s = 0, turn_speed_m_per_s = 0;
+  double w_steady = 0, w_steady_periodic = 0;
+  Eigen::Vector3d steady_axis = Eigen::Vector3d::UnitX();
+  Eigen::Vector3d steady_direction = Eigen::Vector3d::UnitX();  // its horizontal part is used
+  int steady_periods = 1;
   double w_effort = 1e-4;
 };
+
+// Frames in one steady window: periods x the controller period, rounded, >= 1.
+int steady_window_frames(const Objectives& o, double period_s, double dt_s);
 
 // Yaw of the body axis a in the ground plane: atan2((R a)_z, (R a)_x), radians.
 double heading_yaw(const SoftState& s, const Eigen::Vector3d& axis);
