@@ -33,7 +33,7 @@ void paint_dab(geom::PaintedGrid& g, double x, double y, const Brush& b) {
     for (int i = i0; i <= i1; ++i) {
       const double d = std::hypot(i + 0.5 - x, j + 0.5 - y);
       if (d >= r) continue;
-      const double cov = d <= hard ? 1.0 : (r - d) / (r - hard);
+      const double cov = (d <= hard ? 1.0 : (r - d) / (r - hard)) * std::clamp(b.strength, 0.0, 1.0);
       uint8_t& v = at(g, i, j);
       if (b.erase) v = uint8_t(std::lround(v * (1.0 - cov)));
       else v = std::max(v, to_byte(cov));
@@ -126,6 +126,8 @@ void stamp_coverage(geom::PaintedGrid& g, const geom::CoverageImage& img, double
       v = std::max(v, to_byte(img.sample(s, t)));
     }
 }
+
+uint8_t strength_byte(double strength) { return to_byte(strength); }
 
 size_t painted_cell_count(const geom::PaintedGrid& g) {
   return size_t(std::count_if(g.value.begin(), g.value.end(), [](uint8_t v) { return v != 0; }));

@@ -16,6 +16,7 @@ struct Brush {
   double radius = 4;     // cells
   double hardness = 0.7; // fraction of the radius at full strength; linear falloff outside
   bool erase = false;
+  double strength = 1.0; // density painted at full coverage (0..1); erase removes this fraction
 };
 
 // An empty w x h grid.
@@ -23,15 +24,16 @@ geom::PaintedGrid make_painted_grid(int w, int h);
 // Density values (clamped to 0..1) -> bytes; cells x-fastest, row 0 at the bottom.
 geom::PaintedGrid painted_from_density(const std::vector<float>& density, int w, int h);
 
-// One round dab at (x, y): paint raises cells to the brush's coverage (max), erase
-// lowers them by it; coverage is 1 inside hardness * radius, falling linearly to 0
-// at the radius.
+// One round dab at (x, y): paint raises cells to strength x the brush's coverage
+// (max), erase multiplies them by 1 - strength x coverage; coverage is 1 inside
+// hardness * radius, falling linearly to 0 at the radius.
 void paint_dab(geom::PaintedGrid& g, double x, double y, const Brush& b);
 // Dabs from (x0, y0) to (x1, y1) a quarter radius apart (a stroke segment); the
 // first point is not repeated so a stroke is the union of its dabs.
 void paint_segment(geom::PaintedGrid& g, double x0, double y0, double x1, double y1, const Brush& b);
 // Flood fill (4-connected) of the cells whose value is within `tolerance` of the
-// seed cell's, with `value`.
+// seed cell's, with `value`. The shape tools replace (not max): a fill or shape
+// at a low strength also lowers denser cells to that value.
 void fill_region(geom::PaintedGrid& g, int x, int y, uint8_t value, int tolerance = 32);
 // The axis-aligned ellipse / rectangle spanned by two corners, filled with `value`
 // (cell centres inside).
@@ -47,5 +49,7 @@ void stamp_coverage(geom::PaintedGrid& g, const geom::CoverageImage& img, double
                     double height);
 // Number of non-zero cells (tests, "empty keyframe" warnings).
 size_t painted_cell_count(const geom::PaintedGrid& g);
+// The byte a shape tool writes for a strength 0..1: round(255 strength), clamped.
+uint8_t strength_byte(double strength);
 
 }  // namespace pliant::editor

@@ -26,21 +26,10 @@ geom::PaintedGrid make_painted_volume(int w, int h, int d) {
   return g;
 }
 
-geom::PaintedGrid volume_slice(const geom::PaintedGrid& v, int z) {
-  geom::PaintedGrid g;
-  g.dim = 2;
-  g.n = {v.n[0], v.n[1], 1};
-  const size_t plane = size_t(v.n[0]) * v.n[1];
-  g.value.assign(plane, 0);
-  if (z >= 0 && z < v.n[2] && v.value.size() == v.cells())
-    std::copy_n(v.value.begin() + plane * z, plane, g.value.begin());
-  return g;
-}
+geom::PaintedGrid volume_slice(const geom::PaintedGrid& v, int z) { return volume_slice(v, SliceAxis::XY, z); }
 
 void set_volume_slice(geom::PaintedGrid& v, int z, const geom::PaintedGrid& slice) {
-  const size_t plane = size_t(v.n[0]) * v.n[1];
-  if (z < 0 || z >= v.n[2] || slice.value.size() != plane || v.value.size() != v.cells()) return;
-  std::copy(slice.value.begin(), slice.value.end(), v.value.begin() + plane * z);
+  set_volume_slice(v, SliceAxis::XY, z, slice);
 }
 
 geom::PaintedGrid rasterize_slot_volume(const json& scene, const std::filesystem::path& scene_dir, int slot,

@@ -1,6 +1,6 @@
 // 3D smoke keyframes as the editor edits them: a painted volume (geom::PaintedGrid
 // with dim 3, stored inline as {"type":"painted","size":[w,h,d],"data":...}) is
-// painted one z slice at a time with the 2D tools of doc/paint_ops.h, and a mesh
+// painted one slice at a time (x-y, x-z or y-z: doc/volume_slice.h) with the 2D tools of doc/paint_ops.h, and a mesh
 // keyframe is placed by its transform ("center" as fractions of the domain,
 // "scale", "rotation_deg" about z, the slice normal: the engine's geom::Placement).
 // Like smoke_keyframes.h every "with_" function returns a NEW scene for one
@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "doc/volume_slice.h"
 #include "pliant/geom/painted_grid.h"
 
 namespace pliant::editor {
@@ -21,7 +22,7 @@ std::array<int, 3> smoke_resolution_3d(const nlohmann::json& scene);
 // An empty w x h x d painted volume.
 geom::PaintedGrid make_painted_volume(int w, int h, int d);
 // z slice `z` of a volume as a 2D grid (w x h), and its inverse: only the cells of
-// that slice are written.
+// that slice are written (the XY orientation of doc/volume_slice.h).
 geom::PaintedGrid volume_slice(const geom::PaintedGrid& volume, int z);
 void set_volume_slice(geom::PaintedGrid& volume, int z, const geom::PaintedGrid& slice);
 

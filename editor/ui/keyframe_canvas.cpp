@@ -224,6 +224,15 @@ void release_canvas_gl(KeyframeCanvasState& s) {
   s.volume_view.reset();
 }
 
+void draw_strength_slider(KeyframeCanvasState& s) {
+  ImGui::SetNextItemWidth(70);
+  ImGui::SliderFloat("strength", &s.strength, 0.0f, 1.0f, "%.2f");
+  ui_mark("tool_strength");
+  if (ImGui::IsItemHovered())
+    ImGui::SetTooltip("density the tools paint: the brush raises cells to it, Fill / Ellipse / Rectangle "
+                      "set cells to it, the eraser removes this fraction");
+}
+
 void draw_keyframe_canvas(App& app) {
   KeyframeCanvasState& s = app.canvas;
   const json& scene = app.doc.scene();
@@ -264,6 +273,8 @@ void draw_keyframe_canvas(App& app) {
   ImGui::SameLine();
   ImGui::SetNextItemWidth(80);
   ImGui::SliderFloat("hardness", &s.hardness, 0.0f, 1.0f, "%.2f");
+  ImGui::SameLine();
+  draw_strength_slider(s);
   ImGui::SameLine();
   if (s.tool == CanvasTool::Text) {
     ImGui::SetNextItemWidth(70);
@@ -307,7 +318,8 @@ void draw_keyframe_canvas(App& app) {
   const ImGuiIO& io = ImGui::GetIO();
   const double mx = (io.MousePos.x - p0.x) / cell, my = (p1.y - io.MousePos.y) / cell;  // cells, +y up
 
-  Brush brush{s.radius_cells, s.hardness, s.tool == CanvasTool::Eraser};
+  const Brush brush{s.radius_cells, s.hardness, s.tool == CanvasTool::Eraser, s.strength};
+  const uint8_t shape_value = strength_byte(s.strength);
   if (ImGui::IsItemActivated()) {
     s.stroking = true;
     s.working = s.grid;
@@ -322,11 +334,11 @@ void draw_keyframe_canvas(App& app) {
         break;
       case CanvasTool::Ellipse:
         s.working = s.grid;
-        fill_ellipse(s.working, s.start_x, s.start_y, mx, my, 255);
+        fill_ellipse(s.working, s.start_x, s.start_y, mx, my, shape_value);
         break;
       case CanvasTool::Rectangle:
         s.working = s.grid;
-        fill_rectangle(s.working, s.start_x, s.start_y, mx, my, 255);
+        fill_rectangle(s.working, s.start_x, s.start_y, mx, my, shape_value);
         break;
       case CanvasTool::Move:
         s.working = transform_grid(s.grid, mx - s.start_x, my - s.start_y, 1.0);
@@ -347,7 +359,7 @@ void draw_keyframe_canvas(App& app) {
       case CanvasTool::Move: commit_canvas(app, s.working, "Move"); break;
       case CanvasTool::Fill: {
         geom::PaintedGrid g = s.grid;
-        fill_region(g, int(std::floor(s.start_x)), int(std::floor(s.start_y)), 255);
+        fill_region(g, int(std::floor(s.start_x)), int(std::floor(s.start_y)), shape_value);
         commit_canvas(app, g, "Fill");
         break;
       }

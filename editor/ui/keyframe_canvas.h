@@ -28,6 +28,10 @@ struct KeyframeCanvasState {
   int slot = kInitialDensitySlot;  // keyframe index, or the initial density
   CanvasTool tool = CanvasTool::Brush;
   float radius_cells = 4.0f, hardness = 0.7f;
+  // One strength for every painting tool (Brush, Eraser, Fill, Ellipse, Rectangle;
+  // 2D canvas and 3D slices): the density they paint (the eraser: the fraction it
+  // removes). Shared rather than per tool so switching tools never hides a value.
+  float strength = 1.0f;
   bool onion = true;
   char text[64] = "F";
   char font[512] = "";           // "" = the shipped DejaVu Sans Bold
@@ -53,9 +57,13 @@ struct KeyframeCanvasState {
   std::vector<float> volume;  // vol as densities 0..1
   std::array<int, 3> volume_dims{0, 0, 0};
   uint64_t volume_revision = ~uint64_t(0);
-  int volume_slot = -99, slice = -1;
+  int volume_slot = -99, slice = -1;  // slice: the z index of the XY orientation
+  // Slice orientation (doc/volume_slice.h) and each orientation's own index
+  // (slice_y for XZ, slice_x for YZ): UI state, never saved nor undone.
+  SliceAxis slice_axis = SliceAxis::XY;
+  int slice_y = -1, slice_x = -1;
   uint64_t volume_version = 0;  // bumped whenever the shown volume (or a stroke) changes
-  std::array<uint64_t, 2> slice_key{~0ull, 0};  // (volume_version, slice + onion) the texture shows
+  std::array<uint64_t, 2> slice_key{~0ull, 0};  // (volume_version, axis + slice + onion) the texture shows
   unsigned slice_texture = 0;
   // Mesh gizmo drag: the transform at press and the previewed one.
   GizmoHandle gizmo = GizmoHandle::None;
@@ -88,6 +96,12 @@ void upload_composite_texture(unsigned* texture, const geom::PaintedGrid& g, con
                               const geom::PaintedGrid* onion_next);
 // The slots before and after `slot` in frame order (initial density first); -99 = none.
 void keyframe_neighbours(const nlohmann::json& scene, int slot, int* prev, int* next);
+// The index of the slice shown in the current orientation (slice, slice_y or slice_x).
+inline int& current_slice(KeyframeCanvasState& s) {
+  return s.slice_axis == SliceAxis::XZ ? s.slice_y : s.slice_axis == SliceAxis::YZ ? s.slice_x : s.slice;
+}
+// The "strength" slider (0..1) shared by the painting tools; marked "tool_strength".
+void draw_strength_slider(KeyframeCanvasState& s);
 // 3D smoke: the selected keyframe painted one z slice at a time (the 2D tools),
 // mesh keyframes placed with a gizmo, and the ray-marched volume beside it.
 void draw_keyframe_slices(App& app);

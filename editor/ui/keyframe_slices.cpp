@@ -1,11 +1,12 @@
 // 3D smoke keyframes: the selected slot (a keyframe or the initial density) as a
-// volume painted one z slice at a time with the 2D canvas tools (doc/paint_ops on
-// the slice, written back into the volume: one Document::edit per stroke), the
+// volume painted one slice at a time, in the XY, XZ or YZ orientation
+// (doc/volume_slice.h), with the 2D canvas tools (doc/paint_ops on the slice,
+// written back into the volume: one Document::edit per stroke), the
 // previous/next keyframes' same slice as onion skin, and the ray-marched volume
-// beside it (keyframe_slices_volume.cpp). Mesh keyframes get a gizmo: drag the
-// centre to move in the slice plane, the square handle to scale, the round one to
-// rotate about z; one undo step per drag, and the slice shows the engine's
-// voxelisation of the new placement afterwards. Painting on any non-painted slot
+// beside it (keyframe_slices_volume.cpp). Mesh keyframes get a gizmo on XY
+// slices: drag the centre to move in the slice plane, the square handle to
+// scale, the round one to rotate about z; one undo step per drag, and the slice
+// shows the engine's voxelisation of the new placement afterwards. Painting on any non-painted slot
 // bakes its voxelisation into a painted volume (stored inline, bit-exact).
 #include <GL/gl.h>
 #include <GL/glext.h>
@@ -59,13 +60,18 @@ void refresh_volume(App& app) {
   std::string ignored;
   s.vol_prev = p != -99 ? rasterize_slot_volume(scene, dir, p, &ignored) : geom::PaintedGrid{};
   s.vol_next = n != -99 ? rasterize_slot_volume(scene, dir, n, &ignored) : geom::PaintedGrid{};
-  if (s.vol.cells() && (s.slice < 0 || s.slice >= s.vol.n[2])) s.slice = s.vol.n[2] / 2;
+  if (s.vol.cells()) {
+    int* idx[3] = {&s.slice_x, &s.slice_y, &s.slice};  // by normal axis x, y, z
+    for (int a = 0; a < 3; ++a)
+      if (*idx[a] < 0 || *idx[a] >= s.vol.n[a]) *idx[a] = s.vol.n[a] / 2;
+  }
   ++s.volume_version;
 }
 
 void commit_volume(App& app, const geom::PaintedGrid& v, const std::string& what) {
   KeyframeCanvasState& s = app.canvas;
-  const std::string label = what + " (" + slot_label(app.doc.scene(), s.slot) + ", z " + std::to_string(s.slice) + ")";
+  const std::string label = what + " (" + slot_label(app.doc.scene(), s.slot) + ", " +
+                            slice_normal_name(s.slice_axis) + " " + std::to_string(current_slice(s)) + ")";
   app.doc.edit(label, with_painted_volume_slot(app.doc.scene(), s.slot, v));
   app.set_status(label);
 }
@@ -104,7 +110,7 @@ GizmoPoints gizmo_points(const MeshTransform& t, double half, const std::array<i
 
 float dist(ImVec2 a, ImVec2 b) { return std::hypot(a.x - b.x, a.y - b.y); }
 
-// Slot, onion skin, whole-slot edits, tools, slice slider; the mesh fields.
+// Slot, onion skin, whole-slot edits; orientation, slice slider, strength; tools; the mesh fields.
 void draw_toolbar(App& app, bool mesh) {
   KeyframeCanvasState& s = app.canvas;
   const json& scene = app.doc.scene();
@@ -126,7 +132,8 @@ void draw_toolbar(App& app, bool mesh) {
   ImGui::SameLine();
   if (ImGui::Button("Clear slice") && s.vol.cells()) {
     geom::PaintedGrid v = s.vol;
-    set_volume_slice(v, s.slice, make_painted_grid(v.n[0], v.n[1]));
+    const auto wh = slice_size(v.n, s.slice_axis);
+    set_volume_slice(v, s.slice_axis, current_slice(s), make_painted_grid(wh[0], wh[1]));
     commit_volume(app, v, "Clear slice");
   }
   ui_mark("slice_clear");
@@ -134,13 +141,27 @@ void draw_toolbar(App& app, bool mesh) {
   if (ImGui::Button("Clear all") && s.vol.cells())
     commit_volume(app, make_painted_volume(s.vol.n[0], s.vol.n[1], s.vol.n[2]), "Clear");
   ui_mark("slice_clear_all");
+  // Row 2: orientation (front XY, top XZ, right side YZ), its own slice slider,
+  // and the strength of the painting tools.
+  for (SliceAxis a : {SliceAxis::XY, SliceAxis::XZ, SliceAxis::YZ}) {
+    if (a != SliceAxis::XY) ImGui::SameLine();
+    if (ImGui::RadioButton(slice_axis_name(a), s.slice_axis == a)) s.slice_axis = a;
+    ui_mark(std::string("slice_axis_") + slice_axis_name(a));
+    if (ImGui::IsItemHovered())
+      ImGui::SetTooltip(a == SliceAxis::XY   ? "front view (from +z): x right, y up"
+                        : a == SliceAxis::XZ ? "top view (from +y): x right, z towards the bottom"
+                                             : "side view (from +x): z towards the left, y up");
+  }
   if (s.vol.cells()) {
     ImGui::SameLine();
     ImGui::SetNextItemWidth(150);
-    ImGui::SliderInt("z slice", &s.slice, 0, s.vol.n[2] - 1);
-    ui_mark("slice_z");
+    const std::string n = slice_normal_name(s.slice_axis);
+    ImGui::SliderInt((n + " slice").c_str(), &current_slice(s), 0, slice_count(s.vol.n, s.slice_axis) - 1);
+    ui_mark("slice_" + n);
   }
-  // Row 2: tools (Gizmo for mesh keyframes) and their options.
+  ImGui::SameLine();
+  draw_strength_slider(s);
+  // Row 3: tools (Gizmo for mesh keyframes) and their options.
   if (!mesh && s.tool == CanvasTool::Gizmo) s.tool = CanvasTool::Brush;
   if (s.tool == CanvasTool::Move || s.tool == CanvasTool::Text) s.tool = CanvasTool::Brush;
   if (mesh) {
@@ -211,7 +232,10 @@ void draw_keyframe_slices(App& app) {
   draw_toolbar(app, mesh);
   const auto n = s.vol.n;
   if (s.vol.cells() == 0) return;
-  const int nx = n[0], ny = n[1];
+  const SliceAxis axis = s.slice_axis;
+  const int k = current_slice(s);
+  const auto wh = slice_size(n, axis);
+  const int nx = wh[0], ny = wh[1];  // the slice's cells (u right, v up)
 
   // Slice on the left, volume on the right, both as tall as fits.
   ImVec2 avail = ImGui::GetContentRegionAvail();
@@ -228,12 +252,14 @@ void draw_keyframe_slices(App& app) {
   const ImGuiIO& io = ImGui::GetIO();
   const double mx = (io.MousePos.x - p0.x) / cell, my = (p1.y - io.MousePos.y) / cell;  // cells, +y up
 
-  // Mesh gizmo.
+  // Mesh gizmo (XY slices only: the engine's placement rotates about z; on the
+  // other orientations the Gizmo tool does nothing and says so).
   const bool gizmo_tool = mesh && s.tool == CanvasTool::Gizmo;
+  const bool gizmo_shown = mesh && axis == SliceAxis::XY;
   const MeshTransform committed = mesh ? mesh_transform(scene, s.slot) : MeshTransform{};
   const MeshTransform& shown_t = s.gizmo != GizmoHandle::None ? s.gizmo_now : committed;
   const double half = mesh ? mesh_half_cells(scene, s.slot, shown_t) : 0.0;
-  if (gizmo_tool && ImGui::IsItemActivated()) {
+  if (gizmo_tool && gizmo_shown && ImGui::IsItemActivated()) {
     const GizmoPoints g = gizmo_points(committed, mesh_half_cells(scene, s.slot, committed), n, p0, p1, cell);
     const float pick = std::max(8.0f, 0.6f * cell);
     s.gizmo = dist(io.MousePos, g.scale_handle) < pick    ? GizmoHandle::Scale
@@ -261,12 +287,13 @@ void draw_keyframe_slices(App& app) {
     }
   }
 
-  // Painting on the slice: the 2D tools on a copy of slice z.
-  const Brush brush{s.radius_cells, s.hardness, s.tool == CanvasTool::Eraser};
+  // Painting on the slice: the 2D tools on a copy of slice k.
+  const Brush brush{s.radius_cells, s.hardness, s.tool == CanvasTool::Eraser, s.strength};
+  const uint8_t shape_value = strength_byte(s.strength);
   if (!gizmo_tool) {
     if (ImGui::IsItemActivated()) {
       s.stroking = true;
-      s.working = volume_slice(s.vol, s.slice);
+      s.working = volume_slice(s.vol, axis, k);
       s.start_x = s.last_x = mx;
       s.start_y = s.last_y = my;
       if (s.tool == CanvasTool::Brush || s.tool == CanvasTool::Eraser) paint_dab(s.working, mx, my, brush);
@@ -276,9 +303,9 @@ void draw_keyframe_slices(App& app) {
       if ((s.tool == CanvasTool::Brush || s.tool == CanvasTool::Eraser) && moved) {
         paint_segment(s.working, s.last_x, s.last_y, mx, my, brush);
       } else if ((s.tool == CanvasTool::Ellipse || s.tool == CanvasTool::Rectangle) && moved) {
-        s.working = volume_slice(s.vol, s.slice);
-        if (s.tool == CanvasTool::Ellipse) fill_ellipse(s.working, s.start_x, s.start_y, mx, my, 255);
-        else fill_rectangle(s.working, s.start_x, s.start_y, mx, my, 255);
+        s.working = volume_slice(s.vol, axis, k);
+        if (s.tool == CanvasTool::Ellipse) fill_ellipse(s.working, s.start_x, s.start_y, mx, my, shape_value);
+        else fill_rectangle(s.working, s.start_x, s.start_y, mx, my, shape_value);
       }
       if (moved) ++s.volume_version;
       s.last_x = mx;
@@ -288,11 +315,11 @@ void draw_keyframe_slices(App& app) {
       s.stroking = false;
       geom::PaintedGrid v = s.vol;
       if (s.tool == CanvasTool::Fill) {
-        geom::PaintedGrid sl = volume_slice(v, s.slice);
-        fill_region(sl, int(std::floor(s.start_x)), int(std::floor(s.start_y)), 255);
-        set_volume_slice(v, s.slice, sl);
+        geom::PaintedGrid sl = volume_slice(v, axis, k);
+        fill_region(sl, int(std::floor(s.start_x)), int(std::floor(s.start_y)), shape_value);
+        set_volume_slice(v, axis, k, sl);
       } else {
-        set_volume_slice(v, s.slice, s.working);
+        set_volume_slice(v, axis, k, s.working);
       }
       const char* what[] = {"Brush stroke", "Eraser stroke", "Fill", "Ellipse", "Rectangle"};
       commit_volume(app, v, what[std::clamp(int(s.tool), 0, 4)]);
@@ -303,12 +330,12 @@ void draw_keyframe_slices(App& app) {
   ImDrawList* dl = ImGui::GetWindowDrawList();
   // The slice composite (the stroke in progress while painting) over the onion skin.
   if (app.has_gl()) {
-    const std::array<uint64_t, 2> key{s.volume_version, uint64_t(s.slice) * 2 + uint64_t(s.onion)};
+    const std::array<uint64_t, 2> key{s.volume_version, (uint64_t(k) * 3 + uint64_t(axis)) * 2 + uint64_t(s.onion)};
     if (key != s.slice_key || !s.slice_texture) {
-      const geom::PaintedGrid shown = s.stroking ? s.working : volume_slice(s.vol, s.slice);
+      const geom::PaintedGrid shown = s.stroking ? s.working : volume_slice(s.vol, axis, k);
       geom::PaintedGrid prev, next;
-      if (s.onion && s.vol_prev.n == n) prev = volume_slice(s.vol_prev, s.slice);
-      if (s.onion && s.vol_next.n == n) next = volume_slice(s.vol_next, s.slice);
+      if (s.onion && s.vol_prev.n == n) prev = volume_slice(s.vol_prev, axis, k);
+      if (s.onion && s.vol_next.n == n) next = volume_slice(s.vol_next, axis, k);
       upload_composite_texture(&s.slice_texture, shown, prev.cells() ? &prev : nullptr,
                                next.cells() ? &next : nullptr);
       s.slice_key = key;
@@ -319,7 +346,7 @@ void draw_keyframe_slices(App& app) {
   dl->AddRect(p0, p1, IM_COL32(190, 195, 210, 200));
   if (ImGui::IsItemHovered() && !gizmo_tool && (s.tool == CanvasTool::Brush || s.tool == CanvasTool::Eraser))
     dl->AddCircle(io.MousePos, s.radius_cells * cell, IM_COL32(255, 200, 80, 200), 32);
-  if (mesh) {
+  if (gizmo_shown) {
     const GizmoPoints g = gizmo_points(shown_t, half, n, p0, p1, cell);
     const ImU32 col = gizmo_tool ? IM_COL32(90, 200, 255, 230) : IM_COL32(90, 200, 255, 110);
     dl->AddPolyline(g.corners, 4, col, ImDrawFlags_Closed, 1.5f);
@@ -329,10 +356,19 @@ void draw_keyframe_slices(App& app) {
     dl->AddLine(g.centre, g.rotate_handle, col, 1.0f);
     dl->AddCircle(g.rotate_handle, 6.0f, col, 16, 2.0f);
   }
-  const std::string caption = slot_label(scene, s.slot) + "  z " + std::to_string(s.slice) + "/" +
-                              std::to_string(n[2]) + "  " + std::to_string(nx) + "x" + std::to_string(ny) + "x" +
-                              std::to_string(n[2]);
+  const std::string caption = slot_label(scene, s.slot) + "  " + slice_normal_name(axis) + " " + std::to_string(k) +
+                              "/" + std::to_string(slice_count(n, axis)) + "  " + std::to_string(n[0]) + "x" +
+                              std::to_string(n[1]) + "x" + std::to_string(n[2]);
   dl->AddText(ImVec2(p0.x + 6, p0.y + 4), IM_COL32(220, 220, 230, 255), caption.c_str());
+  if (axis != SliceAxis::XY) {  // which world axes the slice's edges are
+    const char* right = axis == SliceAxis::XZ ? "+x" : "-z";
+    const char* up = axis == SliceAxis::XZ ? "-z" : "+y";
+    const ImVec2 ts = ImGui::CalcTextSize(right);
+    dl->AddText(ImVec2(p1.x - ts.x - 4, p1.y - ts.y - 2), IM_COL32(200, 200, 210, 220), right);
+    dl->AddText(ImVec2(p0.x + 4, p0.y + 4 + ts.y + 2), IM_COL32(200, 200, 210, 220), up);
+  }
+  if (mesh && gizmo_tool && !gizmo_shown)
+    dl->AddText(ImVec2(p0.x + 6, p1.y - 20), ImGui::GetColorU32(kWarnColor), "Gizmo: XY slices only (pick XY, or a paint tool)");
 
   // The volume view to the right of the slice.
   if (!s.volume_view) s.volume_view = std::make_shared<KeyframeVolumeView>();
@@ -342,10 +378,10 @@ void draw_keyframe_slices(App& app) {
   const geom::PaintedGrid* vol = &s.vol;
   if (s.stroking) {
     shown_vol = s.vol;
-    set_volume_slice(shown_vol, s.slice, s.working);
+    set_volume_slice(shown_vol, axis, k, s.working);
     vol = &shown_vol;
   }
-  draw_keyframe_volume(*s.volume_view, app, *vol, s.volume_version, s.slice, vx, origin.y, vw, vh);
+  draw_keyframe_volume(*s.volume_view, app, *vol, s.volume_version, axis, k, vx, origin.y, vw, vh);
 }
 
 }  // namespace pliant::editor

@@ -1,9 +1,10 @@
 // The 3D keyframe editor's volume view: the keyframe being edited ray marched by
 // its own Renderer (the same volume shader as 3D results) into its own FBO, with
-// the painted z slice outlined; drag it to orbit.
+// the painted slice (XY, XZ or YZ) outlined; drag it to orbit.
 #pragma once
 #include <cstdint>
 
+#include "doc/volume_slice.h"
 #include "render/offscreen_target.h"
 #include "pliant/geom/painted_grid.h"
 #include "render/orbit_camera.h"
@@ -24,9 +25,10 @@ struct KeyframeVolumeView {
 };
 
 // Draws `volume` (dim 3; version = KeyframeCanvasState::volume_version) into the
-// rectangle (x, y, w, h) of the current window, with z slice `slice` outlined.
+// rectangle (x, y, w, h) of the current window, with slice `slice` of orientation
+// `axis` outlined.
 void draw_keyframe_volume(KeyframeVolumeView& v, App& app, const geom::PaintedGrid& volume, uint64_t version,
-                          int slice, float x, float y, int w, int h);
+                          SliceAxis axis, int slice, float x, float y, int w, int h);
 void release_volume_view(KeyframeVolumeView& v);
 
 }  // namespace pliant::editor

@@ -27,7 +27,7 @@ namespace {
 }  // namespace
 
 void draw_keyframe_volume(KeyframeVolumeView& v, App& app, const geom::PaintedGrid& volume, uint64_t version,
-                          int slice, float x, float y, int w, int h) {
+                          SliceAxis axis, int slice, float x, float y, int w, int h) {
   ImGui::SetCursorScreenPos(ImVec2(x, y));
   ImGui::InvisibleButton("slice_volume", ImVec2(float(w), float(h)));
   ui_mark("slice_volume");
@@ -75,12 +75,19 @@ void draw_keyframe_volume(KeyframeVolumeView& v, App& app, const geom::PaintedGr
   // The painted slice: its outline in the volume (the renderer frames the domain
   // centred at the origin with the longest side 1).
   const auto e = v.renderer.domain_extent();
-  const float zf = (slice + 0.5f) / float(volume.n[2]) - 0.5f;
+  // The slice's plane at the centre of its cells along the normal, spanning the
+  // other two axes.
+  const int na = slice_normal_index(axis), a0 = na == 0 ? 1 : 0, a1 = na == 2 ? 1 : 2;
+  const float f = (slice + 0.5f) / float(volume.n[na]) - 0.5f;
   const Mat4 vp = mat4_mul(v.camera.projection(float(w) / float(h)), v.camera.view());
   ImVec2 pts[4];
-  const float cx[4] = {-0.5f, 0.5f, 0.5f, -0.5f}, cy[4] = {-0.5f, -0.5f, 0.5f, 0.5f};
+  const float cu[4] = {-0.5f, 0.5f, 0.5f, -0.5f}, cv[4] = {-0.5f, -0.5f, 0.5f, 0.5f};
   for (int i = 0; i < 4; ++i) {
-    const auto c = mat4_apply(vp, {cx[i] * e[0], cy[i] * e[1], zf * e[2], 1.0f});
+    float p[3];
+    p[na] = f * e[na];
+    p[a0] = cu[i] * e[a0];
+    p[a1] = cv[i] * e[a1];
+    const auto c = mat4_apply(vp, {p[0], p[1], p[2], 1.0f});
     const float iw = c[3] != 0 ? 1.0f / c[3] : 0.0f;
     pts[i] = ImVec2(x + (0.5f + 0.5f * c[0] * iw) * w, y + (0.5f - 0.5f * c[1] * iw) * h);
   }

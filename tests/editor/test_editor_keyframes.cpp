@@ -157,6 +157,29 @@ TEST(EditorKeyframes, BrushStrokeIsOneUndoStepAndUndoRedoRestoreTheCanvasExactly
             "");
   EXPECT_EQ(h.app->doc.history().size(), n0 + 4);
   EXPECT_EQ(painted_cell_count(slot_grid(*h.app, 0)), 0u);
+  // A rectangle at strength 0.5 writes round(127.5) = 128 in its box (cell centres
+  // in x 3.2..9.6, y 25.6..28.8 on the 32^2 grid, a pixel either way), 0 elsewhere.
+  h.app->canvas.strength = 0.5f;
+  const json cleared = h.app->doc.scene();
+  ASSERT_EQ(h.run("click_item tool_Rectangle\nwait 1\ndrag_item_at keyframe_canvas 0.1 0.1 0.3 0.2 4\nwait 2\n"), "");
+  EXPECT_EQ(h.app->doc.history().size(), n0 + 5);
+  const geom::PaintedGrid r = slot_grid(*h.app, 0);
+  int lo[2] = {99, 99}, hi[2] = {-1, -1};
+  for (int j = 0; j < r.n[1]; ++j)
+    for (int i = 0; i < r.n[0]; ++i) {
+      const uint8_t v = r.value[size_t(j) * r.n[0] + i];
+      if (!v) continue;
+      EXPECT_EQ(v, 128) << i << "," << j;
+      lo[0] = std::min(lo[0], i), hi[0] = std::max(hi[0], i), lo[1] = std::min(lo[1], j), hi[1] = std::max(hi[1], j);
+    }
+  EXPECT_NEAR(lo[0], 3, 1);
+  EXPECT_NEAR(hi[0], 9, 1);
+  EXPECT_NEAR(lo[1], 26, 1);
+  EXPECT_NEAR(hi[1], 28, 1);
+  EXPECT_EQ(painted_cell_count(r), size_t(hi[0] - lo[0] + 1) * size_t(hi[1] - lo[1] + 1)) << "a full box";
+  ASSERT_EQ(h.run("key CTRL+Z\nwait 2\n"), "");
+  EXPECT_EQ(h.app->doc.scene(), cleared);
+  EXPECT_EQ(painted_cell_count(h.app->canvas.grid), 0u);
 }
 
 TEST(EditorKeyframes, SaveReopenAndAutosaveKeepKeyframesBitForBit) {

@@ -1,5 +1,6 @@
 // 3D keyframes in the editor (issue 4, the slice-and-volume view): a brush stroke
-// on one z slice is one undo step and changes only that slice within the brush;
+// on one z slice is one undo step and changes only that slice within the brush
+// (also on XZ / YZ slices, and a rectangle at strength 0.5 writes 128);
 // the mesh gizmo moves the voxelised keyframe by the dragged cells (one undo
 // step; golden of the slice + volume view); painted 3D keyframes survive
 // save/reopen bit for bit; a tiny 3D solve from a painted keyframe runs.
@@ -123,6 +124,110 @@ TEST(EditorKeyframes3D, SliceStrokeIsOneUndoStepAndChangesOnlyThatSliceWithinThe
       EXPECT_EQ(volume_slice(v2, k).value, volume_slice(v1, k).value) << "slice " << k;
     }
   }
+  EXPECT_EQ(h.app->scene_error(), "");
+}
+
+// XZ (top view) and YZ (side view) slices: a stroke changes only voxels of the
+// chosen slice within the brush (in the slice's own cells), is one undo step with
+// exact undo; the orientation is UI state (no history step, scene unchanged); the
+// screen's top-left lands where the documented views put it; a rectangle at
+// strength 0.5 writes 128 in a box and nothing else.
+TEST(EditorKeyframes3D, XzAndYzSliceStrokesChangeOnlyThatSliceAndRectangleStrengthIsExact) {
+  EditorHarness h("kf3d_axes");
+  fs::path scene = h.copy_scene("keyframe_3d.json");
+  h.start(scene, /*gl=*/false);
+  ASSERT_EQ(h.run("wait 2\nclick_item view_keyframes\nwait 2\n"
+                  "click_item slice_slot\nwait 2\nclick_item slot_10\nwait 2\n"),
+            "");
+  h.app->canvas.radius_cells = 2.5f;
+  h.app->canvas.hardness = 1.0f;
+  const std::array<int, 3> n{16, 16, 16};
+  const struct {
+    const char* mark;
+    SliceAxis axis;
+    int k;
+    double want_x, want_y, want_z;  // centroid of the changed voxels (cells), -1 = not checked
+  } cases[2] = {
+      // Top view: screen top = -z (back), so a stroke near the top-left paints low x, low z.
+      {"slice_axis_XZ", SliceAxis::XZ, 9, 4.8, -1, 16 - 12.0},
+      // Right view: screen left = +z, top = +y.
+      {"slice_axis_YZ", SliceAxis::YZ, 6, -1, 12.0, 16 - 4.8},
+  };
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.mark);
+    const json before = h.app->doc.scene();
+    const size_t steps = h.app->doc.history().size();
+    ASSERT_EQ(h.run(std::string("click_item ") + c.mark + "\nwait 2\n"), "");
+    EXPECT_EQ(h.app->canvas.slice_axis, c.axis);
+    EXPECT_EQ(h.app->doc.history().size(), steps) << "the orientation is not an edit";
+    EXPECT_EQ(h.app->doc.scene(), before);
+    current_slice(h.app->canvas) = c.k;  // the orientation's own slider (UI state)
+    const geom::PaintedGrid v0 = h.app->canvas.vol;
+    ASSERT_EQ(h.run("wait 1\ndrag_item_at slice_view 0.2 0.2 0.4 0.3 6\nwait 2\n"), "");
+    EXPECT_EQ(h.app->doc.history().size(), steps + 1) << "one stroke, one undo step";
+    const json after = h.app->doc.scene();
+    const geom::PaintedGrid v1 = slot_volume(*h.app, 0);
+    EXPECT_EQ(h.app->canvas.vol.value, v1.value);
+    const double ax = 0.2 * 16, ay = 16 - 0.2 * 16, bx = 0.4 * 16, by = 16 - 0.3 * 16, r = 2.5 + 0.6;
+    size_t changed = 0;
+    double m[3] = {0, 0, 0};
+    for (int z = 0; z < 16; ++z)
+      for (int y = 0; y < 16; ++y)
+        for (int x = 0; x < 16; ++x) {
+          const size_t cell = size_t(x) + 16 * (size_t(y) + 16 * z);
+          if (v1.value[cell] == v0.value[cell]) continue;
+          ++changed;
+          m[0] += x + 0.5, m[1] += y + 0.5, m[2] += z + 0.5;
+          const auto kuv = voxel_to_slice(n, c.axis, x, y, z);
+          EXPECT_EQ(kuv[0], c.k) << "voxel (" << x << "," << y << "," << z << ") changed off the slice";
+          const double px = kuv[1] + 0.5, py = kuv[2] + 0.5;
+          const double u = std::clamp(((px - ax) * (bx - ax) + (py - ay) * (by - ay)) /
+                                          ((bx - ax) * (bx - ax) + (by - ay) * (by - ay)), 0.0, 1.0);
+          EXPECT_LE(std::hypot(px - ax - u * (bx - ax), py - ay - u * (by - ay)), r)
+              << "voxel (" << x << "," << y << "," << z << ") outside the brush";
+        }
+    ASSERT_GT(changed, 15u);
+    const double want[3] = {c.want_x, c.want_y, c.want_z};
+    for (int a = 0; a < 3; ++a)
+      if (want[a] >= 0) EXPECT_NEAR(m[a] / changed, want[a], 1.5) << "axis " << a;
+    ASSERT_EQ(h.run("key CTRL+Z\nwait 2\n"), "");
+    EXPECT_EQ(h.app->doc.scene(), before);
+    EXPECT_EQ(h.app->canvas.vol.value, v0.value) << "undo restores the bytes";
+    ASSERT_EQ(h.run("key CTRL+SHIFT+Z\nwait 2\n"), "");
+    EXPECT_EQ(h.app->doc.scene(), after);
+    EXPECT_EQ(h.app->canvas.vol.value, v1.value);
+  }
+  // Rectangle at strength 0.5 on the YZ slice x = 6: 128 in a box, nothing else.
+  h.app->canvas.strength = 0.5f;
+  const json before = h.app->doc.scene();
+  const geom::PaintedGrid v0 = h.app->canvas.vol;
+  const size_t steps = h.app->doc.history().size();
+  ASSERT_EQ(h.run("click_item tool_Rectangle\nwait 1\ndrag_item_at slice_view 0.6 0.6 0.9 0.9 4\nwait 2\n"), "");
+  EXPECT_EQ(h.app->doc.history().size(), steps + 1);
+  const geom::PaintedGrid v1 = slot_volume(*h.app, 0);
+  int lo[2] = {99, 99}, hi[2] = {-1, -1};
+  size_t changed = 0;
+  for (size_t cell = 0; cell < v1.cells(); ++cell) {
+    if (v1.value[cell] == v0.value[cell]) continue;
+    const int x = int(cell % 16), y = int(cell / 16 % 16), z = int(cell / 256);
+    const auto kuv = voxel_to_slice(n, SliceAxis::YZ, x, y, z);
+    EXPECT_EQ(kuv[0], 6);
+    EXPECT_EQ(v1.value[cell], 128) << "strength 0.5 writes round(127.5)";
+    ++changed;
+    for (int a = 0; a < 2; ++a) lo[a] = std::min(lo[a], kuv[1 + a]), hi[a] = std::max(hi[a], kuv[1 + a]);
+  }
+  // The drag spans u 9.6..14.4, v 1.6..6.4 cells: centres 10..13 x 2..5 (a pixel either way).
+  EXPECT_NEAR(lo[0], 10, 1);
+  EXPECT_NEAR(hi[0], 13, 1);
+  EXPECT_NEAR(lo[1], 2, 1);
+  EXPECT_NEAR(hi[1], 5, 1);
+  const geom::PaintedGrid sl = volume_slice(v1, SliceAxis::YZ, 6);
+  for (int v = lo[1]; v <= hi[1]; ++v)
+    for (int u = lo[0]; u <= hi[0]; ++u) EXPECT_EQ(sl.value[size_t(v) * 16 + u], 128) << u << "," << v;
+  EXPECT_GT(changed, 0u);
+  ASSERT_EQ(h.run("key CTRL+Z\nwait 2\n"), "");
+  EXPECT_EQ(h.app->doc.scene(), before);
+  EXPECT_EQ(h.app->canvas.vol.value, v0.value);
   EXPECT_EQ(h.app->scene_error(), "");
 }
 

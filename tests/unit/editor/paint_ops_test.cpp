@@ -66,6 +66,28 @@ TEST(PaintOps, RectangleAndEllipseAreas) {
   EXPECT_NEAR(double(painted_cell_count(e)), M_PI * 40 * 20, 30);
 }
 
+TEST(PaintOps, StrengthSetsTheDensityTheToolsPaint) {
+  EXPECT_EQ(strength_byte(1.0), 255);
+  EXPECT_EQ(strength_byte(0.5), 128);  // round(127.5)
+  EXPECT_EQ(strength_byte(-1.0), 0);
+  // Brush: cells raised to strength x coverage (max with what is there).
+  geom::PaintedGrid g = make_painted_grid(32, 32);
+  paint_dab(g, 16, 16, Brush{4, 1.0, false, 0.5});
+  EXPECT_EQ(g.value[16 * 32 + 16], 128);
+  g.value[17 * 32 + 16] = 200;
+  paint_dab(g, 16, 16, Brush{4, 1.0, false, 0.5});
+  EXPECT_EQ(g.value[17 * 32 + 16], 200) << "painting never lowers a denser cell";
+  // Eraser at strength 0.5 removes half.
+  paint_dab(g, 16, 16, Brush{4, 1.0, true, 0.5});
+  EXPECT_EQ(g.value[16 * 32 + 16], 64);
+  EXPECT_EQ(g.value[17 * 32 + 16], 100);
+  // Strength 1 is the full-strength brush bit for bit.
+  geom::PaintedGrid a = make_painted_grid(32, 32), b = a;
+  paint_segment(a, 3, 4, 25, 20, Brush{3.5, 0.3, false});
+  paint_segment(b, 3, 4, 25, 20, Brush{3.5, 0.3, false, 1.0});
+  EXPECT_EQ(a.value, b.value);
+}
+
 TEST(PaintOps, MoveByWholeCellsIsExactAndScaleKeepsTheCentre) {
   geom::PaintedGrid g = make_painted_grid(32, 32);
   fill_rectangle(g, 4, 4, 10, 12, 255);
