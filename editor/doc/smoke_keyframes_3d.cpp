@@ -101,23 +101,28 @@ json with_mesh_transform(const json& scene, int slot, const MeshTransform& t) {
   return with_slot_target(scene, slot, target);
 }
 
-namespace {
-// The transform's centre in slice cells.
-std::array<double, 2> centre_cells(const MeshTransform& t, const std::array<int, 3>& n) {
-  return {t.center[0] * n[0], t.center[1] * n[1]};
+std::array<double, 2> mesh_centre_in_slice(const MeshTransform& t, const std::array<int, 3>& n, SliceAxis a) {
+  // Continuous form of doc/volume_slice.h: a flipped index nz-1-z is nz - z here.
+  const double x = t.center[0] * n[0], y = t.center[1] * n[1], z = t.center[2] * n[2];
+  switch (a) {
+    case SliceAxis::XZ: return {x, n[2] - z};
+    case SliceAxis::YZ: return {n[2] - z, y};
+    default: return {x, y};
+  }
 }
-}  // namespace
 
-MeshTransform gizmo_move(const MeshTransform& t, double dx, double dy, const std::array<int, 3>& n) {
+MeshTransform gizmo_move(const MeshTransform& t, double dx, double dy, const std::array<int, 3>& n, SliceAxis a) {
+  double d[3] = {dx, dy, 0};  // XY: u = x, v = y
+  if (a == SliceAxis::XZ) d[0] = dx, d[1] = 0, d[2] = -dy;
+  if (a == SliceAxis::YZ) d[0] = 0, d[1] = dy, d[2] = -dx;
   MeshTransform out = t;
-  out.center[0] += dx / std::max(1, n[0]);
-  out.center[1] += dy / std::max(1, n[1]);
+  for (int i = 0; i < 3; ++i) out.center[i] += d[i] / std::max(1, n[i]);
   return out;
 }
 
 MeshTransform gizmo_scale(const MeshTransform& t, double x0, double y0, double x1, double y1,
-                          const std::array<int, 3>& n) {
-  const auto c = centre_cells(t, n);
+                          const std::array<int, 3>& n, SliceAxis a) {
+  const auto c = mesh_centre_in_slice(t, n, a);
   const double r0 = std::hypot(x0 - c[0], y0 - c[1]), r1 = std::hypot(x1 - c[0], y1 - c[1]);
   MeshTransform out = t;
   if (r0 > 1e-6) out.scale = std::clamp(t.scale * r1 / r0, 0.02, 50.0);
@@ -126,7 +131,7 @@ MeshTransform gizmo_scale(const MeshTransform& t, double x0, double y0, double x
 
 MeshTransform gizmo_rotate(const MeshTransform& t, double x0, double y0, double x1, double y1,
                            const std::array<int, 3>& n) {
-  const auto c = centre_cells(t, n);
+  const auto c = mesh_centre_in_slice(t, n, SliceAxis::XY);
   const double a0 = std::atan2(y0 - c[1], x0 - c[0]), a1 = std::atan2(y1 - c[1], x1 - c[0]);
   double deg = t.rotation_deg + (a1 - a0) * 180.0 / 3.14159265358979323846;
   deg = std::remainder(deg, 360.0);  // keep it in (-180, 180]

@@ -48,12 +48,16 @@ MeshTransform mesh_transform(const nlohmann::json& scene, int slot);
 // The scene with the slot's mesh transform replaced ("center_m" dropped for "center").
 nlohmann::json with_mesh_transform(const nlohmann::json& scene, int slot, const MeshTransform& t);
 
-// Gizmo drags, in slice cells (+y up) on a grid of n cells per axis:
-// move by (dx, dy); scale by the ratio of the distances from the centre of the
-// start and end points; rotate by the angle swept about the centre.
-MeshTransform gizmo_move(const MeshTransform& t, double dx_cells, double dy_cells, const std::array<int, 3>& n);
+// Gizmo drags, in slice cells (u right, v up; XY by default, where u = x, v = y)
+// on a grid of n cells per axis: move by (dx, dy) in the slice plane; scale by the
+// ratio of the distances from the centre of the start and end points; rotate (XY
+// only: the engine's placement turns about z) by the angle swept about the centre.
+MeshTransform gizmo_move(const MeshTransform& t, double dx_cells, double dy_cells, const std::array<int, 3>& n,
+                         SliceAxis a = SliceAxis::XY);
 MeshTransform gizmo_scale(const MeshTransform& t, double x0, double y0, double x1, double y1,
-                          const std::array<int, 3>& n);
+                          const std::array<int, 3>& n, SliceAxis a = SliceAxis::XY);
+// The transform's centre in continuous slice cells (u, v) of orientation a.
+std::array<double, 2> mesh_centre_in_slice(const MeshTransform& t, const std::array<int, 3>& n, SliceAxis a);
 MeshTransform gizmo_rotate(const MeshTransform& t, double x0, double y0, double x1, double y1,
                            const std::array<int, 3>& n);
 

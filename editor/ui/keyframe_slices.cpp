@@ -3,10 +3,10 @@
 // (doc/volume_slice.h), with the 2D canvas tools (doc/paint_ops on the slice,
 // written back into the volume: one Document::edit per stroke), the
 // previous/next keyframes' same slice as onion skin, and the ray-marched volume
-// beside it (keyframe_slices_volume.cpp). Mesh keyframes get a gizmo on XY
-// slices: drag the centre to move in the slice plane, the square handle to
-// scale, the round one to rotate about z; one undo step per drag, and the slice
-// shows the engine's voxelisation of the new placement afterwards. Painting on any non-painted slot
+// beside it (keyframe_slices_volume.cpp). Mesh keyframes get a gizmo: drag the
+// centre to move in the slice plane, the square handle to scale, the round one
+// (XY slices) to rotate about z; one undo step per drag, and the slice shows the
+// engine's voxelisation of the new placement afterwards. Painting on any non-painted slot
 // bakes its voxelisation into a painted volume (stored inline, bit-exact).
 #include <GL/gl.h>
 #include <GL/glext.h>
@@ -93,11 +93,15 @@ struct GizmoPoints {
   ImVec2 centre, scale_handle, rotate_handle, corners[4];
 };
 
-GizmoPoints gizmo_points(const MeshTransform& t, double half, const std::array<int, 3>& n, ImVec2 p0, ImVec2 p1,
-                         float cell) {
+// On XZ / YZ slices the footprint is drawn unrotated (the rotation is about z,
+// not the slice normal) and there is no rotate handle.
+GizmoPoints gizmo_points(const MeshTransform& t, double half, const std::array<int, 3>& n, SliceAxis axis, ImVec2 p0,
+                         ImVec2 p1, float cell) {
   auto to_screen = [&](double cx, double cy) { return ImVec2(p0.x + float(cx) * cell, p1.y - float(cy) * cell); };
-  const double cx = t.center[0] * n[0], cy = t.center[1] * n[1];
-  const double a = t.rotation_deg * 3.14159265358979323846 / 180.0, ca = std::cos(a), sa = std::sin(a);
+  const auto c = mesh_centre_in_slice(t, n, axis);
+  const double cx = c[0], cy = c[1];
+  const double deg = axis == SliceAxis::XY ? t.rotation_deg : 0.0;
+  const double a = deg * 3.14159265358979323846 / 180.0, ca = std::cos(a), sa = std::sin(a);
   auto rot = [&](double x, double y) { return to_screen(cx + ca * x - sa * y, cy + sa * x + ca * y); };
   GizmoPoints g;
   g.centre = to_screen(cx, cy);
@@ -167,7 +171,7 @@ void draw_toolbar(App& app, bool mesh) {
   if (mesh) {
     if (ImGui::RadioButton("Gizmo", s.tool == CanvasTool::Gizmo)) s.tool = CanvasTool::Gizmo;
     ui_mark("tool_Gizmo");
-    if (ImGui::IsItemHovered()) ImGui::SetTooltip("drag the centre to move, the square to scale, the circle to rotate");
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("drag the centre to move, the square to scale, the circle (XY slices) to rotate");
     ImGui::SameLine();
   }
   for (int t = 0; t < 5; ++t) {
@@ -252,26 +256,26 @@ void draw_keyframe_slices(App& app) {
   const ImGuiIO& io = ImGui::GetIO();
   const double mx = (io.MousePos.x - p0.x) / cell, my = (p1.y - io.MousePos.y) / cell;  // cells, +y up
 
-  // Mesh gizmo (XY slices only: the engine's placement rotates about z; on the
-  // other orientations the Gizmo tool does nothing and says so).
+  // Mesh gizmo: move and scale on every orientation, rotate (about z, the
+  // engine's placement) on XY slices only.
   const bool gizmo_tool = mesh && s.tool == CanvasTool::Gizmo;
-  const bool gizmo_shown = mesh && axis == SliceAxis::XY;
+  const bool can_rotate = axis == SliceAxis::XY;
   const MeshTransform committed = mesh ? mesh_transform(scene, s.slot) : MeshTransform{};
   const MeshTransform& shown_t = s.gizmo != GizmoHandle::None ? s.gizmo_now : committed;
   const double half = mesh ? mesh_half_cells(scene, s.slot, shown_t) : 0.0;
-  if (gizmo_tool && gizmo_shown && ImGui::IsItemActivated()) {
-    const GizmoPoints g = gizmo_points(committed, mesh_half_cells(scene, s.slot, committed), n, p0, p1, cell);
+  if (gizmo_tool && ImGui::IsItemActivated()) {
+    const GizmoPoints g = gizmo_points(committed, mesh_half_cells(scene, s.slot, committed), n, axis, p0, p1, cell);
     const float pick = std::max(8.0f, 0.6f * cell);
-    s.gizmo = dist(io.MousePos, g.scale_handle) < pick    ? GizmoHandle::Scale
-              : dist(io.MousePos, g.rotate_handle) < pick ? GizmoHandle::Rotate
-                                                          : GizmoHandle::Move;
+    s.gizmo = dist(io.MousePos, g.scale_handle) < pick                   ? GizmoHandle::Scale
+              : can_rotate && dist(io.MousePos, g.rotate_handle) < pick ? GizmoHandle::Rotate
+                                                                         : GizmoHandle::Move;
     s.gizmo_start = s.gizmo_now = committed;
     s.start_x = mx;
     s.start_y = my;
   } else if (s.gizmo != GizmoHandle::None && s.gizmo != GizmoHandle::Fields && ImGui::IsItemActive()) {
     switch (s.gizmo) {
-      case GizmoHandle::Move: s.gizmo_now = gizmo_move(s.gizmo_start, mx - s.start_x, my - s.start_y, n); break;
-      case GizmoHandle::Scale: s.gizmo_now = gizmo_scale(s.gizmo_start, s.start_x, s.start_y, mx, my, n); break;
+      case GizmoHandle::Move: s.gizmo_now = gizmo_move(s.gizmo_start, mx - s.start_x, my - s.start_y, n, axis); break;
+      case GizmoHandle::Scale: s.gizmo_now = gizmo_scale(s.gizmo_start, s.start_x, s.start_y, mx, my, n, axis); break;
       case GizmoHandle::Rotate: s.gizmo_now = gizmo_rotate(s.gizmo_start, s.start_x, s.start_y, mx, my, n); break;
       default: break;
     }
@@ -346,15 +350,17 @@ void draw_keyframe_slices(App& app) {
   dl->AddRect(p0, p1, IM_COL32(190, 195, 210, 200));
   if (ImGui::IsItemHovered() && !gizmo_tool && (s.tool == CanvasTool::Brush || s.tool == CanvasTool::Eraser))
     dl->AddCircle(io.MousePos, s.radius_cells * cell, IM_COL32(255, 200, 80, 200), 32);
-  if (gizmo_shown) {
-    const GizmoPoints g = gizmo_points(shown_t, half, n, p0, p1, cell);
+  if (mesh) {
+    const GizmoPoints g = gizmo_points(shown_t, half, n, axis, p0, p1, cell);
     const ImU32 col = gizmo_tool ? IM_COL32(90, 200, 255, 230) : IM_COL32(90, 200, 255, 110);
     dl->AddPolyline(g.corners, 4, col, ImDrawFlags_Closed, 1.5f);
     dl->AddCircleFilled(g.centre, 5.0f, col);
     dl->AddRectFilled(ImVec2(g.scale_handle.x - 5, g.scale_handle.y - 5),
                       ImVec2(g.scale_handle.x + 5, g.scale_handle.y + 5), col);
-    dl->AddLine(g.centre, g.rotate_handle, col, 1.0f);
-    dl->AddCircle(g.rotate_handle, 6.0f, col, 16, 2.0f);
+    if (can_rotate) {
+      dl->AddLine(g.centre, g.rotate_handle, col, 1.0f);
+      dl->AddCircle(g.rotate_handle, 6.0f, col, 16, 2.0f);
+    }
   }
   const std::string caption = slot_label(scene, s.slot) + "  " + slice_normal_name(axis) + " " + std::to_string(k) +
                               "/" + std::to_string(slice_count(n, axis)) + "  " + std::to_string(n[0]) + "x" +
@@ -363,12 +369,15 @@ void draw_keyframe_slices(App& app) {
   if (axis != SliceAxis::XY) {  // which world axes the slice's edges are
     const char* right = axis == SliceAxis::XZ ? "+x" : "-z";
     const char* up = axis == SliceAxis::XZ ? "-z" : "+y";
-    const ImVec2 ts = ImGui::CalcTextSize(right);
-    dl->AddText(ImVec2(p1.x - ts.x - 4, p1.y - ts.y - 2), IM_COL32(200, 200, 210, 220), right);
-    dl->AddText(ImVec2(p0.x + 4, p0.y + 4 + ts.y + 2), IM_COL32(200, 200, 210, 220), up);
+    auto label = [&](ImVec2 at, const char* t) {  // on a dark box: readable over painted density
+      const ImVec2 ts = ImGui::CalcTextSize(t);
+      dl->AddRectFilled(ImVec2(at.x - 2, at.y - 1), ImVec2(at.x + ts.x + 2, at.y + ts.y + 1), IM_COL32(20, 22, 30, 200));
+      dl->AddText(at, IM_COL32(220, 220, 230, 255), t);
+    };
+    const ImVec2 ts = ImGui::CalcTextSize("-z");
+    label(ImVec2(p1.x - ts.x - 4, p1.y - ts.y - 3), right);
+    label(ImVec2(p0.x + 4, p0.y + 4 + ts.y + 4), up);
   }
-  if (mesh && gizmo_tool && !gizmo_shown)
-    dl->AddText(ImVec2(p0.x + 6, p1.y - 20), ImGui::GetColorU32(kWarnColor), "Gizmo: XY slices only (pick XY, or a paint tool)");
 
   // The volume view to the right of the slice.
   if (!s.volume_view) s.volume_view = std::make_shared<KeyframeVolumeView>();

@@ -1,6 +1,7 @@
 // 3D keyframes in the editor (issue 4, the slice-and-volume view): a brush stroke
 // on one z slice is one undo step and changes only that slice within the brush
-// (also on XZ / YZ slices, and a rectangle at strength 0.5 writes 128);
+// (also on XZ / YZ slices, and a rectangle at strength 0.5 writes 128; the gizmo
+// moves a mesh in x and z on an XZ slice);
 // the mesh gizmo moves the voxelised keyframe by the dragged cells (one undo
 // step; golden of the slice + volume view); painted 3D keyframes survive
 // save/reopen bit for bit; a tiny 3D solve from a painted keyframe runs.
@@ -277,6 +278,36 @@ TEST(EditorKeyframes3D, GizmoDragMovesTheVoxelisedMeshByTheDraggedCellsInOneUndo
   EXPECT_EQ(h.app->doc.scene(), before);
   EXPECT_EQ(h.app->canvas.vol.value, v0.value);
   EXPECT_EQ(h.app->scene_error(), "");
+}
+
+// The gizmo on a top-view (XZ) slice: dragging the centre right and down moves
+// the mesh +x and +z (the back is at the top), one undo step; no rotate handle.
+TEST(EditorKeyframes3D, GizmoMoveOnAnXzSliceMovesTheMeshInXAndZ) {
+  EditorHarness h("kf3d_gizmo_xz");
+  fs::path scene = h.copy_scene("keyframe_3d.json");
+  write_cube(h.dir / "cube.obj");
+  h.start(scene, /*gl=*/false);
+  ASSERT_EQ(h.run("wait 2\ndrop cube.obj\nwait 2\nclick_item view_keyframes\nwait 2\n"
+                  "click_item slice_axis_XZ\nwait 2\n"),
+            "");
+  ASSERT_TRUE(is_mesh_slot(h.app->doc.scene(), 0));
+  ASSERT_EQ(h.app->canvas.tool, CanvasTool::Gizmo);
+  const json before = h.app->doc.scene();
+  const auto c0 = volume_centroid(h.app->canvas.vol);
+  const size_t steps = h.app->doc.history().size();
+  ASSERT_EQ(h.run("drag_item_at slice_view 0.5 0.5 0.625 0.625 8\nwait 3\nexpect \"Move mesh\"\n"), "");
+  EXPECT_EQ(h.app->doc.history().size(), steps + 1);
+  const MeshTransform t = mesh_transform(h.app->doc.scene(), 0);
+  EXPECT_NEAR(t.center[0], 0.625, 0.01);
+  EXPECT_DOUBLE_EQ(t.center[1], 0.5);
+  EXPECT_NEAR(t.center[2], 0.625, 0.01);
+  EXPECT_DOUBLE_EQ(t.rotation_deg, 0.0);
+  const auto c1 = volume_centroid(h.app->canvas.vol);
+  EXPECT_NEAR(c1[0] - c0[0], 2.0, 0.2);
+  EXPECT_NEAR(c1[1] - c0[1], 0.0, 0.05);
+  EXPECT_NEAR(c1[2] - c0[2], 2.0, 0.2);
+  ASSERT_EQ(h.run("key CTRL+Z\nwait 2\n"), "");
+  EXPECT_EQ(h.app->doc.scene(), before);
 }
 
 TEST(EditorKeyframes3D, SaveReopenKeepsPainted3DKeyframesBitForBit) {

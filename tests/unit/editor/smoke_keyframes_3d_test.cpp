@@ -133,6 +133,29 @@ TEST_F(MeshGizmo, MoveShiftsTheVoxelisedMeshByTheDraggedCells) {
   EXPECT_NEAR(c1[2] - c0[2], 0.0, 0.05);
 }
 
+// On XZ (top view) and YZ (right view) slices a drag right / up moves the mesh
+// along the slice's screen axes (doc/volume_slice.h): the voxel centroid follows.
+TEST_F(MeshGizmo, MoveOnXzAndYzSlicesShiftsAlongTheSliceAxes) {
+  const std::array<int, 3> n{20, 20, 20};
+  const MeshTransform t0 = mesh_transform(s, 0);
+  const auto c0 = volume_centroid(voxels(s));
+  const struct {
+    SliceAxis a;
+    double want[3];
+  } cases[2] = {{SliceAxis::XZ, {3.0, 0.0, 2.0}},    // right = +x, up = -z
+                {SliceAxis::YZ, {0.0, -2.0, -3.0}}};  // right = -z, up = +y
+  for (const auto& c : cases) {
+    const MeshTransform t1 = gizmo_move(t0, 3.0, -2.0, n, c.a);
+    const auto c1 = volume_centroid(voxels(with_mesh_transform(s, 0, t1)));
+    for (int i = 0; i < 3; ++i) EXPECT_NEAR(c1[i] - c0[i], c.want[i], 0.05) << slice_axis_name(c.a) << " axis " << i;
+    // The centre in slice cells moved by the drag, and scaling works about it.
+    const auto p0 = mesh_centre_in_slice(t0, n, c.a), p1 = mesh_centre_in_slice(t1, n, c.a);
+    EXPECT_NEAR(p1[0] - p0[0], 3.0, 1e-12);
+    EXPECT_NEAR(p1[1] - p0[1], -2.0, 1e-12);
+    EXPECT_NEAR(gizmo_scale(t0, p0[0] + 2, p0[1], p0[0] + 3, p0[1], n, c.a).scale, 1.5, 1e-12);
+  }
+}
+
 TEST_F(MeshGizmo, ScaleAndRotateChangeVolumeAndFootprintAsPlaced) {
   const std::array<int, 3> n{20, 20, 20};
   const MeshTransform t0 = mesh_transform(s, 0);
