@@ -218,7 +218,7 @@ inline bool pair_contact_on(const Model& m, const ContactOptions& c) {
 // the opposite on body_a. Pair types: sphere-sphere, sphere-capsule (exact, sphere
 // centre against the other's signed distance), capsule-capsule (the segments' closest
 // points when interior to both, plus every end sphere against the other capsule but the
-// deepest: side by side, the overlap's two ends; energy continuous, contact.cpp),
+// deepest: side by side, the overlap's two ends; energy continuous, contact_pair_primitives.cpp),
 // sphere-box (exact), capsule-box (the capsule's end spheres against the
 // box, the box's corners against the capsule), box-box (each box's corners against
 // the other box, plus edge-edge crossings whose edges have no corner inside the other
