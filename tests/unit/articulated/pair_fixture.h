@@ -1,4 +1,4 @@
-// Body-body contact test helpers shared by test_contact.cpp and test_mesh_contact.cpp.
+// Body-body contact test helpers shared by test_contact_pairs.cpp, test_contact_mesh_pairs.cpp, test_contact_capsules.cpp and test_mesh_contact.cpp.
 #pragma once
 #include <gtest/gtest.h>
 

@@ -1,5 +1,5 @@
 // Static features against moving meshes through the moving mesh's tree
-// (contact.cpp: moving_mesh_trees, mesh_feature_contacts): box corners and spheres,
+// (contact.cpp: moving_mesh_trees; contact_mesh_features.cpp: mesh_feature_contacts): box corners and spheres,
 // and a static mesh's vertices (the reverse of the moving mesh's samples).
 #include <gtest/gtest.h>
 
