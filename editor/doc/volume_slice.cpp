@@ -1,5 +1,6 @@
 #include "doc/volume_slice.h"
 
+#include <algorithm>
 #include <cstddef>
 
 namespace pliant::editor {
@@ -65,6 +66,20 @@ void set_volume_slice(geom::PaintedGrid& vol, SliceAxis a, int k, const geom::Pa
   for (int v = 0; v < wh[1]; ++v)
     for (int u = 0; u < wh[0]; ++u)
       vol.value[voxel_index(vol.n, slice_to_voxel(vol.n, a, k, u, v))] = slice.value[size_t(v) * wh[0] + u];
+}
+
+std::array<std::array<float, 3>, 4> slice_outline(const std::array<int, 3>& n, SliceAxis a, int k,
+                                                  const std::array<float, 3>& e) {
+  const int na = slice_normal_index(a), a0 = na == 0 ? 1 : 0, a1 = na == 2 ? 1 : 2;
+  const float f = (k + 0.5f) / float(std::max(1, n[na])) - 0.5f;
+  const float cu[4] = {-0.5f, 0.5f, 0.5f, -0.5f}, cv[4] = {-0.5f, -0.5f, 0.5f, 0.5f};
+  std::array<std::array<float, 3>, 4> out{};
+  for (int i = 0; i < 4; ++i) {
+    out[i][na] = f * e[na];
+    out[i][a0] = cu[i] * e[a0];
+    out[i][a1] = cv[i] * e[a1];
+  }
+  return out;
 }
 
 }  // namespace pliant::editor

@@ -35,4 +35,10 @@ std::array<int, 3> voxel_to_slice(const std::array<int, 3>& n, SliceAxis a, int 
 geom::PaintedGrid volume_slice(const geom::PaintedGrid& volume, SliceAxis a, int k);
 void set_volume_slice(geom::PaintedGrid& volume, SliceAxis a, int k, const geom::PaintedGrid& slice);
 
+// The slice's outline in the renderer's world frame (the domain centred at the
+// origin, `extent` per axis): four corners on the plane through the slice's cell
+// centres, spanning the two in-plane axes (the volume view draws it).
+std::array<std::array<float, 3>, 4> slice_outline(const std::array<int, 3>& n, SliceAxis a, int k,
+                                                  const std::array<float, 3>& extent);
+
 }  // namespace pliant::editor

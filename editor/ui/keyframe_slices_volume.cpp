@@ -75,19 +75,11 @@ void draw_keyframe_volume(KeyframeVolumeView& v, App& app, const geom::PaintedGr
   // The painted slice: its outline in the volume (the renderer frames the domain
   // centred at the origin with the longest side 1).
   const auto e = v.renderer.domain_extent();
-  // The slice's plane at the centre of its cells along the normal, spanning the
-  // other two axes.
-  const int na = slice_normal_index(axis), a0 = na == 0 ? 1 : 0, a1 = na == 2 ? 1 : 2;
-  const float f = (slice + 0.5f) / float(volume.n[na]) - 0.5f;
+  const auto corners = slice_outline(volume.n, axis, slice, e);
   const Mat4 vp = mat4_mul(v.camera.projection(float(w) / float(h)), v.camera.view());
   ImVec2 pts[4];
-  const float cu[4] = {-0.5f, 0.5f, 0.5f, -0.5f}, cv[4] = {-0.5f, -0.5f, 0.5f, 0.5f};
   for (int i = 0; i < 4; ++i) {
-    float p[3];
-    p[na] = f * e[na];
-    p[a0] = cu[i] * e[a0];
-    p[a1] = cv[i] * e[a1];
-    const auto c = mat4_apply(vp, {p[0], p[1], p[2], 1.0f});
+    const auto c = mat4_apply(vp, {corners[i][0], corners[i][1], corners[i][2], 1.0f});
     const float iw = c[3] != 0 ? 1.0f / c[3] : 0.0f;
     pts[i] = ImVec2(x + (0.5f + 0.5f * c[0] * iw) * w, y + (0.5f - 0.5f * c[1] * iw) * h);
   }

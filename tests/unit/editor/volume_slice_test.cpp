@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <set>
 
 #include "doc/paint_ops.h"
@@ -85,6 +86,33 @@ TEST(VolumeSlice, SetSliceWritesOnlyThatSliceAndReadsBackInEveryOrientation) {
     }
   // The XY orientation is the old z-slice API.
   EXPECT_EQ(volume_slice(v, SliceAxis::XY, 1).value, volume_slice(v, 1).value);
+}
+
+// The volume view's outline: on the plane through the slice's cell centres along
+// the normal, spanning the full extent of the two other axes.
+TEST(VolumeSlice, OutlineLiesOnTheSlicePlaneAndSpansTheOtherAxes) {
+  const std::array<int, 3> n{8, 4, 16};
+  const std::array<float, 3> e{0.5f, 0.25f, 1.0f};  // longest side 1, as the renderer frames it
+  for (SliceAxis a : kVsAxes) {
+    const int na = slice_normal_index(a), k = 1;
+    const auto c = slice_outline(n, a, k, e);
+    float lo[3] = {9, 9, 9}, hi[3] = {-9, -9, -9};
+    for (const auto& p : c) {
+      EXPECT_FLOAT_EQ(p[na], ((k + 0.5f) / n[na] - 0.5f) * e[na]) << slice_axis_name(a);
+      for (int i = 0; i < 3; ++i) lo[i] = std::min(lo[i], p[i]), hi[i] = std::max(hi[i], p[i]);
+    }
+    for (int i = 0; i < 3; ++i)
+      if (i != na) {
+        EXPECT_FLOAT_EQ(lo[i], -0.5f * e[i]) << slice_axis_name(a) << " axis " << i;
+        EXPECT_FLOAT_EQ(hi[i], 0.5f * e[i]) << slice_axis_name(a) << " axis " << i;
+      }
+    // A closed quad: consecutive corners differ in exactly one coordinate.
+    for (int i = 0; i < 4; ++i) {
+      int d = 0;
+      for (int j = 0; j < 3; ++j) d += c[i][j] != c[(i + 1) % 4][j];
+      EXPECT_EQ(d, 1);
+    }
+  }
 }
 
 }  // namespace
