@@ -263,4 +263,12 @@ void embed_surface(const Lattice& lat, const Eigen::VectorXd& x, std::vector<Vec
   }
 }
 
+void add_vertex_force(const Lattice& lat, int vertex, const Vector3d& force, Eigen::VectorXd& f) {
+  if (vertex < 0 || size_t(vertex) >= lat.vertex_cell.size())
+    throw std::out_of_range("add_vertex_force: surface vertex " + std::to_string(vertex) + " is not embedded");
+  if (f.size() != 3 * lat.nodes()) f.setZero(3 * lat.nodes());
+  const auto& cell = lat.cells[lat.vertex_cell[vertex]];
+  for (int a = 0; a < 8; ++a) f.segment<3>(3 * cell[a]) += lat.vertex_weight[vertex][a] * force;
+}
+
 }  // namespace pliant::soft

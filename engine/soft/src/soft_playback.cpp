@@ -65,6 +65,7 @@ SoftPlayback soft_playback_start(const SoftModel& m, const Eigen::VectorXd& thet
   pb.theta = theta;
   pb.state = initial_state(m.character, p.start_offset_m, Eigen::Vector3d::Zero(), p.sim.dt_s);
   pb.dmp = dmp_init(p.dmp);
+  pb.push_nodal.setZero(3 * m.character.lattice.nodes());
   return pb;
 }
 
@@ -85,13 +86,22 @@ void soft_playback_step(const SoftModel& m, SoftPlayback& pb) {
       u[k] += ch.basis.omega2[k] * (pb.track_kp * e + pb.track_kd * edot);
     }
   }
-  if (pb.push_n.squaredNorm() > 0) {
-    const int n = ch.lattice.nodes();
+  const int n = ch.lattice.nodes();
+  const bool global = pb.push_n.squaredNorm() > 0;
+  const bool local = pb.push_nodal.size() == 3 * n && pb.push_nodal.squaredNorm() > 0;
+  if (pb.push_nodal.size() != 0 && pb.push_nodal.size() != 3 * n)
+    throw std::invalid_argument("soft_playback_step: push_nodal needs 3 values per lattice node");
+  if (global || local) {
     thread_local Eigen::VectorXd f;
-    f.resize(3 * n);
-    for (int j = 0; j < n; ++j) f.segment<3>(3 * j) = pb.push_n * (ch.lattice.node_mass_kg[j] / ch.mass_kg);
+    if (local)
+      f = pb.push_nodal;  // same size every frame: no allocation after the first
+    else
+      f.setZero(3 * n);
+    if (global)
+      for (int j = 0; j < n; ++j) f.segment<3>(3 * j) += pb.push_n * (ch.lattice.node_mass_kg[j] / ch.mass_kg);
     reduced_step(ch, p.env, p.sim, u, pb.state, &pb.last, &f);
     pb.push_n.setZero();
+    if (local) pb.push_nodal.setZero();
   } else {
     reduced_step(ch, p.env, p.sim, u, pb.state, &pb.last);
   }

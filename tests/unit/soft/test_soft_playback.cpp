@@ -173,7 +173,8 @@ TEST(SoftPlayback, PlaybackFrameAllocatesNothing) {
   const long n = pliant::test::count_allocations([&] {
     for (int f = 0; f < 6; ++f) {
       if (f == 3) pb.push_n = Eigen::Vector3d(0, 0, 5 * m.character.mass_kg);
-      soft::soft_playback_step(m, pb);  // ground contact, friction, a push
+      if (f >= 4) soft::add_vertex_force(m.character.lattice, f, Eigen::Vector3d(0, 0, 5 * m.character.mass_kg), pb.push_nodal);
+      soft::soft_playback_step(m, pb);  // ground contact, friction, a push, a local push
     }
   });
 #ifdef PLIANT_MALLOC_COUNT
@@ -186,8 +187,8 @@ TEST(SoftPlayback, PlaybackFrameAllocatesNothing) {
 
 // Rotation-strain coordinates: the per-thread reconstruction workspace (CHOLMOD
 // buffers, per-sample exp cache, adjoint and curvature buffers) is sized by the
-// first frames; later frames with contact, a push, the kept Jacobian and the
-// curvature allocate nothing.
+// first frames; later frames with contact, a push, a local push, the kept Jacobian
+// and the curvature allocate nothing.
 TEST(SoftPlayback, RotationStrainPlaybackFrameAllocatesNothing) {
   soft::SoftModel m = worm_model();
   soft::enable_rotation_strain(m.character);
@@ -201,6 +202,7 @@ TEST(SoftPlayback, RotationStrainPlaybackFrameAllocatesNothing) {
   const long n = pliant::test::count_allocations([&] {
     for (int f = 0; f < 6; ++f) {
       if (f == 3) pb.push_n = Eigen::Vector3d(0, 0, 5 * m.character.mass_kg);
+      if (f == 4) soft::add_vertex_force(m.character.lattice, 0, Eigen::Vector3d(0, 0, 5 * m.character.mass_kg), pb.push_nodal);
       soft::soft_playback_step(m, pb);
       iterations += pb.last.newton_iterations;
     }

@@ -59,6 +59,15 @@ Lattice build_lattice(const SurfaceMesh& mesh, int resolution, double density_kg
 // Surface vertex positions for lattice node positions x (3 * nodes, xyz per node).
 void embed_surface(const Lattice& lat, const Eigen::VectorXd& x, std::vector<Eigen::Vector3d>& out);
 
+// The transpose of the embedding for one vertex: adds a force (N) acting at surface
+// vertex `vertex` to the nodal forces f (3 * nodes) as weight_a * force on the 8
+// nodes of its cell. The weights sum to one and the vertex is the same weighted sum
+// of those nodes, so the total force is `force` and its torque about the vertex is
+// zero: the point force's force and moment, exactly, in any shape of the lattice
+// (virtual work: f . dx = force . dvertex). f of the wrong size is resized to zeros
+// (the only allocation). Throws std::out_of_range for a vertex not embedded.
+void add_vertex_force(const Lattice& lat, int vertex, const Eigen::Vector3d& force, Eigen::VectorXd& f);
+
 class BodyError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;

@@ -95,6 +95,12 @@ struct SoftPlayback {
   // Optional push for the next step (world force in N on every lattice node,
   // scaled by node mass / total mass); cleared after each step.
   Eigen::Vector3d push_n = Eigen::Vector3d::Zero();
+  // Optional local push for the next step: force in N on each lattice node (3N,
+  // sized to zeros by soft_playback_start; fill it with add_vertex_force to push at
+  // a surface point). Added to push_n's share and handed to reduced_step's nodal
+  // force, which projects it exactly (U^T R^T f on the modes, sum f on the COM,
+  // sum y x f on the rotation). Zeroed after each step (size kept: no allocation).
+  Eigen::VectorXd push_nodal;
   // Tracking feedback (0: open loop): PD on the controlled modal coordinates toward
   // q_ref (per frame, from soft_reference_q), added to the DMP force:
   //   u_k += omega_k^2 (kp (q_ref_k - q_k) + kd dt (qdot_ref_k - qdot_k)) at frame f.
