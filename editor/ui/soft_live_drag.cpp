@@ -3,9 +3,13 @@
 // button is held, not as an impulse on release: the body answers while the
 // arrow is on screen (a spring-like pull one can steer, stop or aim again), the
 // arrow never shows a force that has not acted yet, and the strength follows
-// the drag length continuously instead of a guessed duration. The force goes
-// to the engine's playback push (SoftPlayback::push_n: every lattice node, in
-// proportion to its mass), the one external force the playback takes.
+// the drag length continuously instead of a guessed duration. The force acts
+// where the body was grabbed (SoftPlayback::push_nodal): a leg pulled at its tip
+// swings the body round, as a hand would. One vertex puts the whole force on the
+// 8 nodes of one cell, so it is spread over the surface vertices within half a
+// lattice cell of the picked one (hat weights 1 - d / radius, normalised; taken
+// once at the press): the same total force, its moment about the picked vertex
+// zero to first order (the patch's weighted centre is within the radius).
 #include <imgui.h>
 
 #include <algorithm>
@@ -77,6 +81,26 @@ int pick_live_vertex(const SoftLive& live, const Mat4& m, const ImVec2& mouse, f
   return best;
 }
 
+// The surface vertices that share the grab of vertex v (see the file comment).
+void live_drag_patch(SoftLive& live, int v) {
+  live.drag_patch.clear();
+  if (v < 0) return;
+#ifdef PLIANT_HAVE_SOFT
+  const float radius = live.model ? 0.5f * float(live.model->character.lattice.cell_size_m) : 0.0f;
+  const Vec3 a = live_vertex(live, v);
+  float total = 0;
+  for (size_t i = 0; 3 * i + 2 < live.vertices.size(); ++i) {
+    const Vec3 b = live_vertex(live, int(i));
+    const float d = std::sqrt((b[0] - a[0]) * (b[0] - a[0]) + (b[1] - a[1]) * (b[1] - a[1]) + (b[2] - a[2]) * (b[2] - a[2]));
+    const float w = int(i) == v ? 1.0f : (radius > 0 ? 1.0f - d / radius : 0.0f);
+    if (w <= 0) continue;
+    live.drag_patch.push_back({int(i), w});
+    total += w;
+  }
+  for (auto& p : live.drag_patch) p.second /= total;
+#endif
+}
+
 float live_mass_kg(const SoftLive& live) {
 #ifdef PLIANT_HAVE_SOFT
   return live.model ? float(live.model->character.mass_kg) : 0.0f;
@@ -116,6 +140,7 @@ void soft_live_drag(App& app, const Mat4& m, float x, float y, int w, int h) {
       ImGui::IsWindowHovered(ImGuiHoveredFlags_AllowWhenBlockedByActiveItem) &&
       ImGui::IsMouseClicked(ImGuiMouseButton_Left)) {
     live.drag_vertex = pick_live_vertex(live, m, mouse, x, y, w, h);
+    live_drag_patch(live, live.drag_vertex);
     live.drag_camera = app.viewport.camera;
   }
 

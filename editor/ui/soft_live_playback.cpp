@@ -136,6 +136,8 @@ void soft_live_restart(SoftLive& live) {
   live.com.clear();
   const Eigen::Vector3d c = soft::centre_of_mass(live.model->character, live.pb->state);
   live.com.push_back({float(c.x()), float(c.y()), float(c.z())});
+  const Eigen::Matrix3d& R = live.pb->state.R;
+  live.yaw.assign(1, float(std::atan2(-R(2, 0), R(0, 0))));
 #else
   (void)live;
 #endif
@@ -177,9 +179,12 @@ bool soft_live_frame(App& app) {
       --live.push_frames;
     }
     if (live.drag_vertex >= 0) {
-      const Vec3& f = live.drag_force;
-      pb.push_n += Eigen::Vector3d(f[0], f[1], f[2]);
-      live.drag_steps += f[0] != 0 || f[1] != 0 || f[2] != 0;
+      const Eigen::Vector3d f(live.drag_force[0], live.drag_force[1], live.drag_force[2]);
+      if (live.drag_whole_body || live.drag_patch.empty())
+        pb.push_n += f;
+      else
+        for (const auto& [v, w] : live.drag_patch) soft::add_vertex_force(m.character.lattice, v, double(w) * f, pb.push_nodal);
+      live.drag_steps += f.squaredNorm() > 0;
     }
     try {
       soft::soft_playback_step(m, pb);
@@ -191,6 +196,7 @@ bool soft_live_frame(App& app) {
     }
     const Eigen::Vector3d c = soft::centre_of_mass(m.character, pb.state);
     live.com.push_back({float(c.x()), float(c.y()), float(c.z())});
+    live.yaw.push_back(float(std::atan2(-pb.state.R(2, 0), pb.state.R(0, 0))));
   }
   if (live.shown_frame != live.frame()) {
     const Record r = soft::soft_frame_record(m, live.pb->state, live.frame(), /*with_triangles=*/true);

@@ -82,6 +82,29 @@ void draw_objectives(App& app) {
     json_vec(doc, "direction##course", o + "course/direction", 3);
     json_double(doc, "weight##course", o + "course/weight", 10, 0.05f, 0, 1e6);
   }
+  // Defaults when added: spider_walk.json's weight 5 (engine/soft/README.md: larger
+  // weights and a periodicity weight were worse there); absent keys show the engine's.
+  if (objective_toggle(doc, "steady",
+                       {{"body_axis", {1, 0, 0}}, {"direction", {1, 0, 0}}, {"periods", 1}, {"weight", 5},
+                        {"periodicity_weight", 0}},
+                       "hold a steady straight gait at the end of the horizon: over its last controller "
+                       "periods, penalize the body axis' yaw rate and the centre of mass velocity across "
+                       "the direction (the replay after the horizon repeats the last period, so a gait "
+                       "still turning there keeps turning)")) {
+    json_vec(doc, "body_axis##steady", o + "steady/body_axis", 3);
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("the body axis whose yaw rate (about +y) is held at zero");
+    json_vec(doc, "direction##steady", o + "steady/direction", 3);
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("ground direction: the COM velocity across it is held at zero");
+    json_int(doc, "periods##steady", o + "steady/periods", 1, 1, 100);
+    if (ImGui::IsItemHovered())
+      ImGui::SetTooltip("controller periods at the end of the horizon the term covers (with periodicity, twice "
+                        "that must fit in optimizer.horizon_frames)");
+    json_double(doc, "weight##steady", o + "steady/weight", 1, 0.05f, 0, 1e6);
+    json_double(doc, "periodicity_weight##steady", o + "steady/periodicity_weight", 0, 0.05f, 0, 1e6);
+    if (ImGui::IsItemHovered())
+      ImGui::SetTooltip("also penalize the change of the horizontal COM velocity and of the yaw rate from the "
+                        "window before (0: off)");
+  }
   if (objective_toggle(doc, "jump", {{"height_m", 0.1}, {"weight", 100}},
                        "raise the centre of mass by this height (drag the pink handle)")) {
     json_double(doc, "height_m", o + "jump/height_m", 0.1, 0.002f, 0, 1e3);

@@ -9,6 +9,7 @@
 #include <future>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "doc/soft_scene.h"
@@ -77,11 +78,19 @@ struct SoftLive {
   // for picking), the picked vertex while the button is held (-1: none), the
   // force the drag asks for (world N, horizontal; acts on every step while held),
   // the view held still meanwhile, and how many steps a drag push acted (tests).
+  // The force acts where the body was grabbed: on the surface vertices of
+  // drag_patch (the picked one and those within half a lattice cell of it, hat
+  // weights summing to one), each carried to its cell's nodes by the embedding
+  // weights (soft::add_vertex_force). drag_whole_body: the former push on every
+  // node by mass (no moment; tests compare, no widget).
   std::vector<float> vertices;
   int drag_vertex = -1;
   Vec3 drag_force{0, 0, 0};
   OrbitCamera drag_camera;
   int drag_steps = 0;
+  std::vector<std::pair<int, float>> drag_patch;
+  bool drag_whole_body = false;
+  std::vector<float> yaw;  // heading of the body frame about +y per live frame (rad; tests)
   int frame() const;
 };
 
@@ -164,7 +173,9 @@ void draw_soft_live_controls(App& app);
 // 12 px, front-most), drag, release. While held, the body is pushed along the
 // drag in the ground plane: from the picked vertex to where the mouse ray meets
 // the horizontal plane through it, kDragPushAccel x mass at a drag of one body
-// length or more, less in proportion below. Drawn as an arrow.
+// length or more, less in proportion below, acting at the grabbed point (its
+// patch of surface vertices, see SoftLive): off the centre of mass it turns the
+// body. Drawn as an arrow from the picked vertex.
 void soft_live_drag(App& app, const Mat4& m, float x, float y, int w, int h);
 
 // Dropping a mesh file on a soft scene (KindPanels::on_drop): sets

@@ -10,6 +10,7 @@
 // click-and-drag push along the drag.
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
@@ -203,10 +204,16 @@ TEST(EditorSoft, LivePlaybackReplaysTheTakeAndTakesAPushAndADrag) {
                           << take_com[15][0] << " " << take_com[15][1] << " " << take_com[15][2];
   const std::vector<std::array<float, 3>> undisturbed = live.com;  // frames 0..>=20, no push
 
-  // Restart and drag the body 160 px to the right on screen: press on a surface
-  // vertex near the centre of mass (away from the gizmo handles), release after
-  // 20 UI frames (~10 steps). At frame 20 the centre of mass has moved along the
-  // drag's ground direction against the undisturbed run.
+  const std::vector<float> undisturbed_yaw = live.yaw;
+  ASSERT_EQ(undisturbed_yaw.size(), undisturbed.size());
+
+  // Restart and drag the body 160 px to the right on screen, grabbed at a leg tip:
+  // the surface vertex (away from the gizmo handles) whose moment arm about the
+  // centre of mass turns the body most under that drag. Release after 20 UI frames
+  // (~10 steps). At frame 20 the centre of mass has moved along the drag's ground
+  // direction against the undisturbed run, and the body has turned (yaw about +y)
+  // in the sign of (r x F)_y; the whole-body push (every node by mass, the former
+  // drag) with the same drag moves it alike but turns it less.
   ASSERT_EQ(h.run("click_item soft_live_restart\nwait 2\n"), "");
   Mat4 m;
   int vw = 0, vh = 0;
@@ -217,35 +224,59 @@ TEST(EditorSoft, LivePlaybackReplaysTheTakeAndTakesAPushAndADrag) {
     const auto c = mat4_apply(m, {p[0], p[1], p[2], 1});
     return std::array<float, 2>{vr.x0 + 0.5f * (c[0] / c[3] + 1) * vw, vr.y0 + 0.5f * (1 - c[1] / c[3]) * vh};
   };
-  const auto c0 = screen(live.com.back());
+  const std::array<float, 3> com_press = live.com.back();
+  const int frame_press = live.frame();
   int pick = -1;
-  float best = 1e30f;
+  float best = 0;
   for (size_t i = 0; 3 * i + 2 < live.vertices.size(); ++i) {
-    const auto p = screen({live.vertices[3 * i], live.vertices[3 * i + 1], live.vertices[3 * i + 2]});
+    const std::array<float, 3> v{live.vertices[3 * i], live.vertices[3 * i + 1], live.vertices[3 * i + 2]};
+    const auto p = screen(v);
     bool near_handle = false;
     for (const auto& hd : soft_ui(*h.app).handles)
       near_handle = near_handle || std::hypot(hd.x - p[0], hd.y - p[1]) < 30;
-    const float d = std::hypot(p[0] - c0[0], p[1] - c0[1]);
-    if (!near_handle && d < best) best = d, pick = int(i);
+    if (near_handle || p[0] < vr.x0 + 20 || p[0] > vr.x1 - 200 || p[1] < vr.y0 + 20 || p[1] > vr.y1 - 20) continue;
+    const auto g0 = live_test_ground_hit(m, p[0], p[1], vr, vw, vh, v[1]);
+    const auto g1 = live_test_ground_hit(m, p[0] + 160, p[1], vr, vw, vh, v[1]);
+    const float ex = g1[0] - g0[0], ez = g1[2] - g0[2], el = std::hypot(ex, ez);
+    const float arm = std::abs((v[2] - com_press[2]) * ex - (v[0] - com_press[0]) * ez) / el;  // |(r x e)_y|
+    if (arm > best) best = arm, pick = int(i);
   }
   ASSERT_GE(pick, 0);
   const std::array<float, 3> pv{live.vertices[3 * pick], live.vertices[3 * pick + 1], live.vertices[3 * pick + 2]};
   const auto p0 = screen(pv);
   const float x1 = p0[0] + 160, y1 = p0[1];
-  ASSERT_EQ(h.run("drag " + num(p0[0]) + " " + num(p0[1]) + " " + num(x1) + " " + num(y1) + " 20\n"), "");
-  EXPECT_GT(live.drag_steps, 3);
-  EXPECT_EQ(live.drag_vertex, -1);  // released
-  for (int i = 0; i < 300 && live.frame() < 20 && live.on; ++i) ASSERT_EQ(h.run("wait 0.1\n"), "");
-  ASSERT_GE(live.com.size(), 21u);
-  ASSERT_GE(undisturbed.size(), 21u);
   const auto g0 = live_test_ground_hit(m, p0[0], p0[1], vr, vw, vh, pv[1]);
   const auto g1 = live_test_ground_hit(m, x1, y1, vr, vw, vh, pv[1]);
   const float ex = g1[0] - g0[0], ez = g1[2] - g0[2], el = std::hypot(ex, ez);
+  const float turn_sign = (pv[2] - com_press[2]) * ex - (pv[0] - com_press[0]) * ez > 0 ? 1.0f : -1.0f;  // (r x F)_y
+  const std::string drag = "drag " + num(p0[0]) + " " + num(p0[1]) + " " + num(x1) + " " + num(y1) + " 20\n";
+  ASSERT_EQ(h.run(drag), "");
+  EXPECT_GT(live.drag_steps, 3);
+  EXPECT_EQ(live.drag_vertex, -1);  // released
+  EXPECT_GE(live.drag_patch.size(), 1u);
+  for (int i = 0; i < 300 && live.frame() < 20 && live.on; ++i) ASSERT_EQ(h.run("wait 0.1\n"), "");
+  ASSERT_GE(live.com.size(), 21u);
+  ASSERT_GE(undisturbed.size(), 21u);
   const float dx = live.com[20][0] - undisturbed[20][0], dz = live.com[20][2] - undisturbed[20][2];
   const float moved = std::hypot(dx, dz);
   EXPECT_GT(moved, 1e-3) << dx << " " << dz;
   EXPECT_GT((dx * ex + dz * ez) / (moved * el), 0.9) << "moved (" << dx << ", " << dz << "), drag (" << ex << ", "
                                                       << ez << ")";
+  const float yaw_local = live.yaw[20] - undisturbed_yaw[20];
+  // The same drag, the whole-body push.
+  live.drag_whole_body = true;
+  ASSERT_EQ(h.run("click_item soft_live_restart\nwait 2\n"), "");
+  ASSERT_EQ(h.run(drag), "");
+  EXPECT_GT(live.drag_steps, 3);
+  for (int i = 0; i < 300 && live.frame() < 20 && live.on; ++i) ASSERT_EQ(h.run("wait 0.1\n"), "");
+  live.drag_whole_body = false;
+  ASSERT_GE(live.yaw.size(), 21u);
+  const float yaw_whole = live.yaw[20] - undisturbed_yaw[20];
+  std::printf("leg-tip drag (vertex %d, pressed at frame %d, arm %.3f m): yaw change at frame 20 local %.4f rad, "
+              "whole-body %.4f rad, expected sign %+.0f\n",
+              pick, frame_press, best, yaw_local, yaw_whole, turn_sign);
+  EXPECT_GT(turn_sign * yaw_local, 0.01f);
+  EXPECT_GT(turn_sign * (yaw_local - yaw_whole), 0.01f);
   // Restart and push at once: the centre of mass leaves the take's path sideways (+z).
   ASSERT_EQ(h.run("click_item soft_live_restart\nclick_item soft_live_push\n"), "");
   for (int i = 0; i < 300 && live.frame() < 15 && live.on; ++i) ASSERT_EQ(h.run("wait 0.1\n"), "");
@@ -412,6 +443,34 @@ TEST(EditorSoft, DroppedMeshBecomesTheCharacter) {
   h.app->handle_drops({txt.string()});
   EXPECT_EQ(h.app->doc.scene()["character"]["mesh"], "meshes/bunny.obj");
   EXPECT_EQ(h.app->doc.history().size(), steps + 1);
+}
+
+// The steady objective's typed widgets: the checkbox adds the term with its
+// defaults (one undo step), dragging its weight writes /objectives/steady/weight
+// (one more step, the drag merged), undo takes the edit back.
+TEST(EditorSoft, SteadyObjectiveWidgetsWriteTheSceneKey) {
+  EditorHarness h("soft_steady");
+  h.start(spider_scene(h), /*gl=*/false, 1280, 1600);  // tall: the objectives panel needs no scrolling
+  const size_t steps = h.app->doc.history().size();
+  ASSERT_FALSE(h.app->doc.scene()["objectives"].contains("steady"));
+  ASSERT_EQ(h.run("wait 1\nclick_item objective_steady\nwait 1\n"), "");
+  ASSERT_TRUE(h.app->doc.scene()["objectives"].contains("steady"));
+  const json added = h.app->doc.scene()["objectives"]["steady"];
+  EXPECT_EQ(added["weight"], 5);
+  EXPECT_EQ(added["periods"], 1);
+  EXPECT_EQ(added["periodicity_weight"], 0);
+  EXPECT_EQ(added["direction"], json({1, 0, 0}));
+  EXPECT_EQ(h.app->doc.history().size(), steps + 1);
+  ASSERT_EQ(h.run("drag_item /objectives/steady/weight 40 0 6\nwait 1\n"), "");
+  const double w = h.app->doc.scene()["objectives"]["steady"]["weight"].get<double>();
+  EXPECT_GT(w, 5.5);
+  EXPECT_EQ(h.app->doc.history().size(), steps + 2);
+  ASSERT_EQ(h.run("drag_item /objectives/steady/periodicity_weight 20 0 4\nwait 1\n"), "");
+  EXPECT_GT(h.app->doc.scene()["objectives"]["steady"]["periodicity_weight"].get<double>(), 0.0);
+  EXPECT_EQ(h.app->doc.history().size(), steps + 3);
+  h.app->cmd_undo();
+  h.app->cmd_undo();
+  EXPECT_EQ(h.app->doc.scene()["objectives"]["steady"], added);
 }
 
 }  // namespace pliant::editor::test
