@@ -242,25 +242,30 @@ TEST_F(ArticulatedCli, MalformedContactExcludeExitsTwoNamingTheAttribute) {
   EXPECT_TRUE(contains(r.err, "/mujoco/contact[0]/exclude[0]/@body2")) << r.err;
 }
 
-// A <pair> asking for torsional friction (condim 4, not modelled) exits 2 naming the
-// attribute and what is supported.
-TEST_F(ArticulatedCli, ContactPairCondimFourExitsTwoNamingTheAttribute) {
+// A <pair> with condim 5 (not a MuJoCo value; 4 / 6 are torsional / rolling friction)
+// exits 2 naming the attribute and the values allowed.
+TEST_F(ArticulatedCli, ContactPairCondimFiveExitsTwoNamingTheAttribute) {
   const ProcessResult r = validate_mjcf(
       "<mujoco><worldbody><body name=\"a\"><freejoint/><geom name=\"ga\" size=\"0.1\"/></body>"
       "<body name=\"b\"><freejoint/><geom name=\"gb\" size=\"0.1\"/></body></worldbody>"
-      "<contact><pair geom1=\"ga\" geom2=\"gb\" condim=\"4\"/></contact></mujoco>");
+      "<contact><pair geom1=\"ga\" geom2=\"gb\" condim=\"5\"/></contact></mujoco>");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_TRUE(contains(r.err, "/mujoco/contact[0]/pair[0]/@condim")) << r.err;
-  EXPECT_TRUE(contains(r.err, "supported: 1 (frictionless) and 3")) << r.err;
+  EXPECT_TRUE(contains(r.err, "must be 1 (frictionless), 3 (sliding), 4 (+ torsional) or 6")) << r.err;
 }
 
-// A geom asking for torsional friction, or a negative geom friction, exits 2 naming
-// the geom's attribute.
-TEST_F(ArticulatedCli, GeomCondimFourAndNegativeFrictionExitTwoNamingTheAttribute) {
-  ProcessResult r = validate_mjcf("<mujoco><worldbody><body><freejoint/><geom size=\"0.1\" condim=\"4\"/></body></worldbody></mujoco>");
+// A geom with condim 2 or a negative friction coefficient (sliding or torsional) exits 2
+// naming the geom's attribute; condim 4 and 6 validate.
+TEST_F(ArticulatedCli, GeomCondimTwoAndNegativeFrictionExitTwoNamingTheAttribute) {
+  ProcessResult r = validate_mjcf("<mujoco><worldbody><body><freejoint/><geom size=\"0.1\" condim=\"2\"/></body></worldbody></mujoco>");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_TRUE(contains(r.err, "/mujoco/worldbody[0]/body[0]/geom[0]/@condim")) << r.err;
-  EXPECT_TRUE(contains(r.err, "supported: 1 (frictionless) and 3")) << r.err;
+  EXPECT_TRUE(contains(r.err, "must be 1 (frictionless), 3 (sliding), 4 (+ torsional) or 6")) << r.err;
+  r = validate_mjcf("<mujoco><worldbody><body><freejoint/><geom size=\"0.1\" condim=\"6\" friction=\"1 0.01 0.001\"/></body></worldbody></mujoco>");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  r = validate_mjcf("<mujoco><worldbody><geom type=\"plane\" friction=\"1 -0.01\"/></worldbody></mujoco>");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_TRUE(contains(r.err, "/mujoco/worldbody[0]/geom[0]/@friction")) << r.err;
   r = validate_mjcf("<mujoco><worldbody><geom type=\"plane\" friction=\"-1\"/></worldbody></mujoco>");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_TRUE(contains(r.err, "/mujoco/worldbody[0]/geom[0]/@friction")) << r.err;

@@ -76,6 +76,9 @@ std::vector<GeomPair> contact_geom_pairs(const Model& m) {
     p.mix.scene_mu = cp.mu < 0;
     p.mix.margin = cp.margin;
     p.mix.frictionless = cp.frictionless;
+    p.mix.condim = cp.condim;
+    p.mix.torsion = cp.torsion;
+    p.mix.roll = cp.roll;
     p.reach += cp.margin;
     out.push_back(p);
   }

@@ -48,10 +48,21 @@ void explicit_forces(const Model& m, const SimOptions& o, const State& s, const 
     }
     return Vec3(fn * n + ft);
   };
+  // Torsional / rolling friction (condim 4 / 6, coulomb model) on the relative angular
+  // velocity: spin_friction's gradient at phi = omega dt, i.e. regularised with eps/dt.
+  const auto spin_torque = [&](int b, int a, double fn, const Vec3& n, const ContactMix& mix) {
+    if (o.contact.friction != FrictionModel::Coulomb || fn <= 0) return;
+    Vec3 g;
+    const Vec3 om = v[b].head<3>() - (a > 0 ? Vec3(v[a].head<3>()) : Vec3::Zero());
+    spin_friction(fn, n, om * o.dt, mix.torsion, mix.condim == 6 ? mix.roll : 0, o.contact.spin_eps, &g, nullptr);
+    w[b].head<3>() -= g;
+    if (a > 0) w[a].head<3>() += g;
+  };
   for (Contact& c : ws.contacts) {
     c.force = contact_force(v[c.body].tail<3>() + v[c.body].head<3>().cross(c.point), c.normal, c.depth,
                             contact_mu(c.mix, o.contact.mu), c.mix.frictionless);
     w[c.body] += point_wrench(c.point, c.force);
+    if (c.mix.condim > 3) spin_torque(c.body, 0, c.force.dot(c.normal), c.normal, c.mix);
   }
   for (const PairContact& c : ws.pair_contacts) {
     const Vec3 va = v[c.body_a].tail<3>() + v[c.body_a].head<3>().cross(c.point);
@@ -59,6 +70,7 @@ void explicit_forces(const Model& m, const SimOptions& o, const State& s, const 
     const Vec3 f = contact_force(vb - va, c.normal, c.depth, contact_mu(c.mix, o.contact.mu), c.mix.frictionless);
     w[c.body_b] += point_wrench(c.point, f);
     w[c.body_a] -= point_wrench(c.point, f);
+    if (c.mix.condim > 3) spin_torque(c.body_b, c.body_a, f.dot(c.normal), c.normal, c.mix);
   }
   VecX tc;
   wrenches_to_generalized(m, k, w, &tc);

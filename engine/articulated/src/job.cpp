@@ -58,12 +58,14 @@ ArticulatedScene articulated_compile(const Scene& scene) {
     o.contact.mu = c->number("mu", o.contact.mu, 0);
     o.contact.ck = c->number("ck", o.contact.ck, 0);
     o.contact.slip_eps = c->number("slip_eps", o.contact.slip_eps, 1e-12);
+    o.contact.spin_eps = c->number("spin_eps", o.contact.spin_eps, 1e-12);
     o.contact.limit_stiffness = c->number("limit_stiffness", o.contact.limit_stiffness, 0);
     // Body-body contact (off by default: older scenes keep their trajectories).
     o.contact.self_collision = c->boolean("self_collision", false);
     // Explicit pairs, geoms by name (as MJCF's <contact><pair>): always touch, whatever
     // self_collision, contype/conaffinity or exclude say; "mu" overrides contact.mu,
-    // "margin" (m) makes the pair touch below that distance, "condim" 1 frictionless.
+    // "margin" (m) makes the pair touch below that distance, "condim" 1 frictionless,
+    // 4 / 6 with "torsion" / "roll" (m).
     for (JsonReader& pr : c->objects("pairs")) {
       ContactPair cp;
       int* ids[2] = {&cp.geom1, &cp.geom2};
@@ -82,7 +84,11 @@ ArticulatedScene articulated_compile(const Scene& scene) {
         const std::string why = contact_pair_condim_problem(cd);
         if (!why.empty()) pr.fail("condim", why);
         cp.frictionless = cd == 1;
+        cp.condim = static_cast<int>(cd);
       }
+      // Torsional / rolling coefficients (m) for condim 4 / 6.
+      cp.torsion = pr.number("torsion", cp.torsion, 0);
+      cp.roll = pr.number("roll", cp.roll, 0);
       pr.finish();
       a.model.contact_pairs.push_back(cp);
     }

@@ -11,15 +11,17 @@ namespace pliant::articulated::mjcf_internal {
 namespace {
 
 // A geom's contact parameters (contact_mix mixes them per contact): friction "slide
-// [torsion [roll]]" (the sliding value is the Coulomb coefficient; torsion and roll are
-// read, checked and unused: only condim 4 / 6 would use them, and those are refused),
-// margin, condim 1 or 3, priority (an integer, as MuJoCo's).
+// [torsion [roll]]" (the sliding value is the Coulomb coefficient; torsion and roll,
+// lengths, serve condim 4 / 6; values not given keep MuJoCo's defaults), margin,
+// condim 1, 3, 4 or 6, priority (an integer, as MuJoCo's).
 void read_geom_contact_params(const Ctx& c, const XmlElement& e, const std::string& path, Geom* g) {
   if (e.attr("friction")) {
     const auto f = numbers(c, e, path, "friction", 1, 3);
     for (double v : f)
       if (v < 0) throw InputError(c.file, path + "/@friction", "friction coefficients must be >= 0");
     g->friction = f[0];
+    if (f.size() > 1) g->torsion = f[1];
+    if (f.size() > 2) g->roll = f[2];
   }
   g->margin = number(c, e, path, "margin", 0, 0);
   if (e.attr("condim")) {

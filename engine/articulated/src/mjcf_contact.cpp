@@ -9,8 +9,8 @@ namespace {
 
 // <contact><pair geom1 geom2 [friction] [margin] [condim]>: an explicit pair
 // (Model::contact_pairs), friction's first (sliding) value its Coulomb coefficient,
-// margin its activation distance, condim 1 (frictionless) or 3 (the default);
-// condim 4 / 6 (torsional / rolling friction) rejected, as solref/solimp/gap.
+// margin its activation distance, condim 1 (frictionless), 3 (the default), 4 / 6
+// (+ torsional / rolling friction); solref/solimp/gap rejected.
 void read_contact_pair(Ctx& c, const XmlElement& e, const std::string& path) {
   check_attrs(c, e, path, {"name", "geom1", "geom2", "friction", "condim", "margin"});
   ContactPair pair;
@@ -25,14 +25,23 @@ void read_contact_pair(Ctx& c, const XmlElement& e, const std::string& path) {
   }
   const std::string problem = contact_pair_problem(c.m, pair.geom1, pair.geom2);
   if (!problem.empty()) throw InputError(c.file, path + "/@geom2", problem);
-  if (e.attr("friction")) pair.mu = numbers(c, e, path, "friction", 1, 5)[0];
-  if (e.attr("friction") && pair.mu < 0) throw InputError(c.file, path + "/@friction", "must be >= 0");
+  if (e.attr("friction")) {
+    // MuJoCo's five: slide1 slide2 torsion roll1 roll2 (one sliding and one rolling
+    // coefficient used: isotropic friction); values not given keep MuJoCo's defaults.
+    const auto f = numbers(c, e, path, "friction", 1, 5);
+    for (double v : f)
+      if (v < 0) throw InputError(c.file, path + "/@friction", "must be >= 0");
+    pair.mu = f[0];
+    if (f.size() > 2) pair.torsion = f[2];
+    if (f.size() > 3) pair.roll = f[3];
+  }
   pair.margin = number(c, e, path, "margin", 0, 0);
   if (e.attr("condim")) {
     const double cd = numbers(c, e, path, "condim", 1, 1)[0];
     const std::string problem = contact_pair_condim_problem(cd);
     if (!problem.empty()) throw InputError(c.file, path + "/@condim", problem);
     pair.frictionless = cd == 1;
+    pair.condim = static_cast<int>(cd);
   }
   c.m.contact_pairs.push_back(pair);
 }

@@ -232,11 +232,8 @@ std::string contact_pair_problem(const Model& m, int g1, int g2) {
 }
 
 std::string contact_pair_condim_problem(double condim) {
-  if (condim == 1 || condim == 3) return "";
-  if (condim == 4 || condim == 6)
-    return std::string("condim ") + (condim == 4 ? "4 (torsional" : "6 (torsional and rolling") +
-           " friction) is not supported; supported: 1 (frictionless) and 3 (sliding friction, the default)";
-  return "must be 1, 3, 4 or 6 (supported: 1 frictionless, 3 sliding friction)";
+  if (condim == 1 || condim == 3 || condim == 4 || condim == 6) return "";
+  return "must be 1 (frictionless), 3 (sliding), 4 (+ torsional) or 6 (+ rolling friction)";
 }
 
 std::string chain_mjcf(int links, double link_length, double radius) {

@@ -47,11 +47,13 @@ Geom read_geom(JsonReader& r, int body, const std::filesystem::path& base_dir) {
   g.contype = static_cast<int>(r.integer("contype", g.contact ? 1 : 0, 0, 0x7fffffff));
   g.conaffinity = static_cast<int>(r.integer("conaffinity", g.contact ? 1 : 0, 0, 0x7fffffff));
   // Contact parameters, MJCF's names (contact_mix): "friction" a number or [slide,
-  // torsion, roll] (the sliding value is used), "margin" (m), "condim" 1 or 3,
+  // torsion, roll] (torsion / roll: condim 4 / 6), "margin" (m), "condim" 1, 3, 4, 6,
   // "priority" (integer).
   if (r.has("friction")) {
     const auto f = r.value()["friction"].is_array() ? r.numbers("friction", {}, 1, 3, 0) : std::vector<double>{r.number("friction", 0, 0)};
     g.friction = f[0];
+    if (f.size() > 1) g.torsion = f[1];
+    if (f.size() > 2) g.roll = f[2];
   }
   g.margin = r.number("margin", 0, 0);
   if (r.has("condim")) {

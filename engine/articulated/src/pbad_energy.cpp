@@ -34,6 +34,31 @@ double slip_friction(const SimOptions& o, double fn, const Vec3& st, double* g, 
   return 0.5 * *g * st.squaredNorm();
 }
 
+// Torsional / rolling friction (condim 4 / 6) of a contact between body b and body a
+// (0: the world, which does not turn) on their relative rotation over the step,
+// phi = phi_b - phi_a (rotation_increment, spin_friction): the gradient J^T dE/dphi
+// as a pure torque on each body, the Gauss-Newton block J^T H J on each body's own
+// block (the a-b coupling is left out, as for the exact Hessian's geometric term).
+double spin_term(SimWorkspace& ws, const SimOptions& o, const Kinematics& k, const PbadStep& p, int b, int a,
+                 double fn, const Vec3& n, const ContactMix& mix, bool derivs) {
+  Mat3 jb, ja;
+  Vec3 phi = rotation_increment(k.xmat[b], p.prev_rot[b], &jb);
+  if (a > 0) phi -= rotation_increment(k.xmat[a], p.prev_rot[a], &ja);
+  Vec3 g;
+  Mat3 h;
+  const double e = spin_friction(fn, n, phi, mix.torsion, mix.condim == 6 ? mix.roll : 0, o.contact.spin_eps, &g,
+                                 derivs ? &h : nullptr);
+  if (derivs) {
+    ws.w[b].head<3>() += jb.transpose() * g;
+    ws.h[b].topLeftCorner<3, 3>() += jb.transpose() * h * jb;
+    if (a > 0) {
+      ws.w[a].head<3>() -= ja.transpose() * g;
+      ws.h[a].topLeftCorner<3, 3>() += ja.transpose() * h * ja;
+    }
+  }
+  return e;
+}
+
 }  // namespace
 
 // With derivs: per-body wrenches and blocks in ws.w / ws.h (ws.h_exact), the
@@ -104,13 +129,26 @@ double pbad_energy(const Model& m, const SimOptions& o, const State& s, const Pb
         const double fn = slot < static_cast<int>(s.normal_force_prev.size()) ? s.normal_force_prev[slot] : 0;
         if (fn <= 0 || o.contact.friction == FrictionModel::None || mix.frictionless) continue;
         const Mat3 pt = Mat3::Identity() - n * n.transpose();
-        const Vec3 st = pt * (x - p.prev_points[i]);
+        Vec3 xf = x, st;  // the point friction acts at, and its slip
+        const bool spin = mix.condim > 3 && p.any_spin;
+        if (spin) {
+          // condim 4 / 6: the slip of the body's material point that touched at q_i
+          // (x_i - rho n), not the sphere centre's, so that a ball can roll and the
+          // rolling resistance is the only torque against it; n held at its current value.
+          const double rho = cp.radius + mix.margin;
+          const Vec3 arm = rho * n;
+          xf = x - k.xmat[cp.body] * (p.prev_rot[cp.body].transpose() * arm);
+          st = pt * (xf - (p.prev_points[i] - arm));
+        } else {
+          st = pt * (x - p.prev_points[i]);
+        }
         double g;
         e += slip_friction(o, fn, st, &g, contact_mu(mix, o.contact.mu));
         if (derivs) {
-          add_point_force(ws, cp.body, x, g * st, exact);
-          ws.h[cp.body] += point_hessian(x, g * pt);
+          add_point_force(ws, cp.body, xf, g * st, exact);
+          ws.h[cp.body] += point_hessian(xf, g * pt);
         }
+        if (spin) e += spin_term(ws, o, k, p, cp.body, 0, fn, n, mix, derivs);
       }
     }
   }
@@ -175,6 +213,15 @@ double pbad_energy(const Model& m, const SimOptions& o, const State& s, const Pb
       ws.pair_terms.push_back({pa.body_a, pa.body_b, xa, xb, t1, g});
       ws.pair_terms.push_back({pa.body_a, pa.body_b, xa, xb, t2, g});
     }
+    if (p.any_spin)
+      for (const PairAnchor& pa : p.pair_anchors)
+        if (pa.condim > 3) {
+          ContactMix mix;
+          mix.condim = pa.condim;
+          mix.torsion = pa.torsion;
+          mix.roll = pa.roll;
+          e += spin_term(ws, o, k, p, pa.body_b, pa.body_a, pa.normal_force, pa.normal, mix, derivs);
+        }
   }
   // Actuator work and joint damping (dissipation potential) in joint space.
   const bool joint_terms = !m.actuators.empty() || p.any_damping;

@@ -121,6 +121,12 @@ void pbad_begin(const Model& m, const SimOptions& o, State& s, PbadStep& p, SimW
   p.prev_points.resize(ws.points.size());
   for (size_t i = 0; i < ws.points.size(); ++i)
     p.prev_points[i] = k0.xpos[ws.points[i].body] + k0.xmat[ws.points[i].body] * ws.points[i].local;
+  // Torsional / rolling friction (condim 4 / 6) measure each body's rotation from q_i.
+  p.any_spin = o.contact.enabled && o.contact.friction == FrictionModel::Coulomb && any_spin_friction(m);
+  if (p.any_spin) {
+    p.prev_rot.resize(nb);
+    for (int b = 0; b < nb; ++b) p.prev_rot[b] = k0.xmat[b];
+  }
   // Prediction: quadratic extrapolation q_i (+) (2 (q_i - q_{i-1}) - (q_{i-1} - q_{i-2})).
   p.any_damping = false;
   for (const Joint& j : m.joints) p.any_damping = p.any_damping || j.damping > 0;
@@ -149,7 +155,8 @@ void pbad_begin(const Model& m, const SimOptions& o, State& s, PbadStep& p, SimW
       if (!c.mix.frictionless)  // condim 1: no friction anchor
         p.pair_anchors.push_back({c.body_a, c.body_b, k0.xmat[c.body_a].transpose() * (c.point - k0.xpos[c.body_a]),
                                   k0.xmat[c.body_b].transpose() * (c.point - k0.xpos[c.body_b]), c.normal,
-                                  o.contact.stiffness * c.depth, contact_mu(c.mix, o.contact.mu)});
+                                  o.contact.stiffness * c.depth, contact_mu(c.mix, o.contact.mu), c.mix.condim,
+                                  c.mix.torsion, c.mix.roll});
   }
   p.q = s.qpos;
   qpos_integrate(m, p.q, 2 * qpos_difference(m, s.qpos, q1) - qpos_difference(m, q1, s.past[1]), 1.0);

@@ -22,6 +22,21 @@ void actuator_forces(const Model& m, const State& s, VecX* tau);
 double limit_terms(const Model& m, const SimOptions& o, const VecX& q, VecX* force, VecX* hdiag);
 bool any_limits(const Model& m);
 
+// Torsional / rolling friction (condim 4 / 6, spin_friction.cpp). Whether any geom or
+// explicit pair asks for it (the loops skip it otherwise).
+bool any_spin_friction(const Model& m);
+// A body's rotation over the step, world frame: phi = axial(R R0^T) (the rotation
+// vector's sin-scaled form, = the rotation vector to O(|phi|^3)), and its Jacobian
+// d phi / d theta for a world-frame rotation increment theta of R.
+Vec3 rotation_increment(const Mat3& r, const Mat3& r0, Mat3* jac);
+// Dissipation potential of a contact with normal n and normal force fn on the relative
+// rotation phi: mu_t fn (sqrt(phi_n^2 + eps^2) - eps) + mu_r fn (sqrt(|phi_t|^2 + eps^2)
+// - eps) (phi_n = n.phi, phi_t = phi - phi_n n; mu_r 0 for condim 4). Returns it, its
+// gradient in phi and (hess non-null) its Gauss-Newton Hessian g_n n n^T + g_t P_t.
+// Explicit integrators call it with phi = omega dt: torque -grad.
+double spin_friction(double fn, const Vec3& n, const Vec3& phi, double mu_t, double mu_r, double eps, Vec3* grad,
+                     Mat3* hess);
+
 // Energy of PBAD at q; with derivs also per-body wrenches (gradient) and Gauss-Newton
 // blocks in ws.w / ws.h and the generalized gradient in ws.grad.
 // With poses (kinematics at q, derivs false) the kinematics pass is skipped

@@ -94,10 +94,9 @@ TEST(GeomContact, JsonGeomsTakeTheMjcfNames) {
   EXPECT_EQ(gc_json_error(with("friction", {0.5, -1})).rfind("/bodies/0/geoms/0/friction/1 | ", 0), 0u);
   EXPECT_EQ(gc_json_error(with("friction", "high")).rfind("/bodies/0/geoms/0/friction | ", 0), 0u);
   EXPECT_EQ(gc_json_error(with("margin", -0.01)).rfind("/bodies/0/geoms/0/margin | ", 0), 0u);
-  EXPECT_EQ(gc_json_error(with("condim", 4)),
-            "/bodies/0/geoms/0/condim | condim 4 (torsional friction) is not supported; supported: 1 "
-            "(frictionless) and 3 (sliding friction, the default)");
-  EXPECT_EQ(gc_json_error(with("condim", 2)).rfind("/bodies/0/geoms/0/condim | must be 1, 3, 4 or 6", 0), 0u);
+  EXPECT_EQ(gc_json_error(with("condim", 4)), "no error");  // torsional friction (test_spin_friction.cpp)
+  EXPECT_EQ(gc_json_error(with("condim", 5)), "/bodies/0/geoms/0/condim | must be 1 (frictionless), 3 (sliding), 4 (+ torsional) or 6 (+ rolling friction)");
+  EXPECT_EQ(gc_json_error(with("condim", 2)).rfind("/bodies/0/geoms/0/condim | must be 1 (frictionless), 3", 0), 0u);
   EXPECT_EQ(gc_json_error(with("priority", 1.5)).rfind("/bodies/0/geoms/0/priority | ", 0), 0u);
 }
 
@@ -111,17 +110,15 @@ TEST(GeomContact, MjcfBadValuesNameElementAndAttribute) {
   EXPECT_EQ(gc_mjcf_error(geom("friction=\"0.5 0.1 0.1 0.1\"")), at + "friction | expected 1 to 3 numbers, got 4");
   EXPECT_EQ(gc_mjcf_error(geom("friction=\"grippy\"")), at + "friction | expected numbers, got \"grippy\"");
   EXPECT_EQ(gc_mjcf_error(geom("margin=\"-1\"")).rfind(at + "margin | must be >= 0", 0), 0u);
-  EXPECT_EQ(gc_mjcf_error(geom("condim=\"2\"")),
-            at + "condim | must be 1, 3, 4 or 6 (supported: 1 frictionless, 3 sliding friction)");
-  EXPECT_EQ(gc_mjcf_error(geom("condim=\"6\"")),
-            at + "condim | condim 6 (torsional and rolling friction) is not supported; supported: 1 (frictionless) and 3 "
-                 "(sliding friction, the default)");
-  EXPECT_EQ(gc_mjcf_error(geom("condim=\"4\"")).rfind(at + "condim | condim 4 (torsional friction)", 0), 0u);
+  EXPECT_EQ(gc_mjcf_error(geom("condim=\"2\"")), at + "condim | must be 1 (frictionless), 3 (sliding), 4 (+ torsional) or 6 (+ rolling friction)");
+  EXPECT_EQ(gc_mjcf_error(geom("condim=\"5\"")), at + "condim | must be 1 (frictionless), 3 (sliding), 4 (+ torsional) or 6 (+ rolling friction)");
+  EXPECT_EQ(gc_mjcf_error(geom("condim=\"6\"")), "no error");
+  EXPECT_EQ(gc_mjcf_error(geom("condim=\"4\"")), "no error");
   EXPECT_EQ(gc_mjcf_error(geom("priority=\"0.5\"")), at + "priority | must be an integer");
   // Through a default class: the element that inherits it is named.
-  EXPECT_EQ(gc_mjcf_error("<mujoco><default><geom condim=\"4\"/></default><worldbody><body><geom size=\"0.1\"/></body>"
+  EXPECT_EQ(gc_mjcf_error("<mujoco><default><geom condim=\"5\"/></default><worldbody><body><geom size=\"0.1\"/></body>"
                           "</worldbody></mujoco>")
-                .rfind(at + "condim | condim 4", 0),
+                .rfind(at + "condim | must be 1", 0),
             0u);
 }
 

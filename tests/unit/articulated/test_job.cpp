@@ -174,7 +174,7 @@ TEST(Job, ContactPairsAreReadByGeomNameAndBadOnesNameThePair) {
   bad = j;
   bad["contact"]["pairs"][0].erase("geom1");
   EXPECT_EQ(error_at(bad).rfind("/contact/pairs/0/geom1", 0), 0u);
-  // "margin" and "condim" as MJCF's <pair>: 1 frictionless, 3 default, 4 / 6 refused.
+  // "margin" and "condim" as MJCF's <pair>: 1 frictionless, 3 default, 4 / 6 torsional / rolling, 2 / 5 refused.
   nlohmann::json mc = j;
   mc["contact"]["pairs"][0]["margin"] = 0.01;
   mc["contact"]["pairs"][0]["condim"] = 1;
@@ -182,9 +182,18 @@ TEST(Job, ContactPairsAreReadByGeomNameAndBadOnesNameThePair) {
   EXPECT_EQ(am.model.contact_pairs[0].margin, 0.01);
   EXPECT_TRUE(am.model.contact_pairs[0].frictionless);
   EXPECT_FALSE(a.model.contact_pairs[0].frictionless);
-  mc["contact"]["pairs"][0]["condim"] = 6;
-  EXPECT_EQ(error_at(mc).rfind("/contact/pairs/0/condim | condim 6 (torsional and rolling friction) is not supported", 0), 0u)
-      << error_at(mc);
+  mc["contact"]["pairs"][0]["condim"] = 6;  // torsional and rolling, with "torsion" / "roll" (m)
+  mc["contact"]["pairs"][0]["torsion"] = 0.02;
+  mc["contact"]["pairs"][0]["roll"] = 0.003;
+  const ArticulatedScene a6 = articulated_compile(scene_of(mc));
+  EXPECT_EQ(a6.model.contact_pairs[0].condim, 6);
+  EXPECT_EQ(a6.model.contact_pairs[0].torsion, 0.02);
+  EXPECT_EQ(a6.model.contact_pairs[0].roll, 0.003);
+  mc["contact"]["pairs"][0]["roll"] = -1;
+  EXPECT_EQ(error_at(mc).rfind("/contact/pairs/0/roll", 0), 0u) << error_at(mc);
+  mc["contact"]["pairs"][0].erase("roll");
+  mc["contact"]["pairs"][0]["condim"] = 5;
+  EXPECT_EQ(error_at(mc).rfind("/contact/pairs/0/condim | must be 1 (frictionless), 3", 0), 0u) << error_at(mc);
   mc["contact"]["pairs"][0]["condim"] = 3;
   mc["contact"]["pairs"][0]["margin"] = -1;
   EXPECT_EQ(error_at(mc).rfind("/contact/pairs/0/margin", 0), 0u);

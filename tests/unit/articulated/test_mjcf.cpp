@@ -213,7 +213,7 @@ TEST(Mjcf, ContactExcludeAndMasksAreReadAndMalformedOnesNameTheElement) {
 }
 
 // <contact><pair>: explicit pairs by geom name, friction's first value kept, margin
-// and condim 1 / 3 read, condim 4 / 6 and solver parameters rejected; errors name the pair.
+// and condim 1 / 3 / 4 / 6 read, 2 / 5 and solver parameters rejected; errors name the pair.
 TEST(Mjcf, ContactPairsAreReadAndMalformedOnesNameThePair) {
   const std::string b = "<mujoco><worldbody><body name=\"a\"><freejoint/><geom name=\"ga\" size=\"0.1\" contype=\"0\" conaffinity=\"0\"/>"
                         "<geom name=\"ga2\" size=\"0.1\"/></body>"
@@ -233,11 +233,18 @@ TEST(Mjcf, ContactPairsAreReadAndMalformedOnesNameThePair) {
   EXPECT_TRUE(model_from_mjcf(b + "<contact><pair geom1=\"ga\" geom2=\"gb\" condim=\"1\"/></contact></mujoco>", "a.xml")
                   .contact_pairs[0]
                   .frictionless);
-  EXPECT_EQ(error_of(b + "<contact><pair geom1=\"ga2\" geom2=\"gb\"/><pair geom1=\"ga\" geom2=\"gb\" condim=\"4\"/></contact></mujoco>"),
-            "/mujoco/contact[0]/pair[1]/@condim | condim 4 (torsional friction) is not supported; supported: 1 "
-            "(frictionless) and 3 (sliding friction, the default)");
+  const Model m6 = model_from_mjcf(
+      b + "<contact><pair geom1=\"ga\" geom2=\"gb\" condim=\"6\" friction=\"0.4 0.4 0.02 0.003 0.003\"/></contact></mujoco>",
+      "a.xml");
+  EXPECT_EQ(m6.contact_pairs[0].condim, 6);  // torsional and rolling (test_spin_friction.cpp)
+  EXPECT_EQ(m6.contact_pairs[0].torsion, 0.02);
+  EXPECT_EQ(m6.contact_pairs[0].roll, 0.003);
+  EXPECT_EQ(error_of(b + "<contact><pair geom1=\"ga2\" geom2=\"gb\"/><pair geom1=\"ga\" geom2=\"gb\" condim=\"5\"/></contact></mujoco>"),
+            "/mujoco/contact[0]/pair[1]/@condim | must be 1 (frictionless), 3 (sliding), 4 (+ torsional) or 6 (+ rolling friction)");
   EXPECT_EQ(error_of(b + "<contact><pair geom1=\"ga\" geom2=\"gb\" condim=\"2\"/></contact></mujoco>"),
-            "/mujoco/contact[0]/pair[0]/@condim | must be 1, 3, 4 or 6 (supported: 1 frictionless, 3 sliding friction)");
+            "/mujoco/contact[0]/pair[0]/@condim | must be 1 (frictionless), 3 (sliding), 4 (+ torsional) or 6 (+ rolling friction)");
+  EXPECT_EQ(error_of(b + "<contact><pair geom1=\"ga\" geom2=\"gb\" friction=\"1 1 -0.1\"/></contact></mujoco>"),
+            "/mujoco/contact[0]/pair[0]/@friction | must be >= 0");
   EXPECT_EQ(error_of(b + "<contact><pair geom1=\"ga\" geom2=\"gb\" margin=\"-0.1\"/></contact></mujoco>").rfind(
                 "/mujoco/contact[0]/pair[0]/@margin | must be >= 0", 0),
             0u);

@@ -272,5 +272,38 @@ TEST(MujocoReference, GeomContactParametersMatch) {
   mj_deleteModel(mj);
 }
 
+// Torsional / rolling friction: geom condim 4 / 6 and friction's 2nd / 3rd values
+// (MuJoCo's defaults 0.005 / 0.0001 where not given), and a pair's condim and
+// friction's 3rd / 4th values, compile to MuJoCo's geom_condim / geom_friction and
+// pair_dim / pair_friction.
+TEST(MujocoReference, GeomCondimFourSixMatch) {
+  const std::string xml = R"(<mujoco>
+    <default><default class="spin"><geom condim="6" friction="0.8 0.02 0.003"/></default></default>
+    <worldbody><geom name="floor" type="plane" size="1 1 0.1" condim="4" friction="0.9 0.01"/>
+      <body name="a"><freejoint/><geom name="a0" size="0.05" class="spin"/><geom name="a1" size="0.05" pos="0 0 0.2" condim="4"/></body>
+      <body name="b" pos="1 0 0"><freejoint/><geom name="b0" size="0.05" condim="6" friction="0.3"/></body>
+    </worldbody>
+    <contact><pair geom1="a0" geom2="b0" condim="6" friction="0.4 0.4 0.03 0.002 0.002"/>
+      <pair geom1="a1" geom2="b0" condim="4"/></contact></mujoco>)";
+  const Model ours = model_from_mjcf(xml, "model.xml");
+  mjModel* mj = load_mujoco(xml);
+  ASSERT_NE(mj, nullptr);
+  for (const Geom& g : ours.geoms) {
+    const int id = mj_name2id(mj, mjOBJ_GEOM, g.name.c_str());
+    ASSERT_GE(id, 0) << g.name;
+    EXPECT_EQ(g.condim, mj->geom_condim[id]) << g.name;
+    EXPECT_EQ(g.torsion, mj->geom_friction[3 * id + 1]) << g.name;
+    EXPECT_EQ(g.roll, mj->geom_friction[3 * id + 2]) << g.name;
+  }
+  ASSERT_EQ(mj->npair, 2);
+  ASSERT_EQ(ours.contact_pairs.size(), 2u);
+  for (int i = 0; i < 2; ++i) {
+    EXPECT_EQ(ours.contact_pairs[i].condim, mj->pair_dim[i]) << i;
+    EXPECT_EQ(ours.contact_pairs[i].torsion, mj->pair_friction[5 * i + 2]) << i;
+    EXPECT_EQ(ours.contact_pairs[i].roll, mj->pair_friction[5 * i + 3]) << i;
+  }
+  mj_deleteModel(mj);
+}
+
 }  // namespace
 }  // namespace pliant::articulated

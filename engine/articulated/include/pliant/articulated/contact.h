@@ -12,6 +12,8 @@
 //   none.
 // Explicit integrators use the same laws on velocities (coulomb regularised with
 // slip speed eps/dt).
+// condim 4 / 6 (coulomb model only): torsional / rolling friction on the relative
+// rotation of the two bodies over the step (spin_friction, pbad_energy.cpp).
 #pragma once
 #include <algorithm>
 #include <array>
@@ -32,6 +34,7 @@ struct ContactOptions {
   double mu = 0.5;
   double ck = 10;                // s/m
   double slip_eps = 1e-7;        // m per step
+  double spin_eps = 1e-7;        // rad per step (torsional / rolling friction, condim 4 / 6)
   double limit_stiffness = 1e3;  // N m/rad (hinge) or N/m (slide) beyond a joint's range
   // Body-body contact (find_pair_contacts). Off by default: scenes written before it
   // keep their trajectories; MuJoCo would collide every pair its filter allows.
@@ -44,6 +47,10 @@ struct ContactMix {
   bool scene_mu = true;   // the scene's contact.mu takes part (a geom without friction)
   double margin = 0;      // touching below this distance: depth = margin - distance
   bool frictionless = false;  // condim 1: no friction whatever the model
+  // condim 4: torsional friction (torque <= torsion f_n about the normal), 6: also
+  // rolling (<= roll f_n about the tangents); coefficients in m (spin_friction).
+  int condim = 3;
+  double torsion = 0, roll = 0;
 };
 // MuJoCo 2.2.2's rule for automatic (non-pair) contacts (mj_contactParam): the geom
 // of higher priority gives friction and condim; equal priorities take the larger of
@@ -61,12 +68,17 @@ inline ContactMix contact_mix(const Geom& a, const Geom& b) {
     condim = w.condim;
     c.mu = w.friction;
     c.scene_mu = w.friction < 0;
+    c.torsion = w.torsion;
+    c.roll = w.roll;
   } else {
     condim = std::max(a.condim, b.condim);
     c.mu = std::max(a.friction, b.friction);  // unset (< 0) loses to any set value
     c.scene_mu = a.friction < 0 || b.friction < 0;
+    c.torsion = std::max(a.torsion, b.torsion);
+    c.roll = std::max(a.roll, b.roll);
   }
   c.frictionless = condim == 1;
+  c.condim = condim;
   return c;
 }
 // The Coulomb coefficient of a contact for the scene's contact.mu. Used by the

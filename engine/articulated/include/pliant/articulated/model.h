@@ -81,8 +81,11 @@ struct Geom {
   // friction: the sliding (Coulomb) coefficient; < 0: unset, the scene's contact.mu
   // stands in for it (the scene's mu plays MuJoCo's default geom friction 1).
   double friction = -1;
+  // Torsional (m: torque mu_t f_n about the normal) and rolling (m: torque mu_r f_n
+  // about the tangents) coefficients, used by condim 4 / 6; MuJoCo's defaults.
+  double torsion = 0.005, roll = 0.0001;
   double margin = 0;  // touching below this distance (depth = margin - distance)
-  int condim = 3;     // 1 frictionless, 3 sliding friction (4 / 6 rejected)
+  int condim = 3;     // 1 frictionless, 3 sliding, 4 + torsional, 6 + rolling friction
   int priority = 0;   // the higher-priority geom's friction and condim win
 };
 
@@ -108,6 +111,8 @@ struct ContactPair {
   double mu = -1;  // Coulomb coefficient of this pair; < 0: the scene's contact.mu
   double margin = 0;          // touching below this distance (penalty on margin - distance)
   bool frictionless = false;  // condim 1 (MuJoCo's default condim 3: sliding friction)
+  int condim = 3;             // 1, 3, 4 (torsional), 6 (torsional and rolling)
+  double torsion = 0.005, roll = 0.0001;  // MJCF pair friction's 3rd / 4th values
 };
 struct Actuator {
   std::string name;
@@ -142,7 +147,8 @@ void model_finalize(Model& m, const std::vector<bool>& has_inertial);
 
 // Why geoms g1 and g2 cannot form a ContactPair ("" if they can).
 std::string contact_pair_problem(const Model& m, int g1, int g2);
-// Why a pair's condim is refused ("" for 1 and 3; 4 and 6 are not modelled).
+// Why a condim is refused ("" for 1, 3, 4 and 6, MuJoCo's values; 2, 5 and others are
+// refused as MuJoCo refuses them).
 std::string contact_pair_condim_problem(double condim);
 // Index of the named geom / moving body (the last of that name), or -1 with *why set
 // to 'no geom named "x"; did you mean "y"?' (loaders turn it into an InputError).

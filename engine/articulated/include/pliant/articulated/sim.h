@@ -94,12 +94,16 @@ struct PairAnchor {
   Vec3 local_a, local_b, normal;
   double normal_force;
   double mu = -1;  // the contact's Coulomb coefficient (contact_mu, resolved)
+  int condim = 3;  // 4 / 6: torsional / rolling friction with these coefficients (m)
+  double torsion = 0, roll = 0;
 };
 
 struct PbadStep {
   std::vector<Vec3> y;  // target centre per body
   std::vector<Mat3> a;  // target rotation per body
   std::vector<Vec3> prev_points;  // world positions of contact points at q_i
+  bool any_spin = false;          // condim 4 / 6 somewhere (any_spin_friction)
+  std::vector<Mat3> prev_rot;     // body rotations at q_i (any_spin only)
   VecX q;               // current iterate
   VecX past1;           // q_{i-1} (start-up frame on the first step)
   VecX q_pred;          // predictor (quadratic extrapolation)
