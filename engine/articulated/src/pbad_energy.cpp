@@ -59,6 +59,28 @@ double spin_term(SimWorkspace& ws, const SimOptions& o, const Kinematics& k, con
   return e;
 }
 
+// A condim 4 / 6 body-obstacle contact's friction: sliding friction on the slip of the
+// body's material point that touched at q_i (x_i - rho n, rho = radius + margin), not
+// the sphere centre's as for condim <= 3, so that a ball can roll with the rolling
+// resistance the only torque against it (n held at its current value, as P_t is);
+// then the torsional / rolling term.
+[[gnu::noinline]] double spin_contact_friction(SimWorkspace& ws, const SimOptions& o, const Kinematics& k,
+                                               const PbadStep& p, const ContactPoint& cp, const Vec3& x_prev,
+                                               const Vec3& x, const Vec3& n, double fn, const ContactMix& mix,
+                                               bool derivs, bool exact) {
+  const Mat3 pt = Mat3::Identity() - n * n.transpose();
+  const Vec3 arm = (cp.radius + mix.margin) * n;
+  const Vec3 xf = x - k.xmat[cp.body] * (p.prev_rot[cp.body].transpose() * arm);
+  const Vec3 st = pt * (xf - (x_prev - arm));
+  double g;
+  double e = slip_friction(o, fn, st, &g, contact_mu(mix, o.contact.mu));
+  if (derivs) {
+    add_point_force(ws, cp.body, xf, g * st, exact);
+    ws.h[cp.body] += point_hessian(xf, g * pt);
+  }
+  return e + spin_term(ws, o, k, p, cp.body, 0, fn, n, mix, derivs);
+}
+
 }  // namespace
 
 // With derivs: per-body wrenches and blocks in ws.w / ws.h (ws.h_exact), the
@@ -128,27 +150,18 @@ double pbad_energy(const Model& m, const SimOptions& o, const State& s, const Pb
         }
         const double fn = slot < static_cast<int>(s.normal_force_prev.size()) ? s.normal_force_prev[slot] : 0;
         if (fn <= 0 || o.contact.friction == FrictionModel::None || mix.frictionless) continue;
-        const Mat3 pt = Mat3::Identity() - n * n.transpose();
-        Vec3 xf = x, st;  // the point friction acts at, and its slip
-        const bool spin = mix.condim > 3 && p.any_spin;
-        if (spin) {
-          // condim 4 / 6: the slip of the body's material point that touched at q_i
-          // (x_i - rho n), not the sphere centre's, so that a ball can roll and the
-          // rolling resistance is the only torque against it; n held at its current value.
-          const double rho = cp.radius + mix.margin;
-          const Vec3 arm = rho * n;
-          xf = x - k.xmat[cp.body] * (p.prev_rot[cp.body].transpose() * arm);
-          st = pt * (xf - (p.prev_points[i] - arm));
-        } else {
-          st = pt * (x - p.prev_points[i]);
+        if (mix.condim > 3 && p.any_spin) {  // out of line: no work here for condim <= 3
+          e += spin_contact_friction(ws, o, k, p, cp, p.prev_points[i], x, n, fn, mix, derivs, exact);
+          continue;
         }
+        const Mat3 pt = Mat3::Identity() - n * n.transpose();
+        const Vec3 st = pt * (x - p.prev_points[i]);
         double g;
         e += slip_friction(o, fn, st, &g, contact_mu(mix, o.contact.mu));
         if (derivs) {
-          add_point_force(ws, cp.body, xf, g * st, exact);
-          ws.h[cp.body] += point_hessian(xf, g * pt);
+          add_point_force(ws, cp.body, x, g * st, exact);
+          ws.h[cp.body] += point_hessian(x, g * pt);
         }
-        if (spin) e += spin_term(ws, o, k, p, cp.body, 0, fn, n, mix, derivs);
       }
     }
   }
