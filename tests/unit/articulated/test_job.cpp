@@ -222,6 +222,23 @@ TEST(Job, PairsSceneBallTileAndRodRest) {
   EXPECT_LT(run.iterations_per_step, 4);
 }
 
+// The torsional / rolling friction scene (condim 4 / 6): after 1 s the spinner has
+// stopped (analytic 0.408 s), the condim 3 top still spins, the roller rests at the
+// analytic distance 0.178 m (test_spin_friction.cpp has the curves).
+TEST(Job, SpinRollSceneStopsAsTheAnalyticAnswersSay) {
+  const Scene sc = load_scene(std::filesystem::path(PLIANT_ASSETS_DIR) / "scenes" / "articulated_spin_roll.json");
+  const ArticulatedScene a = articulated_compile(sc);
+  const JobSceneRun run = job_run_scene(a, a.steps);
+  const double roll_stop = 0.25 * 1.4 * 0.1 / (2 * 0.01 * 9.81);
+  std::printf("spin_roll scene: spinner %.4f rad/s, top %.4f rad/s, roller x %.4f m (analytic %.4f), %.2f LM it/step\n",
+              run.s.qvel[5], run.s.qvel[11], run.s.qpos[14], roll_stop, run.iterations_per_step);
+  EXPECT_LT(std::abs(run.s.qvel[5]), 0.1);   // spinner stopped
+  EXPECT_GT(run.s.qvel[11], 9.5);            // top (condim 3) spins on
+  EXPECT_NEAR(run.s.qpos[14], roll_stop, 0.03 * roll_stop);
+  EXPECT_LT(std::abs(run.s.qvel[12]), 0.01);
+  EXPECT_LT(run.iterations_per_step, 4);
+}
+
 // The mesh-mesh scene: after 2 s pebble a rests on the slab (mesh on mesh), pebble b on
 // pebble a (two moving meshes), pebble c on the slab; before mesh-mesh contact all
 // three fell through the slab to the floor.
