@@ -75,7 +75,7 @@ TEST(GeomContact, JsonGeomsTakeTheMjcfNames) {
          {"joints", {{{"type", "free"}}}},
          {"geoms", {{{"type", "sphere"}, {"size", {0.1}}, {"friction", 0.3}, {"margin", 0.004}, {"condim", 1},
                      {"priority", 1}},
-                    {{"type", "sphere"}, {"size", {0.1}}, {"friction", {0.6, 0.005, 0.0001}}}}}}}},
+                    {{"type", "sphere"}, {"size", {0.1}}, {"friction", {0.6, 0.02, 0.003}}, {"condim", 6}}}}}}},
       {"obstacles", {{{"type", "plane"}, {"friction", 0.9}}}}};
   JsonReader r(j, "m.json");
   const Model m = model_from_json(r);
@@ -85,8 +85,12 @@ TEST(GeomContact, JsonGeomsTakeTheMjcfNames) {
   EXPECT_EQ(m.geoms[0].condim, 1);
   EXPECT_EQ(m.geoms[0].priority, 1);
   EXPECT_EQ(m.geoms[1].friction, 0.6);
-  EXPECT_EQ(m.geoms[1].condim, 3);
+  EXPECT_EQ(m.geoms[1].torsion, 0.02);  // torsional / rolling (condim 4 / 6)
+  EXPECT_EQ(m.geoms[1].roll, 0.003);
+  EXPECT_EQ(m.geoms[1].condim, 6);
   EXPECT_EQ(m.geoms[2].friction, 0.9);
+  EXPECT_EQ(m.geoms[2].torsion, 0.005);  // MuJoCo's defaults
+  EXPECT_EQ(m.geoms[2].roll, 0.0001);
   const auto with = [](const char* key, const nlohmann::json& v) {
     return nlohmann::json{{"bodies", {{{"name", "b"}, {"geoms", {{{"type", "sphere"}, {"size", {0.1}}, {key, v}}}}}}}};
   };

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <string>
 
+#include "pliant/articulated/contact.h"
 #include "pliant/articulated/io.h"
 #include "pliant/articulated/sim.h"
 #include "sim_internal.h"
@@ -161,6 +162,27 @@ TEST(SpinFriction, GradientMatchesFiniteDifferences) {
     fd[i] = (pbad_evaluate(m, o, s, p, qp, ws) - pbad_evaluate(m, o, s, p, qm, ws)) / (2 * h);
   }
   EXPECT_LT((fd - grad).norm(), 1e-4 * spin_share) << "fd " << fd.transpose() << "\ngrad " << grad.transpose();
+}
+
+// condim, torsion and roll mix as MuJoCo 2.2.2's mj_contactParam: equal priorities take
+// the larger of each, otherwise the higher-priority geom's.
+TEST(SpinFriction, CondimTorsionAndRollMixByMaxOrPriority) {
+  Geom a, b;
+  a.condim = 4, a.torsion = 0.02, a.roll = 0.0001;
+  b.condim = 6, b.torsion = 0.005, b.roll = 0.003;
+  ContactMix c = contact_mix(a, b);
+  EXPECT_EQ(c.condim, 6);
+  EXPECT_EQ(c.torsion, 0.02);
+  EXPECT_EQ(c.roll, 0.003);
+  a.priority = 1;
+  c = contact_mix(a, b);
+  EXPECT_EQ(c.condim, 4);
+  EXPECT_EQ(c.torsion, 0.02);
+  EXPECT_EQ(c.roll, 0.0001);
+  b.priority = 2;
+  c = contact_mix(b, a);
+  EXPECT_EQ(c.condim, 6);
+  EXPECT_EQ(c.torsion, 0.005);
 }
 
 // rotation_increment's Jacobian against differences of a world-frame rotation.
