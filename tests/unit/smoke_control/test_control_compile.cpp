@@ -183,6 +183,35 @@ TEST(ControlCompile, RotationAxisAndIterationCounts) {
   EXPECT_EQ(polish_only.coarse_iterations, 7);
 }
 
+// A box keyframe turned 90 degrees about y (rotation_axis [0, 1, 0]) through the
+// scene is voxel-exact the box with its x and z half sizes swapped (faces fall
+// between the sub-samples); a zero turn about any axis is bitwise no turn; bad
+// rotation fields name the field.
+TEST(ControlCompile, PlacementTurnAboutYSwapsXAndZ) {
+  auto density = [](const std::string& target) {
+    return control_compile(scene_with("[{\"frame\": 3, \"target\": " + target + "}]", true)).keyframes[0].density;
+  };
+  const auto turned = density(R"({"type": "box", "half_size": [0.3, 0.1, 0.2], "rotation_deg": 90, "rotation_axis": [0, 1, 0]})");
+  const auto swapped = density(R"({"type": "box", "half_size": [0.2, 0.1, 0.3]})");
+  const auto plain = density(R"({"type": "box", "half_size": [0.3, 0.1, 0.2]})");
+  const auto zero = density(R"({"type": "box", "half_size": [0.3, 0.1, 0.2], "rotation_deg": 0, "rotation_axis": [1, 2, 3]})");
+  ASSERT_EQ(turned.size(), 512u);
+  EXPECT_EQ(turned, swapped);
+  EXPECT_NE(turned, plain);
+  EXPECT_EQ(zero, plain);
+  const std::string pre = R"([{"frame": 3, "target": {"type": "sphere", "radius": 0.1, )";
+  EXPECT_NE(error_of(scene_with(pre + R"("rotation_axis": [0, 1]}}])", true)).find("/control/keyframes/0/target/rotation_axis"),
+            std::string::npos);
+  EXPECT_NE(error_of(scene_with(pre + R"("rotation_axis": [0, "y", 0]}}])", true))
+                .find("/control/keyframes/0/target/rotation_axis/1 | expected a number"),
+            std::string::npos);
+  EXPECT_NE(error_of(scene_with(pre + R"("rotation_deg": "90"}}])", true))
+                .find("/control/keyframes/0/target/rotation_deg | expected a number"),
+            std::string::npos);
+  EXPECT_NE(error_of(scene_with(pre + R"("rotation_deg": 1e301}}])", true)).find("/control/keyframes/0/target/rotation_deg"),
+            std::string::npos);
+}
+
 TEST(ControlCompile, PaintedKeyframeFromTheEditor) {
   geom::PaintedGrid p;
   p.n = {16, 16, 1};

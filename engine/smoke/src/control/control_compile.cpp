@@ -17,7 +17,9 @@
 //                  "weight", + the placement fields of an image TARGET}}
 //   TARGET: {"type": circle|sphere|box|square|mask|image|text|mesh|painted, placement
 //     ("center" fraction of the domain or "center_m", "scale", "rotation_deg",
-//     3D "rotation_axis" [x, y, z]: rotation_deg about that axis, default +z),
+//     3D "rotation_axis" [x, y, z]: rotation_deg about that axis, default +z;
+//     right-handed (counter-clockwise seen from the axis tip), any 3D orientation is
+//     one axis-angle pair; 2D accepts +z only),
 //     "supersample", and per type: radius|radius_m; half_size|half_size_m;
 //     file, channel (luma|alpha), threshold, height|height_m, depth|depth_m;
 //     text, font, height|height_m, threshold; file, size|size_m (mesh);

@@ -20,7 +20,9 @@ struct RasterGrid {
 
 // A similarity placement: a target's local frame is scaled, rotated by rotation_deg
 // counter-clockwise (right-handed) about rotation_axis and moved to center_m. The
-// axis defaults to +z (the 2D rotation); 3D targets may turn about any axis.
+// axis defaults to +z (the 2D rotation); 3D targets may turn about any axis, so any
+// 3D orientation is one (axis, angle) pair. Rasterisers sample through the inverse:
+// q = R^T (x - center) / scale.
 struct Placement {
   std::array<double, 3> center_m{0, 0, 0};
   double scale = 1.0;
@@ -32,6 +34,24 @@ struct Placement {
 // for a zero axis. local -> world: w = R q.
 using Rotation3 = std::array<std::array<double, 3>, 3>;
 Rotation3 placement_rotation(const Placement& p);
+
+// Composing placements (src/placement_compose.cpp; the editor's gizmo turns a placed
+// target about a slice's normal). The rotation by deg about axis (Rodrigues, as
+// placement_rotation), the product a b (b first), and the axis-angle of a rotation
+// matrix through its unit quaternion (Shepperd's method, stable at 180 degrees):
+// unit axis, deg in [0, 180]; the identity gives +z and 0.
+Rotation3 rotation_about(const std::array<double, 3>& axis, double deg);
+Rotation3 rotation_product(const Rotation3& a, const Rotation3& b);
+struct AxisAngle {
+  std::array<double, 3> axis{0, 0, 1};
+  double deg = 0.0;
+};
+AxisAngle axis_angle_of(const Rotation3& R);
+// p turned by deg about a world axis through its centre (R' = R_axis R). When p is
+// unrotated or already turns about a parallel axis the angles add and p keeps its own
+// axis vector, exactly (so z-only drags keep a plain rotation_deg); the angle is then
+// wrapped into [-180, 180]. Otherwise the product is converted back to axis-angle.
+void rotate_placement(Placement& p, const std::array<double, 3>& axis, double deg);
 
 // Failure to build a target. The message already names the file or input and the
 // problem ("assets/masks/x.png: cannot read image: ..."); callers add the scene
