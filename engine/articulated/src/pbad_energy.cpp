@@ -191,6 +191,13 @@ double pbad_energy(const Model& m, const SimOptions& o, const State& s, const Pb
         add_point_force(ws, fa.body, x, g * st, exact);
         ws.h[fa.body] += point_hessian(x, g * pt);
       }
+      if (fa.condim > 3 && p.any_spin) {
+        ContactMix mix;
+        mix.condim = fa.condim;
+        mix.torsion = fa.torsion;
+        mix.roll = fa.roll;
+        e += spin_term(ws, o, k, p, fa.body, 0, fa.normal_force, fa.normal, mix, derivs);
+      }
     }
   }
   if (derivs) ws.pair_terms.clear();

@@ -145,7 +145,8 @@ void pbad_begin(const Model& m, const SimOptions& o, State& s, PbadStep& p, SimW
     for (const Contact& c : ws.feature_contacts)
       if (!c.mix.frictionless)  // condim 1: no friction anchor
         p.feature_anchors.push_back({c.body, k0.xmat[c.body].transpose() * (c.point - k0.xpos[c.body]), c.point,
-                                     c.normal, o.contact.stiffness * c.depth, contact_mu(c.mix, o.contact.mu)});
+                                     c.normal, o.contact.stiffness * c.depth, contact_mu(c.mix, o.contact.mu),
+                                     c.mix.condim, c.mix.torsion, c.mix.roll});
   }
   p.any_pairs = pair_contact_on(m, o.contact) && !ws.pairs.empty();
   p.pair_anchors.clear();

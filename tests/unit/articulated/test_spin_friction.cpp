@@ -6,11 +6,14 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
+#include <sstream>
 #include <string>
 
 #include "pliant/articulated/contact.h"
 #include "pliant/articulated/io.h"
 #include "pliant/articulated/sim.h"
+#include "mesh_fixture.h"
 #include "sim_internal.h"
 
 namespace pliant::articulated {
@@ -162,6 +165,49 @@ TEST(SpinFriction, GradientMatchesFiniteDifferences) {
     fd[i] = (pbad_evaluate(m, o, s, p, qp, ws) - pbad_evaluate(m, o, s, p, qm, ws)) / (2 * h);
   }
   EXPECT_LT((fd - grad).norm(), 1e-4 * spin_share) << "fd " << fd.transpose() << "\ngrad " << grad.transpose();
+}
+
+// The feature-contact path (an obstacle box's corner under a moving mesh tile): a tile
+// spinning about the vertical on the upturned corner, torsion 0.01 m on the tile
+// (condim 4), stops after w0 I_zz / (mu_t m g); condim 3 keeps spinning.
+double spin_tile_stop_time(const std::string& tile_attrs, double* w_end) {
+  const std::string obj = test::write_box_obj("pliant_spin_tile", 0.1, 0.1, 0.01);
+  const Quat up = Quat::FromTwoVectors(Vec3(1, 1, 1), Vec3::UnitZ());
+  const double tip = 0.04 * std::sqrt(3.0), k = 1e5, rest = 0.5 * 9.81 / k;
+  std::ostringstream x;
+  x.precision(17);
+  x << "<mujoco><asset><mesh name=\"tile\" file=\"" << obj << "\"/></asset><worldbody><geom type=\"box\" "
+    << "size=\"0.04 0.04 0.04\" quat=\"" << up.w() << " " << up.x() << " " << up.y() << " " << up.z()
+    << "\"/><body pos=\"0 0 " << tip + 0.01 - rest << "\"><joint type=\"slide\" axis=\"0 0 1\"/>"
+    << "<joint type=\"hinge\" axis=\"0 0 1\"/><geom type=\"mesh\" mesh=\"tile\" mass=\"0.5\" " << tile_attrs
+    << "/></body></worldbody></mujoco>";
+  const Model m = model_from_mjcf(x.str(), "m.xml");
+  std::filesystem::remove(obj);
+  SimOptions o;
+  o.dt = 0.005;
+  o.contact.stiffness = k;
+  State s = state_init(m);
+  const double w0 = 3;
+  s.qvel[1] = w0;
+  SimWorkspace ws;
+  double t_stop = 1e9, w_prev = w0;
+  for (int i = 0; i < 60; ++i) {
+    EXPECT_TRUE(sim_step(m, o, s, ws));
+    if (t_stop > 1e8 && s.qvel[1] < 0.01 * w0)
+      t_stop = s.time - o.dt * (0.01 * w0 - s.qvel[1]) / (w_prev - s.qvel[1]);
+    w_prev = s.qvel[1];
+  }
+  *w_end = s.qvel[1];
+  return t_stop * 0.5 * 9.81 * 0.01 / (w0 * m.bodies[1].inertia(2, 2));  // / the analytic time
+}
+
+TEST(SpinFriction, MeshTileOnABoxCornerStopsSpinning) {
+  double w_end;
+  const double ratio = spin_tile_stop_time("condim=\"4\" friction=\"0.5 0.01 0\"", &w_end);
+  std::printf("tile on a corner: stops at %.4f x the analytic time\n", ratio);
+  EXPECT_NEAR(ratio, 1, 0.03);
+  spin_tile_stop_time("friction=\"0.5 0.01 0\"", &w_end);
+  EXPECT_GT(w_end, 0.95 * 3);
 }
 
 // condim, torsion and roll mix as MuJoCo 2.2.2's mj_contactParam: equal priorities take

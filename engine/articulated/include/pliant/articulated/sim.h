@@ -84,6 +84,8 @@ struct FeatureAnchor {
   Vec3 local, point, normal;
   double normal_force;
   double mu = -1;  // the contact's Coulomb coefficient (contact_mu, resolved)
+  int condim = 3;  // 4 / 6: torsional / rolling friction with these coefficients (m)
+  double torsion = 0, roll = 0;
 };
 
 // Friction of a body-body contact (find_pair_contacts) found at q_i: the material
