@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "doc/smoke_keyframes.h"
+#include "pliant/geom/raster_grid.h"
 
 namespace pliant::editor {
 
@@ -88,6 +89,11 @@ MeshTransform mesh_transform(const json& scene, int slot) {
   }
   if (target.value("scale", json()).is_number()) t.scale = target["scale"].get<double>();
   if (target.value("rotation_deg", json()).is_number()) t.rotation_deg = target["rotation_deg"].get<double>();
+  const json& ax = target.value("rotation_axis", json());
+  if (ax.is_array() && ax.size() == 3 && ax[0].is_number() && ax[1].is_number() && ax[2].is_number()) {
+    const std::array<double, 3> v{ax[0].get<double>(), ax[1].get<double>(), ax[2].get<double>()};
+    if (v[0] * v[0] + v[1] * v[1] + v[2] * v[2] > 0) t.rotation_axis = v;
+  }
   return t;
 }
 
@@ -98,6 +104,9 @@ json with_mesh_transform(const json& scene, int slot, const MeshTransform& t) {
   target["center"] = {t.center[0], t.center[1], t.center[2]};
   target["scale"] = t.scale;
   target["rotation_deg"] = t.rotation_deg;
+  const auto& v = t.rotation_axis;
+  if (target.contains("rotation_axis") || v[0] != 0 || v[1] != 0 || !(v[2] > 0))
+    target["rotation_axis"] = {v[0], v[1], v[2]};
   return with_slot_target(scene, slot, target);
 }
 
@@ -130,14 +139,39 @@ MeshTransform gizmo_scale(const MeshTransform& t, double x0, double y0, double x
 }
 
 MeshTransform gizmo_rotate(const MeshTransform& t, double x0, double y0, double x1, double y1,
-                           const std::array<int, 3>& n) {
-  const auto c = mesh_centre_in_slice(t, n, SliceAxis::XY);
+                           const std::array<int, 3>& n, SliceAxis a) {
+  const auto c = mesh_centre_in_slice(t, n, a);
   const double a0 = std::atan2(y0 - c[1], x0 - c[0]), a1 = std::atan2(y1 - c[1], x1 - c[0]);
-  double deg = t.rotation_deg + (a1 - a0) * 180.0 / 3.14159265358979323846;
-  deg = std::remainder(deg, 360.0);  // keep it in (-180, 180]
+  // u x v of each view points at the viewer (doc/volume_slice.h): XY +z, XZ +y, YZ +x.
+  const std::array<double, 3> normal = a == SliceAxis::XZ ? std::array<double, 3>{0, 1, 0}
+                                       : a == SliceAxis::YZ ? std::array<double, 3>{1, 0, 0}
+                                                            : std::array<double, 3>{0, 0, 1};
+  geom::Placement p;
+  p.rotation_deg = t.rotation_deg;
+  p.rotation_axis = t.rotation_axis;
+  geom::rotate_placement(p, normal, (a1 - a0) * 180.0 / 3.14159265358979323846);
   MeshTransform out = t;
-  out.rotation_deg = deg;
+  out.rotation_deg = p.rotation_deg;
+  out.rotation_axis = p.rotation_axis;
   return out;
+}
+
+double gizmo_footprint_deg(const MeshTransform& t, SliceAxis a) {
+  const auto& k = t.rotation_axis;
+  if (a == SliceAxis::XY && k[0] == 0 && k[1] == 0 && k[2] > 0) return t.rotation_deg;
+  geom::Placement p;
+  p.rotation_deg = t.rotation_deg;
+  p.rotation_axis = k;
+  const geom::Rotation3 R = geom::placement_rotation(p);
+  // World directions of screen right (u) and up (v) per view.
+  std::array<double, 3> u{1, 0, 0}, v{0, 1, 0};
+  if (a == SliceAxis::XZ) v = {0, 0, -1};
+  if (a == SliceAxis::YZ) u = {0, 0, -1};
+  std::array<double, 3> ru{};
+  for (int i = 0; i < 3; ++i) ru[i] = R[i][0] * u[0] + R[i][1] * u[1] + R[i][2] * u[2];
+  const double su = ru[0] * u[0] + ru[1] * u[1] + ru[2] * u[2], sv = ru[0] * v[0] + ru[1] * v[1] + ru[2] * v[2];
+  if (std::hypot(su, sv) < 1e-9) return 0.0;
+  return std::atan2(sv, su) * 180.0 / 3.14159265358979323846;
 }
 
 std::array<double, 3> volume_centroid(const geom::PaintedGrid& v) {

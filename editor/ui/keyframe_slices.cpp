@@ -93,14 +93,14 @@ struct GizmoPoints {
   ImVec2 centre, scale_handle, rotate_handle, corners[4];
 };
 
-// On XZ / YZ slices the footprint is drawn unrotated (the rotation is about z,
-// not the slice normal) and there is no rotate handle.
+// The footprint square is drawn turned by the in-slice angle of the placement
+// (gizmo_footprint_deg; exactly rotation_deg on XY for z-only scenes).
 GizmoPoints gizmo_points(const MeshTransform& t, double half, const std::array<int, 3>& n, SliceAxis axis, ImVec2 p0,
                          ImVec2 p1, float cell) {
   auto to_screen = [&](double cx, double cy) { return ImVec2(p0.x + float(cx) * cell, p1.y - float(cy) * cell); };
   const auto c = mesh_centre_in_slice(t, n, axis);
   const double cx = c[0], cy = c[1];
-  const double deg = axis == SliceAxis::XY ? t.rotation_deg : 0.0;
+  const double deg = gizmo_footprint_deg(t, axis);
   const double a = deg * 3.14159265358979323846 / 180.0, ca = std::cos(a), sa = std::sin(a);
   auto rot = [&](double x, double y) { return to_screen(cx + ca * x - sa * y, cy + sa * x + ca * y); };
   GizmoPoints g;
@@ -171,7 +171,7 @@ void draw_toolbar(App& app, bool mesh) {
   if (mesh) {
     if (ImGui::RadioButton("Gizmo", s.tool == CanvasTool::Gizmo)) s.tool = CanvasTool::Gizmo;
     ui_mark("tool_Gizmo");
-    if (ImGui::IsItemHovered()) ImGui::SetTooltip("drag the centre to move, the square to scale, the circle (XY slices) to rotate");
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("drag the centre to move, the square to scale, the circle to rotate about the slice's normal");
     ImGui::SameLine();
   }
   for (int t = 0; t < 5; ++t) {
@@ -203,8 +203,11 @@ void draw_toolbar(App& app, bool mesh) {
     const bool done2 = ImGui::IsItemDeactivatedAfterEdit();
     ImGui::SameLine();
     ImGui::SetNextItemWidth(70);
-    changed |= ImGui::DragFloat("rotation z", &rot, 1.0f, -180.0f, 180.0f, "%.0f deg");
+    changed |= ImGui::DragFloat("rotation", &rot, 1.0f, -180.0f, 180.0f, "%.0f deg");
     const bool done3 = ImGui::IsItemDeactivatedAfterEdit();
+    if (ImGui::IsItemHovered())
+      ImGui::SetTooltip("degrees about the axis [%.3g, %.3g, %.3g] (right-handed); the gizmo's circle turns about the slice's normal",
+                        t.rotation_axis[0], t.rotation_axis[1], t.rotation_axis[2]);
     if (changed && (s.gizmo == GizmoHandle::None || s.gizmo == GizmoHandle::Fields)) {
       s.gizmo = GizmoHandle::Fields;
       s.gizmo_now = t;
@@ -256,10 +259,8 @@ void draw_keyframe_slices(App& app) {
   const ImGuiIO& io = ImGui::GetIO();
   const double mx = (io.MousePos.x - p0.x) / cell, my = (p1.y - io.MousePos.y) / cell;  // cells, +y up
 
-  // Mesh gizmo: move and scale on every orientation, rotate (about z, the
-  // engine's placement) on XY slices only.
+  // Mesh gizmo: move, scale and rotate (about the slice's normal) on every orientation.
   const bool gizmo_tool = mesh && s.tool == CanvasTool::Gizmo;
-  const bool can_rotate = axis == SliceAxis::XY;
   const MeshTransform committed = mesh ? mesh_transform(scene, s.slot) : MeshTransform{};
   const MeshTransform& shown_t = s.gizmo != GizmoHandle::None ? s.gizmo_now : committed;
   const double half = mesh ? mesh_half_cells(scene, s.slot, shown_t) : 0.0;
@@ -267,8 +268,8 @@ void draw_keyframe_slices(App& app) {
     const GizmoPoints g = gizmo_points(committed, mesh_half_cells(scene, s.slot, committed), n, axis, p0, p1, cell);
     const float pick = std::max(8.0f, 0.6f * cell);
     s.gizmo = dist(io.MousePos, g.scale_handle) < pick                   ? GizmoHandle::Scale
-              : can_rotate && dist(io.MousePos, g.rotate_handle) < pick ? GizmoHandle::Rotate
-                                                                         : GizmoHandle::Move;
+              : dist(io.MousePos, g.rotate_handle) < pick ? GizmoHandle::Rotate
+                                                           : GizmoHandle::Move;
     s.gizmo_start = s.gizmo_now = committed;
     s.start_x = mx;
     s.start_y = my;
@@ -276,7 +277,7 @@ void draw_keyframe_slices(App& app) {
     switch (s.gizmo) {
       case GizmoHandle::Move: s.gizmo_now = gizmo_move(s.gizmo_start, mx - s.start_x, my - s.start_y, n, axis); break;
       case GizmoHandle::Scale: s.gizmo_now = gizmo_scale(s.gizmo_start, s.start_x, s.start_y, mx, my, n, axis); break;
-      case GizmoHandle::Rotate: s.gizmo_now = gizmo_rotate(s.gizmo_start, s.start_x, s.start_y, mx, my, n); break;
+      case GizmoHandle::Rotate: s.gizmo_now = gizmo_rotate(s.gizmo_start, s.start_x, s.start_y, mx, my, n, axis); break;
       default: break;
     }
   }
@@ -285,7 +286,8 @@ void draw_keyframe_slices(App& app) {
     s.gizmo = GizmoHandle::None;
     const std::string label = std::string(what) + " (" + slot_label(scene, s.slot) + ")";
     if (s.gizmo_now.center != s.gizmo_start.center || s.gizmo_now.scale != s.gizmo_start.scale ||
-        s.gizmo_now.rotation_deg != s.gizmo_start.rotation_deg) {
+        s.gizmo_now.rotation_deg != s.gizmo_start.rotation_deg ||
+        s.gizmo_now.rotation_axis != s.gizmo_start.rotation_axis) {
       app.doc.edit(label, with_mesh_transform(scene, s.slot, s.gizmo_now));
       app.set_status(label);
     }
@@ -357,10 +359,8 @@ void draw_keyframe_slices(App& app) {
     dl->AddCircleFilled(g.centre, 5.0f, col);
     dl->AddRectFilled(ImVec2(g.scale_handle.x - 5, g.scale_handle.y - 5),
                       ImVec2(g.scale_handle.x + 5, g.scale_handle.y + 5), col);
-    if (can_rotate) {
-      dl->AddLine(g.centre, g.rotate_handle, col, 1.0f);
-      dl->AddCircle(g.rotate_handle, 6.0f, col, 16, 2.0f);
-    }
+    dl->AddLine(g.centre, g.rotate_handle, col, 1.0f);
+    dl->AddCircle(g.rotate_handle, 6.0f, col, 16, 2.0f);
   }
   const std::string caption = slot_label(scene, s.slot) + "  " + slice_normal_name(axis) + " " + std::to_string(k) +
                               "/" + std::to_string(slice_count(n, axis)) + "  " + std::to_string(n[0]) + "x" +

@@ -1,7 +1,7 @@
 // 3D keyframes in the editor (issue 4, the slice-and-volume view): a brush stroke
 // on one z slice is one undo step and changes only that slice within the brush
 // (also on XZ / YZ slices, and a rectangle at strength 0.5 writes 128; the gizmo
-// moves a mesh in x and z on an XZ slice);
+// moves a mesh in x and z on an XZ slice and turns it about y there);
 // the mesh gizmo moves the voxelised keyframe by the dragged cells (one undo
 // step; golden of the slice + volume view); painted 3D keyframes survive
 // save/reopen bit for bit; a tiny 3D solve from a painted keyframe runs.
@@ -308,6 +308,63 @@ TEST(EditorKeyframes3D, GizmoMoveOnAnXzSliceMovesTheMeshInXAndZ) {
   EXPECT_NEAR(c1[2] - c0[2], 2.0, 0.2);
   ASSERT_EQ(h.run("key CTRL+Z\nwait 2\n"), "");
   EXPECT_EQ(h.app->doc.scene(), before);
+}
+
+// The rotate handle on a top-view (XZ) slice: a counter-clockwise quarter sweep of
+// the handle turns a rod (3:1:1, long along x) +90 degrees about y (the view's
+// normal), so its voxels' spread moves from x to z; one undo step, undo exact.
+TEST(EditorKeyframes3D, GizmoRotateOnAnXzSliceTurnsTheMeshAboutY) {
+  EditorHarness h("kf3d_gizmo_rot_xz");
+  fs::path scene = h.copy_scene("keyframe_3d.json");
+  std::ofstream(h.dir / "rod.obj") << "v 0 0 0\nv 3 0 0\nv 3 1 0\nv 0 1 0\nv 0 0 1\nv 3 0 1\nv 3 1 1\nv 0 1 1\n"
+                                      "f 1 3 2\nf 1 4 3\nf 5 6 7\nf 5 7 8\nf 1 2 6\nf 1 6 5\n"
+                                      "f 2 3 7\nf 2 7 6\nf 3 4 8\nf 3 8 7\nf 4 1 5\nf 4 5 8\n";
+  h.start(scene, /*gl=*/false);
+  ASSERT_EQ(h.run("wait 2\ndrop rod.obj\nwait 2\nclick_item view_keyframes\nwait 2\n"
+                  "click_item slice_axis_XZ\nwait 2\n"),
+            "");
+  ASSERT_TRUE(is_mesh_slot(h.app->doc.scene(), 0));
+  ASSERT_EQ(h.app->canvas.tool, CanvasTool::Gizmo);
+  const json before = h.app->doc.scene();
+  const geom::PaintedGrid v0 = h.app->canvas.vol;
+  ASSERT_EQ(v0.n, (std::array<int, 3>{16, 16, 16}));
+  auto spread = [](const geom::PaintedGrid& g) {  // second moments along x and z (cells^2 x mass)
+    const auto c = volume_centroid(g);
+    double mx = 0, mz = 0;
+    for (int k = 0; k < g.n[2]; ++k)
+      for (int j = 0; j < g.n[1]; ++j)
+        for (int i = 0; i < g.n[0]; ++i) {
+          const double w = g.value[size_t(i) + size_t(g.n[0]) * (size_t(j) + size_t(g.n[1]) * k)];
+          mx += w * (i + 0.5 - c[0]) * (i + 0.5 - c[0]), mz += w * (k + 0.5 - c[2]) * (k + 0.5 - c[2]);
+        }
+    return std::array<double, 2>{mx, mz};
+  };
+  const auto s0 = spread(v0);
+  EXPECT_GT(s0[0], 5 * s0[1]) << "long along x before";
+  // The handle sits above the centre at half + max(1.5, 0.35 half) cells; the
+  // footprint's half is 0.3 x 16 cells (default size 0.6) times the scale.
+  const MeshTransform t0 = mesh_transform(before, 0);
+  const json& target = before["control"]["keyframes"][0]["target"];
+  const double half = 0.5 * target.value("size", 0.6) * 16 * t0.scale, r = half + std::max(1.5, 0.35 * half);
+  const auto c = mesh_centre_in_slice(t0, v0.n, SliceAxis::XZ);
+  auto fx = [](double u) { return std::to_string(u / 16); };
+  auto fy = [](double v) { return std::to_string(1 - v / 16); };
+  const size_t steps = h.app->doc.history().size();
+  ASSERT_EQ(h.run("drag_item_at slice_view " + fx(c[0]) + " " + fy(c[1] + r) + " " + fx(c[0] - r) + " " + fy(c[1]) +
+                  " 8\nwait 3\nexpect \"Rotate mesh\"\n"),
+            "");
+  EXPECT_EQ(h.app->doc.history().size(), steps + 1) << "one drag, one undo step";
+  const MeshTransform t = mesh_transform(h.app->doc.scene(), 0);
+  EXPECT_EQ(t.rotation_axis, (std::array<double, 3>{0, 1, 0}));
+  EXPECT_NEAR(t.rotation_deg, 90.0, 2.0);
+  EXPECT_EQ(t.center, t0.center);
+  const geom::PaintedGrid& v1 = h.app->canvas.vol;
+  EXPECT_EQ(v1.value, slot_volume(*h.app, 0).value);
+  const auto s1 = spread(v1);
+  EXPECT_GT(s1[1], 5 * s1[0]) << "long along z after";
+  ASSERT_EQ(h.run("key CTRL+Z\nwait 3\n"), "");
+  EXPECT_EQ(h.app->doc.scene(), before);
+  EXPECT_EQ(h.app->canvas.vol.value, v0.value);
 }
 
 TEST(EditorKeyframes3D, SaveReopenKeepsPainted3DKeyframesBitForBit) {

@@ -13,6 +13,7 @@
 
 #include "doc/paint_ops.h"
 #include "doc/smoke_keyframes.h"
+#include "pliant/geom/raster_grid.h"
 
 namespace pliant::editor {
 namespace {
@@ -185,6 +186,74 @@ TEST_F(MeshGizmo, ScaleAndRotateChangeVolumeAndFootprintAsPlaced) {
   const int w0 = width_x(voxels(s), 10, 10), w45 = width_x(voxels(with_mesh_transform(s, 0, t45)), 10, 10);
   EXPECT_NEAR(w0, 8, 1);
   EXPECT_NEAR(w45, 8 * std::sqrt(2.0), 1.5);
+}
+
+// Rotate on XZ / YZ: a counter-clockwise quarter sweep turns +90 degrees about the
+// slice's normal (XZ +y, YZ +x; XY +z writes no rotation_axis key, as before), turns
+// compose in world axes, the footprint is drawn at the in-slice angle, and a 3:1:1
+// rod's voxels swing from x to z on XZ.
+TEST_F(MeshGizmo, RotateOnXzAndYzTurnsAboutTheSliceNormal) {
+  const std::array<int, 3> n{20, 20, 20};
+  const MeshTransform t0 = mesh_transform(s, 0);
+  auto quarter = [&](const MeshTransform& t, SliceAxis a) {
+    const auto c = mesh_centre_in_slice(t, n, a);
+    return gizmo_rotate(t, c[0] + 3, c[1], c[0], c[1] + 3, n, a);
+  };
+  const MeshTransform txz = quarter(t0, SliceAxis::XZ), tyz = quarter(t0, SliceAxis::YZ),
+                      txy = quarter(t0, SliceAxis::XY);
+  EXPECT_NEAR(txz.rotation_deg, 90.0, 1e-9);
+  EXPECT_EQ(txz.rotation_axis, (std::array<double, 3>{0, 1, 0}));
+  EXPECT_NEAR(tyz.rotation_deg, 90.0, 1e-9);
+  EXPECT_EQ(tyz.rotation_axis, (std::array<double, 3>{1, 0, 0}));
+  EXPECT_EQ(txy.rotation_axis, (std::array<double, 3>{0, 0, 1}));
+  const json target_xy = with_mesh_transform(s, 0, txy)["control"]["keyframes"][0]["target"];
+  EXPECT_FALSE(target_xy.contains("rotation_axis")) << "z-only scenes keep a plain rotation_deg";
+  const json target_xz = with_mesh_transform(s, 0, txz)["control"]["keyframes"][0]["target"];
+  EXPECT_EQ(target_xz["rotation_axis"], json::parse("[0.0, 1.0, 0.0]"));
+  EXPECT_EQ(mesh_transform(with_mesh_transform(s, 0, txz), 0).rotation_axis, txz.rotation_axis);
+  // XY quarter turn after the XZ one: R = Rz(90) Ry(90), as an axis-angle.
+  const MeshTransform both = quarter(txz, SliceAxis::XY);
+  geom::Placement pb;
+  pb.rotation_axis = both.rotation_axis;
+  pb.rotation_deg = both.rotation_deg;
+  const geom::Rotation3 R = geom::placement_rotation(pb),
+                        W = geom::rotation_product(geom::rotation_about({0, 0, 1}, 90), geom::rotation_about({0, 1, 0}, 90));
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) EXPECT_NEAR(R[i][j], W[i][j], 1e-9);
+  // Footprint angles.
+  MeshTransform f = t0;
+  f.rotation_deg = 45;
+  EXPECT_EQ(gizmo_footprint_deg(f, SliceAxis::XY), 45.0);
+  EXPECT_NEAR(gizmo_footprint_deg(txz, SliceAxis::XZ), 90.0, 1e-9);
+  EXPECT_NEAR(gizmo_footprint_deg(tyz, SliceAxis::YZ), 90.0, 1e-9);
+  f.rotation_axis = {0, 1, 0};
+  f.rotation_deg = 30;
+  EXPECT_NEAR(gizmo_footprint_deg(f, SliceAxis::XZ), 30.0, 1e-9);
+  EXPECT_NEAR(gizmo_footprint_deg(f, SliceAxis::XY), 0.0, 1e-9);
+  // A rod long along x swings onto z (second moments of the voxels).
+  std::ofstream(dir / "rod.obj") << "v 0 0 0\nv 3 0 0\nv 3 1 0\nv 0 1 0\nv 0 0 1\nv 3 0 1\nv 3 1 1\nv 0 1 1\n"
+                                    "f 1 3 2\nf 1 4 3\nf 5 6 7\nf 5 7 8\nf 1 2 6\nf 1 6 5\n"
+                                    "f 2 3 7\nf 2 7 6\nf 3 4 8\nf 3 8 7\nf 4 1 5\nf 4 5 8\n";
+  json rod = s;
+  rod["control"]["keyframes"][0]["target"]["file"] = "rod.obj";
+  rod["control"]["keyframes"][0]["target"]["center"] = {0.5, 0.5, 0.5};
+  rod["control"]["keyframes"][0]["target"]["size"] = 0.6;
+  auto spread = [](const geom::PaintedGrid& g) {
+    const auto c = volume_centroid(g);
+    std::array<double, 3> m{0, 0, 0};
+    for (int k = 0; k < g.n[2]; ++k)
+      for (int j = 0; j < g.n[1]; ++j)
+        for (int i = 0; i < g.n[0]; ++i) {
+          const double w = g.value[size_t(i) + size_t(g.n[0]) * (size_t(j) + size_t(g.n[1]) * k)];
+          m[0] += w * (i + 0.5 - c[0]) * (i + 0.5 - c[0]), m[2] += w * (k + 0.5 - c[2]) * (k + 0.5 - c[2]);
+        }
+    return m;
+  };
+  const auto m0 = spread(voxels(rod));
+  const auto m1 = spread(voxels(with_mesh_transform(rod, 0, quarter(mesh_transform(rod, 0), SliceAxis::XZ))));
+  EXPECT_GT(m0[0], 5 * m0[2]);
+  EXPECT_GT(m1[2], 5 * m1[0]);
+  EXPECT_NEAR(m1[2], m0[0], 0.02 * m0[0]);
 }
 
 }  // namespace
