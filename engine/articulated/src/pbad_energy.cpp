@@ -59,26 +59,36 @@ double spin_term(SimWorkspace& ws, const SimOptions& o, const Kinematics& k, con
   return e;
 }
 
-// A condim 4 / 6 body-obstacle contact's friction: sliding friction on the slip of the
-// body's material point that touched at q_i (x_i - rho n, rho = radius + margin), not
-// the sphere centre's as for condim <= 3, so that a ball can roll with the rolling
-// resistance the only torque against it (n held at its current value, as P_t is);
-// then the torsional / rolling term.
-[[gnu::noinline]] double spin_contact_friction(SimWorkspace& ws, const SimOptions& o, const Kinematics& k,
-                                               const PbadStep& p, const ContactPoint& cp, const Vec3& x_prev,
-                                               const Vec3& x, const Vec3& n, double fn, const ContactMix& mix,
-                                               bool derivs, bool exact) {
+// Sliding friction of a body-obstacle contact whose point sits a reach rho = radius +
+// margin inside the body (sphere, capsule end, a margin): on the slip of the body's
+// material point that touched at q_i (x_i - rho n), not the centre's, so that a ball
+// can roll (the centre's slip would brake rolling as if it slid) and a sliding ball
+// spins up (n held at its current value, as P_t is). Euler/RK4 use the same point's
+// velocity (explicit_integrators.cpp).
+double contact_point_friction(SimWorkspace& ws, const SimOptions& o, const Kinematics& k, const PbadStep& p,
+                              const ContactPoint& cp, const Vec3& x_prev, const Vec3& x, const Vec3& n, double fn,
+                              double reach, const ContactMix& mix, bool derivs, bool exact) {
   const Mat3 pt = Mat3::Identity() - n * n.transpose();
-  const Vec3 arm = (cp.radius + mix.margin) * n;
+  const Vec3 arm = reach * n;
   const Vec3 xf = x - k.xmat[cp.body] * (p.prev_rot[cp.body].transpose() * arm);
   const Vec3 st = pt * (xf - (x_prev - arm));
   double g;
-  double e = slip_friction(o, fn, st, &g, contact_mu(mix, o.contact.mu));
+  const double e = slip_friction(o, fn, st, &g, contact_mu(mix, o.contact.mu));
   if (derivs) {
     add_point_force(ws, cp.body, xf, g * st, exact);
     ws.h[cp.body] += point_hessian(xf, g * pt);
   }
-  return e + spin_term(ws, o, k, p, cp.body, 0, fn, n, mix, derivs);
+  return e;
+}
+
+// A condim 4 / 6 body-obstacle contact's friction: sliding friction at the contact
+// point, then the torsional / rolling term.
+[[gnu::noinline]] double spin_contact_friction(SimWorkspace& ws, const SimOptions& o, const Kinematics& k,
+                                               const PbadStep& p, const ContactPoint& cp, const Vec3& x_prev,
+                                               const Vec3& x, const Vec3& n, double fn, const ContactMix& mix,
+                                               bool derivs, bool exact) {
+  return contact_point_friction(ws, o, k, p, cp, x_prev, x, n, fn, cp.radius + mix.margin, mix, derivs, exact) +
+         spin_term(ws, o, k, p, cp.body, 0, fn, n, mix, derivs);
 }
 
 }  // namespace
@@ -152,6 +162,11 @@ double pbad_energy(const Model& m, const SimOptions& o, const State& s, const Pb
         if (fn <= 0 || o.contact.friction == FrictionModel::None || mix.frictionless) continue;
         if (mix.condim > 3 && p.any_spin) {  // out of line: no work here for condim <= 3
           e += spin_contact_friction(ws, o, k, p, cp, p.prev_points[i], x, n, fn, mix, derivs, exact);
+          continue;
+        }
+        if (cp.radius + mix.margin > 0) {
+          e += contact_point_friction(ws, o, k, p, cp, p.prev_points[i], x, n, fn, cp.radius + mix.margin, mix,
+                                      derivs, exact);
           continue;
         }
         const Mat3 pt = Mat3::Identity() - n * n.transpose();

@@ -122,8 +122,10 @@ void pbad_begin(const Model& m, const SimOptions& o, State& s, PbadStep& p, SimW
   for (size_t i = 0; i < ws.points.size(); ++i)
     p.prev_points[i] = k0.xpos[ws.points[i].body] + k0.xmat[ws.points[i].body] * ws.points[i].local;
   // Torsional / rolling friction (condim 4 / 6) measure each body's rotation from q_i.
+  // Sliding friction at sphere / capsule / margin contact points maps the contact arm
+  // back to q_i with the same rotations (pbad_energy.cpp).
   p.any_spin = o.contact.enabled && o.contact.friction == FrictionModel::Coulomb && any_spin_friction(m);
-  if (p.any_spin) {
+  if (o.contact.enabled && o.contact.friction != FrictionModel::None) {
     p.prev_rot.resize(nb);
     for (int b = 0; b < nb; ++b) p.prev_rot[b] = k0.xmat[b];
   }

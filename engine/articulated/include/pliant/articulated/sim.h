@@ -105,7 +105,7 @@ struct PbadStep {
   std::vector<Mat3> a;  // target rotation per body
   std::vector<Vec3> prev_points;  // world positions of contact points at q_i
   bool any_spin = false;          // condim 4 / 6 somewhere (any_spin_friction)
-  std::vector<Mat3> prev_rot;     // body rotations at q_i (any_spin only)
+  std::vector<Mat3> prev_rot;     // body rotations at q_i (contact with friction on)
   VecX q;               // current iterate
   VecX past1;           // q_{i-1} (start-up frame on the first step)
   VecX q_pred;          // predictor (quadratic extrapolation)
