@@ -15,6 +15,7 @@
 #include "pliant/core/take.h"
 #include "render/articulated_drawer.h"
 #include "render/articulated_pick.h"
+#include "render/screen_ray.h"
 #include "ui/app.h"
 #include "ui/articulated_panels.h"
 #include "ui/ui_mark.h"
@@ -289,15 +290,9 @@ int body_named(const ArticulatedSelectionSolver& s, const std::string& name) {
 
 // World ray through window pixel (px, py) of the image rectangle (x, y, w, h).
 bool click_ray(const ArticulatedView& v, float px, float py, float x, float y, int w, int h, Vec3* o, Vec3* d) {
-  if (w <= 0 || h <= 0) return false;
-  const float nx = 2 * (px - x) / w - 1, ny = 1 - 2 * (py - y) / h;
-  const Mat4 inv = mat4_inverse(v.world_to_clip);
-  const auto a = mat4_apply(inv, {nx, ny, -1, 1}), b = mat4_apply(inv, {nx, ny, 1, 1});
-  if (a[3] == 0 || b[3] == 0) return false;
-  for (int i = 0; i < 3; ++i) {
-    (*o)[i] = a[i] / a[3];
-    (*d)[i] = b[i] / b[3] - (*o)[i];
-  }
+  Vec3 far_pt;
+  if (!screen_ray(v.world_to_clip, px, py, x, y, float(w), float(h), o, &far_pt)) return false;
+  for (int i = 0; i < 3; ++i) (*d)[i] = far_pt[i] - (*o)[i];
   return true;
 }
 

@@ -16,6 +16,7 @@
 #include <cmath>
 
 #include "doc/liquid_scene_edit.h"
+#include "render/screen_ray.h"
 #include "ui/liquid_scene_geometry.h"
 #include "ui/app.h"
 #include "ui/liquid_ui.h"
@@ -42,13 +43,9 @@ struct ScreenMap {
   }
   // The mouse ray hits the plane z = z0 at (*wx, *wy).
   bool to_plane(ImVec2 p, double z0, double* wx, double* wy) const {
-    const Mat4 inv = mat4_inverse(v.world_to_clip);
-    const float nx = 2.0f * (p.x - x) / w - 1.0f, ny = 1.0f - 2.0f * (p.y - y) / h;
-    auto un = [&](float nz) {
-      const auto q = mat4_apply(inv, {nx, ny, nz, 1.0f});
-      return std::array<double, 3>{q[0] / q[3], q[1] / q[3], q[2] / q[3]};
-    };
-    const auto a = un(-1.0f), b = un(1.0f);
+    Vec3 na, fa;
+    if (!screen_ray(v.world_to_clip, p.x, p.y, x, y, w, h, &na, &fa)) return false;
+    const std::array<double, 3> a{na[0], na[1], na[2]}, b{fa[0], fa[1], fa[2]};
     const double dz = b[2] - a[2];
     const double t = std::abs(dz) > 1e-12 ? (z0 - a[2]) / dz : 0.0;
     *wx = a[0] + t * (b[0] - a[0]);

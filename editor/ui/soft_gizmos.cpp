@@ -11,6 +11,7 @@
 #include <functional>
 
 #include "doc/soft_scene.h"
+#include "render/screen_ray.h"
 #include "render/soft_drawer.h"
 #include "ui/app.h"
 #include "ui/soft_ui.h"
@@ -22,34 +23,6 @@
 namespace pliant::editor {
 
 namespace {
-
-struct Screen {
-  float x = 0, y = 0;
-  bool ok = false;
-};
-
-Screen project(const Mat4& m, const Vec3& p, float x0, float y0, int w, int h) {
-  const auto c = mat4_apply(m, {p[0], p[1], p[2], 1.0f});
-  if (!(c[3] > 1e-6f)) return {};
-  return {x0 + 0.5f * (c[0] / c[3] + 1.0f) * float(w), y0 + 0.5f * (1.0f - c[1] / c[3]) * float(h), true};
-}
-
-// The point where the mouse ray meets the plane y = plane_y (false if parallel).
-bool ray_plane(const Mat4& m, float sx, float sy, float x0, float y0, int w, int h, float plane_y, Vec3* hit) {
-  const Mat4 inv = mat4_inverse(m);
-  const float nx = 2.0f * (sx - x0) / float(w) - 1.0f, ny = 1.0f - 2.0f * (sy - y0) / float(h);
-  auto unproject = [&](float z) {
-    const auto p = mat4_apply(inv, {nx, ny, z, 1.0f});
-    return Vec3{p[0] / p[3], p[1] / p[3], p[2] / p[3]};
-  };
-  const Vec3 a = unproject(-1.0f), b = unproject(1.0f);
-  const float dy = b[1] - a[1];
-  if (std::abs(dy) < 1e-9f) return false;
-  const float t = (plane_y - a[1]) / dy;
-  if (!(t >= 0.0f)) return false;
-  *hit = {a[0] + t * (b[0] - a[0]), plane_y, a[2] + t * (b[2] - a[2])};
-  return true;
-}
 
 // The value at a JSON pointer, or null (const operator[] must not see a missing key).
 nlohmann::json at(const nlohmann::json& j, const std::string& pointer) {
@@ -94,26 +67,26 @@ void soft_gizmos(App& app, const Mat4& m, const Vec3& base, float size, float x,
   const float len = 0.8f * size;
   struct Drawn {
     int id;
-    Screen at;
+    ScreenPoint at;
     ImU32 color;
     const char* label;
   };
   std::vector<Drawn> drawn;
   if (info.has_position) {
     const Vec3 t{float(info.position_target[0]), float(info.position_target[1]), float(info.position_target[2])};
-    drawn.push_back({1, project(m, t, x, y, w, h), IM_COL32(90, 240, 110, 255), "target"});
+    drawn.push_back({1, project_to_screen(m, t, x, y, w, h), IM_COL32(90, 240, 110, 255), "target"});
   }
-  const Screen sb = project(m, base, x, y, w, h);
+  const ScreenPoint sb = project_to_screen(m, base, x, y, w, h);
   if (info.has_heading) {
     const auto& d = info.heading_direction;
     const Vec3 tip{base[0] + len * float(d[0]), base[1] + len * float(d[1]), base[2] + len * float(d[2])};
-    const Screen st = project(m, tip, x, y, w, h);
+    const ScreenPoint st = project_to_screen(m, tip, x, y, w, h);
     if (sb.ok && st.ok) dl->AddLine(ImVec2(sb.x, sb.y), ImVec2(st.x, st.y), IM_COL32(80, 200, 255, 200), 2.0f);
     drawn.push_back({2, st, IM_COL32(80, 200, 255, 255), "heading"});
   }
   if (info.has_jump) {
     const Vec3 top{base[0], base[1] + float(info.jump_height), base[2]};
-    const Screen st = project(m, top, x, y, w, h);
+    const ScreenPoint st = project_to_screen(m, top, x, y, w, h);
     if (sb.ok && st.ok) dl->AddLine(ImVec2(sb.x, sb.y), ImVec2(st.x, st.y), IM_COL32(255, 110, 215, 200), 2.0f);
     drawn.push_back({3, st, IM_COL32(255, 110, 215, 255), "jump"});
   }
@@ -125,14 +98,14 @@ void soft_gizmos(App& app, const Mat4& m, const Vec3& base, float size, float x,
   struct PinSpot {
     SoftPin pin;
     Vec3 target;
-    Screen at;
+    ScreenPoint at;
   };
   std::vector<PinSpot> pin_spots;
   for (const SoftPin& p : pins) {
     if (p.vertex < 0 || 3 * size_t(p.vertex) + 2 >= rest.size()) continue;
     const float* r = &rest[3 * size_t(p.vertex)];
     const Vec3 t{r[0] + float(p.offset[0]), r[1] + float(p.offset[1]), r[2] + float(p.offset[2])};
-    pin_spots.push_back({p, t, project(m, t, x, y, w, h)});
+    pin_spots.push_back({p, t, project_to_screen(m, t, x, y, w, h)});
   }
   const ImGuiIO& io = ImGui::GetIO();
   const ImVec2 mouse = io.MousePos;
@@ -145,7 +118,7 @@ void soft_gizmos(App& app, const Mat4& m, const Vec3& base, float size, float x,
     if (inside && dx * dx + dy * dy < 10.0f * 10.0f) hovered = d.id;
   }
   for (size_t i = 0; i < pin_spots.size(); ++i) {
-    const Screen& a = pin_spots[i].at;
+    const ScreenPoint& a = pin_spots[i].at;
     if (!a.ok) continue;
     ui.handles.push_back({kPinHandle, a.x, a.y, pin_spots[i].pin.vertex});
     ui_mark_rect("soft_pin_" + std::to_string(pin_spots[i].pin.vertex), a.x - 6, a.y - 6, a.x + 6, a.y + 6);
@@ -166,7 +139,7 @@ void soft_gizmos(App& app, const Mat4& m, const Vec3& base, float size, float x,
       ui.drag_scene = app.doc.scene();
       ui.drag_start_hit = ps.target;
       Vec3 hit;
-      if (ray_plane(m, mouse.x, mouse.y, x, y, w, h, ps.target[1], &hit)) ui.drag_start_hit = hit;
+      if (screen_ray_plane_y(m, mouse.x, mouse.y, x, y, w, h, ps.target[1], &hit)) ui.drag_start_hit = hit;
     }
   } else if (ui.drag_handle && !ImGui::IsMouseDown(ImGuiMouseButton_Left)) {
     ui.drag_handle = 0;
@@ -178,10 +151,10 @@ void soft_gizmos(App& app, const Mat4& m, const Vec3& base, float size, float x,
     app.viewport.camera = ui.drag_camera;
     const uint64_t key = drag_key(ui.drag_serial);
     Vec3 hit;
-    if (ui.drag_handle == 1 && ray_plane(m, mouse.x, mouse.y, x, y, w, h, float(info.position_target[1]), &hit)) {
+    if (ui.drag_handle == 1 && screen_ray_plane_y(m, mouse.x, mouse.y, x, y, w, h, float(info.position_target[1]), &hit)) {
       const nlohmann::json v = {hit[0], info.position_target[1], hit[2]};
       if (v != at(app.doc.scene(), "/objectives/position/target_m")) app.doc.set("/objectives/position/target_m", v, key);
-    } else if (ui.drag_handle == 2 && ray_plane(m, mouse.x, mouse.y, x, y, w, h, base[1], &hit)) {
+    } else if (ui.drag_handle == 2 && screen_ray_plane_y(m, mouse.x, mouse.y, x, y, w, h, base[1], &hit)) {
       const float dx = hit[0] - base[0], dz = hit[2] - base[2], n = std::sqrt(dx * dx + dz * dz);
       if (n > 1e-6f) {
         const nlohmann::json v = {std::round(1e4 * dx / n) / 1e4, 0.0, std::round(1e4 * dz / n) / 1e4};
@@ -194,13 +167,13 @@ void soft_gizmos(App& app, const Mat4& m, const Vec3& base, float size, float x,
       bool ok = false;
       const Vec3& t0 = ui.drag_pin_target;
       if (io.KeyShift) {
-        const Screen a = project(m, t0, x, y, w, h), b = project(m, {t0[0], t0[1] + size, t0[2]}, x, y, w, h);
+        const ScreenPoint a = project_to_screen(m, t0, x, y, w, h), b = project_to_screen(m, {t0[0], t0[1] + size, t0[2]}, x, y, w, h);
         const float px_per_m = a.ok && b.ok ? std::abs(a.y - b.y) / size : 0.0f;
         if (px_per_m > 1e-3f) {
           off[1] += double(ui.drag_start_y - mouse.y) / px_per_m;
           ok = true;
         }
-      } else if (ray_plane(m, mouse.x, mouse.y, x, y, w, h, t0[1], &hit)) {
+      } else if (screen_ray_plane_y(m, mouse.x, mouse.y, x, y, w, h, t0[1], &hit)) {
         off[0] += double(hit[0] - ui.drag_start_hit[0]);
         off[2] += double(hit[2] - ui.drag_start_hit[2]);
         ok = true;
@@ -213,7 +186,7 @@ void soft_gizmos(App& app, const Mat4& m, const Vec3& base, float size, float x,
       }
     } else if (ui.drag_handle == 3) {
       // Metres per pixel along the screen's vertical at the base.
-      const Screen up = project(m, {base[0], base[1] + size, base[2]}, x, y, w, h);
+      const ScreenPoint up = project_to_screen(m, {base[0], base[1] + size, base[2]}, x, y, w, h);
       const float px_per_m = sb.ok && up.ok ? std::abs(sb.y - up.y) / size : 0.0f;
       if (px_per_m > 1e-3f) {
         double hgt = ui.drag_start_value + double(ui.drag_start_y - mouse.y) / px_per_m;
@@ -223,7 +196,7 @@ void soft_gizmos(App& app, const Mat4& m, const Vec3& base, float size, float x,
     }
   }
   for (size_t i = 0; i < pin_spots.size(); ++i) {
-    const Screen& a = pin_spots[i].at;
+    const ScreenPoint& a = pin_spots[i].at;
     if (!a.ok) continue;
     const bool hot = int(i) == hovered_pin ||
                      (ui.drag_handle == kPinHandle && ui.drag_pin.vertex == pin_spots[i].pin.vertex);

@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "render/screen_ray.h"
 #include "ui/app.h"
 #include "ui/soft_ui.h"
 #include "ui/ui_mark.h"
@@ -31,33 +32,8 @@ namespace {
 constexpr float kDragPushAccel = 20;
 constexpr float kPickRadiusPx = 12;
 
-struct DragScreen {
-  float x = 0, y = 0, depth = 0;
-  bool ok = false;
-};
 
-DragScreen drag_project(const Mat4& m, const Vec3& p, float x0, float y0, int w, int h) {
-  const auto c = mat4_apply(m, {p[0], p[1], p[2], 1.0f});
-  if (!(c[3] > 1e-6f)) return {};
-  return {x0 + 0.5f * (c[0] / c[3] + 1.0f) * float(w), y0 + 0.5f * (1.0f - c[1] / c[3]) * float(h), c[2] / c[3], true};
-}
 
-// Where the ray through screen point (sx, sy) meets the plane y = plane_y.
-bool drag_ray_plane(const Mat4& m, float sx, float sy, float x0, float y0, int w, int h, float plane_y, Vec3* hit) {
-  const Mat4 inv = mat4_inverse(m);
-  const float nx = 2.0f * (sx - x0) / float(w) - 1.0f, ny = 1.0f - 2.0f * (sy - y0) / float(h);
-  auto unproject = [&](float z) {
-    const auto p = mat4_apply(inv, {nx, ny, z, 1.0f});
-    return Vec3{p[0] / p[3], p[1] / p[3], p[2] / p[3]};
-  };
-  const Vec3 a = unproject(-1.0f), b = unproject(1.0f);
-  const float dy = b[1] - a[1];
-  if (std::abs(dy) < 1e-9f) return false;
-  const float t = (plane_y - a[1]) / dy;
-  if (!(t >= 0.0f)) return false;
-  *hit = {a[0] + t * (b[0] - a[0]), plane_y, a[2] + t * (b[2] - a[2])};
-  return true;
-}
 
 Vec3 live_vertex(const SoftLive& live, int v) {
   const size_t i = 3 * size_t(v);
@@ -69,7 +45,7 @@ int pick_live_vertex(const SoftLive& live, const Mat4& m, const ImVec2& mouse, f
   int best = -1;
   float best_z = 1e30f;
   for (size_t i = 0; 3 * i + 2 < live.vertices.size(); ++i) {
-    const DragScreen s = drag_project(m, live_vertex(live, int(i)), x, y, w, h);
+    const ScreenPoint s = project_to_screen(m, live_vertex(live, int(i)), x, y, w, h);
     const float dx = s.x - mouse.x, dy = s.y - mouse.y;
     // Depth with a bias for screen distance: the vertex right under the mouse wins a tie.
     const float z = s.depth + 1e-3f * (dx * dx + dy * dy);
@@ -155,7 +131,7 @@ void soft_live_drag(App& app, const Mat4& m, float x, float y, int w, int h) {
   const Vec3 a = live_vertex(live, live.drag_vertex);
   Vec3 hit;
   live.drag_force = {0, 0, 0};
-  if (!drag_ray_plane(m, mouse.x, mouse.y, x, y, w, h, a[1], &hit)) return;
+  if (!screen_ray_plane_y(m, mouse.x, mouse.y, x, y, w, h, a[1], &hit)) return;
   const float dx = hit[0] - a[0], dz = hit[2] - a[2], len = std::sqrt(dx * dx + dz * dz);
   const float full = live_body_length(live);
   const float frac = std::min(len / full, 1.0f);
@@ -165,7 +141,7 @@ void soft_live_drag(App& app, const Mat4& m, float x, float y, int w, int h) {
   // The arrow: from the picked vertex along the drag, capped at the full length.
   const float shown = std::min(len, full);
   const Vec3 tip = len > 1e-6f ? Vec3{a[0] + shown * dx / len, a[1], a[2] + shown * dz / len} : a;
-  const DragScreen s0 = drag_project(m, a, x, y, w, h), s1 = drag_project(m, tip, x, y, w, h);
+  const ScreenPoint s0 = project_to_screen(m, a, x, y, w, h), s1 = project_to_screen(m, tip, x, y, w, h);
   if (!s0.ok || !s1.ok) return;
   ImDrawList* dl = ImGui::GetWindowDrawList();
   const ImU32 col = IM_COL32(255, 120, 60, 255);

@@ -190,7 +190,9 @@ TEST(EditorKeyframes3D, XzAndYzSliceStrokesChangeOnlyThatSliceAndRectangleStreng
     ASSERT_GT(changed, 15u);
     const double want[3] = {c.want_x, c.want_y, c.want_z};
     for (int a = 0; a < 3; ++a)
-      if (want[a] >= 0) EXPECT_NEAR(m[a] / changed, want[a], 1.5) << "axis " << a;
+      if (want[a] >= 0) {
+        EXPECT_NEAR(m[a] / changed, want[a], 1.5) << "axis " << a;
+      }
     ASSERT_EQ(h.run("key CTRL+Z\nwait 2\n"), "");
     EXPECT_EQ(h.app->doc.scene(), before);
     EXPECT_EQ(h.app->canvas.vol.value, v0.value) << "undo restores the bytes";

@@ -5,20 +5,13 @@
 
 #include <algorithm>
 
+#include "optimizer_test_problems.h"
 #include "pliant/soft/optimizer.h"
 
 using namespace pliant::soft;
 
 namespace {
-Eigen::VectorXd rosenbrock(const Eigen::VectorXd& x) {
-  Eigen::VectorXd r(x.size() + 1);
-  for (int i = 0; i + 1 < x.size(); i += 2) {
-    r[i] = 10 * (x[i + 1] - x[i] * x[i]);
-    r[i + 1] = 1 - x[i];
-  }
-  r[x.size()] = 0.1 * x.sum();
-  return r;
-}
+const auto rosenbrock = test::rosenbrock_residuals;
 }  // namespace
 
 TEST(Optimizer, MonotoneAndConvergentForEveryKind) {

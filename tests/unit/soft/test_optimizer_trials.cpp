@@ -12,33 +12,11 @@
 #include "pliant/core/scene.h"
 #include "pliant/core/error.h"
 #include "pliant/soft/soft.h"
+#include "optimizer_test_problems.h"
 #include "soft_test_scenes.h"
 
 using namespace pliant;
 using namespace pliant::soft;
-
-namespace {
-// Extended Rosenbrock plus a damping residual, and its exact Jacobian.
-Eigen::VectorXd trials_rosenbrock(const Eigen::VectorXd& x) {
-  Eigen::VectorXd r(x.size() + 1);
-  for (int i = 0; i + 1 < x.size(); i += 2) {
-    r[i] = 10 * (x[i + 1] - x[i] * x[i]);
-    r[i + 1] = 1 - x[i];
-  }
-  r[x.size()] = 0.1 * x.sum();
-  return r;
-}
-Eigen::MatrixXd trials_rosenbrock_jacobian(const Eigen::VectorXd& x) {
-  Eigen::MatrixXd J = Eigen::MatrixXd::Zero(x.size() + 1, x.size());
-  for (int i = 0; i + 1 < x.size(); i += 2) {
-    J(i, i) = -20 * x[i];
-    J(i, i + 1) = 10;
-    J(i + 1, i) = -1;
-  }
-  J.row(x.size()).setConstant(0.1);
-  return J;
-}
-}  // namespace
 
 TEST(OptimizerTrials, FusedTrialsFollowTheSamePathWithoutASecondJacobianPass) {
   for (OptimizerKind k : {OptimizerKind::LM, OptimizerKind::LBFGS, OptimizerKind::Hybrid}) {
@@ -53,16 +31,16 @@ TEST(OptimizerTrials, FusedTrialsFollowTheSamePathWithoutASecondJacobianPass) {
     int r_calls = 0, j_calls = 0, fused_calls = 0;
     const ResidualFn rf = [&](const Eigen::VectorXd& x) {
       ++r_calls;
-      return trials_rosenbrock(x);
+      return test::rosenbrock_residuals(x);
     };
     const JacobianFn jf = [&](const Eigen::VectorXd& x, const Eigen::VectorXd&) {
       ++j_calls;
-      return trials_rosenbrock_jacobian(x);
+      return test::rosenbrock_jacobian(x);
     };
     const ResidualJacobianFn ff = [&](const Eigen::VectorXd& x, Eigen::VectorXd& r) {
       ++fused_calls;
-      r = trials_rosenbrock(x);
-      return trials_rosenbrock_jacobian(x);
+      r = test::rosenbrock_residuals(x);
+      return test::rosenbrock_jacobian(x);
     };
     optimize(rf, s, a, {}, jf, ff);  // fused_trials off: ff unused
     EXPECT_EQ(fused_calls, 0);
