@@ -58,7 +58,9 @@ TEST(VolumeSlice, OrientationsAreUnmirroredViewsWithTheVerticalUp) {
     const int du[3] = {r[0] - o[0], r[1] - o[1], r[2] - o[2]}, dv[3] = {up[0] - o[0], up[1] - o[1], up[2] - o[2]};
     const int cross[3] = {du[1] * dv[2] - du[2] * dv[1], du[2] * dv[0] - du[0] * dv[2], du[0] * dv[1] - du[1] * dv[0]};
     for (int c = 0; c < 3; ++c) EXPECT_EQ(cross[c], towards_viewer[ai][c]) << slice_axis_name(a) << " component " << c;
-    if (a != SliceAxis::XZ) EXPECT_EQ(dv[1], 1) << slice_axis_name(a) << ": +y up";
+    if (a != SliceAxis::XZ) {
+      EXPECT_EQ(dv[1], 1) << slice_axis_name(a) << ": +y up";
+    }
   }
 }
 
