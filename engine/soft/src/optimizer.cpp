@@ -2,8 +2,14 @@
 #include "pliant/soft/optimizer.h"
 
 #include <Eigen/Dense>
+#include <LBFGSpp/Param.h>  // first: the line-search headers do not include it
+#include <LBFGSpp/LineSearchBacktracking.h>
+#include <LBFGSpp/LineSearchBracketing.h>
+#include <LBFGSpp/LineSearchNocedalWright.h>
 #include <cmath>
 #include <deque>
+#include <limits>
+#include <stdexcept>
 
 namespace pliant::soft {
 
@@ -15,6 +21,25 @@ const char* optimizer_name(OptimizerKind k) {
     case OptimizerKind::Spacetime: return "spacetime";
   }
   return "?";
+}
+
+const char* line_search_name(OptimizerSettings::LineSearch l) {
+  switch (l) {
+    case OptimizerSettings::LineSearch::Armijo: return "armijo";
+    case OptimizerSettings::LineSearch::Wolfe: return "wolfe";
+    case OptimizerSettings::LineSearch::StrongWolfe: return "strong_wolfe";
+    case OptimizerSettings::LineSearch::Bracketing: return "bracketing";
+    case OptimizerSettings::LineSearch::NocedalWright: return "nocedal_wright";
+  }
+  return "?";
+}
+
+OptimizerSettings::LineSearch parse_line_search(const std::string& name) {
+  using L = OptimizerSettings::LineSearch;
+  for (L l : {L::Armijo, L::Wolfe, L::StrongWolfe, L::Bracketing, L::NocedalWright})
+    if (name == line_search_name(l)) return l;
+  throw std::invalid_argument("unknown L-BFGS line search '" + name +
+                              "' (armijo, wolfe, strong_wolfe, bracketing, nocedal_wright)");
 }
 
 Eigen::MatrixXd fd_jacobian(const ResidualFn& r, const Eigen::VectorXd& theta, const Eigen::VectorXd& r0,
@@ -100,6 +125,8 @@ void optimize(const ResidualFn& rf, const OptimizerSettings& settings, Optimizer
     return rt;
   };
   Eigen::VectorXd r = evaluate(st.theta, J_at);
+  // The point J_at belongs to: reused only while it is st.theta.
+  Eigen::VectorXd J_at_theta = st.theta;
   st.objective = 0.5 * r.squaredNorm();
   if (st.history.empty()) st.history.push_back(st.objective);
   const double f_initial = st.history.front();
@@ -121,6 +148,72 @@ void optimize(const ResidualFn& rf, const OptimizerSettings& settings, Optimizer
   // next LM step has lambda's length and sets it).
   double radius = -1;
   const bool trust = s.lm_damping == OptimizerSettings::Damping::TrustRegion;
+  // Length of the last accepted L-BFGS step: a restart's first step has it.
+  double last_lbfgs_step = 0;
+  // LBFGS++'s line searches evaluate f and the gradient together at every trial:
+  // the fused pass when given, else a rollout and a Jacobian. The last evaluation is
+  // kept so the accepted point's residuals and Jacobian need no second pass.
+  Eigen::VectorXd ls_x, ls_r;
+  Eigen::MatrixXd ls_J;
+  auto f_and_grad = [&](const Eigen::VectorXd& x, Eigen::VectorXd& grad) -> double {
+    ++st.evaluations;
+    if (fused) {
+      ls_J = fused(x, ls_r);
+    } else {
+      ls_r = rf(x);
+      ls_J = jacobian ? jacobian(x, ls_r) : Eigen::MatrixXd();
+      if (ls_J.size()) {
+        ++st.evaluations;
+      } else if (ls_r.allFinite()) {
+        ls_J = fd_jacobian(rf, x, ls_r, s.fd_step);
+        st.evaluations += n;
+      }
+    }
+    ls_x = x;
+    const double fx = 0.5 * ls_r.squaredNorm();
+    // A failed rollout: a huge finite value (not inf, which turns Nocedal-Wright's
+    // interpolation into NaN) makes every LBFGS++ search shorten the step.
+    if (!std::isfinite(fx) || ls_J.rows() != ls_r.size() || !ls_J.allFinite()) {
+      grad.setZero(n);
+      ls_J.resize(0, 0);
+      return 1e100;
+    }
+    grad = ls_J.transpose() * ls_r;
+    return fx;
+  };
+  // One line search along d from st.theta (objective f0, gradient g); on success moves
+  // st.theta, r, st.objective, J_at. A search that throws (no Wolfe point in 20 trials,
+  // step out of range) or ends without a decrease fails.
+  auto wolfe_step = [&](const Eigen::VectorXd& d, const Eigen::VectorXd& g, double f0, Eigen::VectorXd& r) {
+    LBFGSpp::LBFGSParam<double> param;
+    param.max_linesearch = 20;
+    param.linesearch = s.lbfgs_line_search == OptimizerSettings::LineSearch::Wolfe
+                           ? LBFGSpp::LBFGS_LINESEARCH_BACKTRACKING_WOLFE
+                           : LBFGSpp::LBFGS_LINESEARCH_BACKTRACKING_STRONG_WOLFE;
+    Eigen::VectorXd x = st.theta, grad = g;
+    const Eigen::VectorXd xp = st.theta;
+    double fx = f0, step = 1;
+    try {
+      switch (s.lbfgs_line_search) {
+        case OptimizerSettings::LineSearch::Bracketing:
+          LBFGSpp::LineSearchBracketing<double>::LineSearch(f_and_grad, fx, x, grad, step, d, xp, param);
+          break;
+        case OptimizerSettings::LineSearch::NocedalWright:
+          LBFGSpp::LineSearchNocedalWright<double>::LineSearch(f_and_grad, fx, x, grad, step, d, xp, param);
+          break;
+        default:
+          LBFGSpp::LineSearchBacktracking<double>::LineSearch(f_and_grad, fx, x, grad, step, d, xp, param);
+      }
+    } catch (const std::exception&) {
+      return false;
+    }
+    if (!(std::isfinite(fx) && fx < f0)) return false;
+    if (ls_x.size() != n || ls_x != x) f_and_grad(x, grad);  // the search ended on an earlier trial
+    if (!ls_J.size()) return false;
+    st.theta = x, r = ls_r, st.objective = 0.5 * ls_r.squaredNorm();
+    J_at = ls_J, J_at_theta = st.theta;
+    return true;
+  };
   while (st.iteration < s.max_iterations) {
     if (st.objective <= s.tolerance * f_initial || (s.target >= 0 && st.objective <= s.target)) break;
     const double f0 = st.objective;
@@ -147,7 +240,7 @@ void optimize(const ResidualFn& rf, const OptimizerSettings& settings, Optimizer
         kind = "lm-broyden";
       }
     }
-    if (!accepted && fuse && J_at.size()) {
+    if (!accepted && J_at.size() && J_at_theta.size() == n && J_at_theta == st.theta) {
       reused = 0;
       J = J_at;  // paid for with the rollout that gave r
     } else if (!accepted) {
@@ -188,7 +281,7 @@ void optimize(const ResidualFn& rf, const OptimizerSettings& settings, Optimizer
           }
           last_lm_step = d.norm();
           st.theta = t, r = rn, st.objective = fn;
-          J_at = std::move(Jt);
+          J_at = std::move(Jt), J_at_theta = st.theta;
           accepted = true;
         } else {
           // Trust region: half the failed step's length (its lambda grows as needed:
@@ -220,37 +313,55 @@ void optimize(const ResidualFn& rf, const OptimizerSettings& settings, Optimizer
         const Eigen::VectorXd sv = st.theta - theta_prev, yv = g - g_prev;
         if (sv.dot(yv) > 1e-12 * sv.norm() * yv.norm()) {
           S.push_back(sv), Y.push_back(yv);
-          if (S.size() > 8) S.pop_front(), Y.pop_front();
+          if (int(S.size()) > std::max(1, s.lbfgs_memory)) S.pop_front(), Y.pop_front();
         }
       }
-      // Two-loop recursion.
-      Eigen::VectorXd q = g;
-      std::vector<double> a(S.size());
-      for (int i = int(S.size()) - 1; i >= 0; --i) {
-        a[i] = S[i].dot(q) / Y[i].dot(S[i]);
-        q -= a[i] * Y[i];
-      }
-      if (!S.empty())
-        q *= S.back().dot(Y.back()) / Y.back().squaredNorm();
-      else
-        q *= (last_lm_step > 0 ? last_lm_step : s.lbfgs_initial_step) / std::max(g.norm(), 1e-300);
-      for (size_t i = 0; i < S.size(); ++i) q += S[i] * (a[i] - Y[i].dot(q) / Y[i].dot(S[i]));
-      Eigen::VectorXd d = -q;
-      if (g.dot(d) >= 0) d = -g;
-      double alpha = 1;
       theta_prev = st.theta, g_prev = g;
-      for (int ls = 0; ls < 20; ++ls) {
-        const Eigen::VectorXd t = st.theta + alpha * d;
-        Eigen::MatrixXd Jt;
-        const Eigen::VectorXd rn = evaluate(t, Jt);
-        const double fn = 0.5 * rn.squaredNorm();
-        if (std::isfinite(fn) && fn <= f0 + 1e-4 * alpha * g.dot(d) && fn < f0) {
-          st.theta = t, r = rn, st.objective = fn;
-          J_at = std::move(Jt);
-          accepted = true;
+      // A restart (pure L-BFGS, after a failed line search) retries from here with
+      // the curvature pairs dropped.
+      for (bool restarted = false;; restarted = true) {
+        // Two-loop recursion (Nocedal & Wright 2006, Alg. 7.4).
+        Eigen::VectorXd q = g;
+        std::vector<double> a(S.size());
+        for (int i = int(S.size()) - 1; i >= 0; --i) {
+          a[i] = S[i].dot(q) / Y[i].dot(S[i]);
+          q -= a[i] * Y[i];
+        }
+        if (!S.empty())
+          q *= S.back().dot(Y.back()) / Y.back().squaredNorm();
+        else if (restarted && last_lbfgs_step > 0)
+          q *= last_lbfgs_step / std::max(g.norm(), 1e-300);
+        else if (last_lm_step > 0 || s.lbfgs_initial_step > 0)
+          q *= (last_lm_step > 0 ? last_lm_step : s.lbfgs_initial_step) / std::max(g.norm(), 1e-300);
+        for (size_t i = 0; i < S.size(); ++i) q += S[i] * (a[i] - Y[i].dot(q) / Y[i].dot(S[i]));
+        Eigen::VectorXd d = -q;
+        if (g.dot(d) >= 0) d = -g;
+        if (s.lbfgs_line_search == OptimizerSettings::LineSearch::Armijo) {
+          double alpha = 1;
+          for (int ls = 0; ls < 20; ++ls) {
+            const Eigen::VectorXd t = st.theta + alpha * d;
+            Eigen::MatrixXd Jt;
+            const Eigen::VectorXd rn = evaluate(t, Jt);
+            const double fn = 0.5 * rn.squaredNorm();
+            if (std::isfinite(fn) && fn <= f0 + 1e-4 * alpha * g.dot(d) && fn < f0) {
+              st.theta = t, r = rn, st.objective = fn;
+              J_at = std::move(Jt), J_at_theta = st.theta;
+              accepted = true;
+              break;
+            }
+            alpha *= 0.5;
+          }
+        } else {
+          accepted = wolfe_step(d, g, f0, r);
+        }
+        if (accepted) {
+          last_lbfgs_step = (st.theta - theta_prev).norm();
+          if (restarted) kind = "lbfgs-restart";
           break;
         }
-        alpha *= 0.5;
+        if (s.kind != OptimizerKind::LBFGS || S.empty() || st.lbfgs_restarts_used >= s.lbfgs_restarts) break;
+        S.clear(), Y.clear();
+        ++st.lbfgs_restarts_used;
       }
       if (s.kind == OptimizerKind::Hybrid && (!accepted || (f0 - st.objective) < s.stall * f0 * 0.2)) {
         lbfgs = false;  // back to LM with a fresh damping (and a fresh Jacobian)

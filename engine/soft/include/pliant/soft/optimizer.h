@@ -68,7 +68,33 @@ struct OptimizerSettings {
   // rejected trial or a gain ratio < 1/4 and at least doubled above 3/4.
   enum class Damping { Marquardt, TrustRegion };
   Damping lm_damping = Damping::Marquardt;
+  // L-BFGS variants (eleventh session, for a strong baseline; defaults = the behaviour
+  // before). Memory: curvature pairs kept. lbfgs_initial_step <= 0: the first step is
+  // -g itself (alpha 1 on the raw gradient) instead of a step of that length.
+  int lbfgs_memory = 8;
+  // Restarts (pure L-BFGS only; the hybrid returns to LM instead): when the line search
+  // fails, the curvature pairs are dropped and the iteration retries from the current
+  // point (the best so far: steps are monotone) along -g, with the last accepted
+  // step's length; at most this many in a run, and a restart whose own line search
+  // fails ends the run (it no longer gains).
+  int lbfgs_restarts = 0;
+  // Line search: the own Armijo backtracking (halving, c1 = 1e-4, no gradient at
+  // trials), or LBFGS++'s (liblbfgspp 0.1.0, LBFGSpp/LineSearch*.h; c1 = 1e-4,
+  // c2 = 0.9, 20 trials), which need the gradient at every trial point (the fused
+  // residual + Jacobian evaluation when given, else a rollout plus a Jacobian):
+  // Wolfe / StrongWolfe = LineSearchBacktracking (x 0.5 / x 2.1), Bracketing =
+  // LineSearchBracketing (bisection, strong Wolfe), NocedalWright =
+  // LineSearchNocedalWright (strong Wolfe, zoom with cubic interpolation; Nocedal &
+  // Wright 2006, Alg. 3.5-3.6). LBFGS++ 0.1.0's Moré-Thuente search is written for
+  // L-BFGS-B only (its signature takes LBFGSBParam and a step bound).
+  enum class LineSearch { Armijo, Wolfe, StrongWolfe, Bracketing, NocedalWright };
+  LineSearch lbfgs_line_search = LineSearch::Armijo;
 };
+
+// "armijo", "wolfe", "strong_wolfe", "bracketing", "nocedal_wright"; parse throws
+// std::invalid_argument on another name.
+const char* line_search_name(OptimizerSettings::LineSearch l);
+OptimizerSettings::LineSearch parse_line_search(const std::string& name);
 
 struct OptimizerState {
   Eigen::VectorXd theta;
@@ -77,6 +103,7 @@ struct OptimizerState {
   int iteration = 0;
   int evaluations = 0;      // rollouts, Jacobian columns included
   bool in_lbfgs = false;
+  int lbfgs_restarts_used = 0;  // L-BFGS restarts after failed line searches (not checkpointed)
   std::vector<double> history;  // objective after each accepted iteration (first: initial)
   std::vector<std::string> step_kinds;  // "lm" or "lbfgs" per iteration
 };
