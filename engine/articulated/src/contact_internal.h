@@ -69,12 +69,19 @@ inline void point_against(const Placed& s, int body, const Vec3& x, double radiu
   if (d < 0) out->push_back({s.g->body, body, x - radius * n, n, -d});
 }
 
+// Closest points p0 + s d0, p1 + t d1 of two segments (s, t in [0, 1]; parallel: the
+// middle of their overlap), contact_pair_primitives.cpp.
+void segment_closest(const Vec3& p0, const Vec3& d0, const Vec3& p1, const Vec3& d1, double* s_out, double* t_out);
+
 // Sphere / capsule / box pairs (contact_pair_primitives.cpp); the margin enters as extra
 // radius (depth = margin - distance).
 void corners_against(const Placed& box, const Placed& s, double margin, std::vector<PairContact>* out);
 void end_spheres_against(const Placed& cap, const Placed& s, double margin, std::vector<PairContact>* out);
 void capsule_capsule(const Placed& a, const Placed& b, double margin, std::vector<PairContact>* out);
-void edges_across(const Placed& a, const Placed& b, double margin, std::vector<PairContact>* out);
+// Capsule-box: end spheres, box edges and the segment's deepest point; box-box: corners
+// and edges pressed into the other box (contact_segment_box.cpp).
+void capsule_box(const Placed& cap, const Placed& box, double margin, std::vector<PairContact>* out);
+void box_box(const Placed& a, const Placed& b, double margin, std::vector<PairContact>* out);
 
 // Pairs with a mesh (contact_pair_meshes.cpp).
 void mesh_against(const Placed& mesh, const MeshCollider& mc, const Placed& s, double margin,

@@ -118,15 +118,8 @@ void find_pair_contacts(const Model& m, const Kinematics& k, const std::vector<G
           point_against(*hi, lo->g->body, lo->c, lo->g->size[0] + mg, out);
           break;
         case 4: capsule_capsule(*lo, *hi, mg, out); break;
-        case 5:  // capsule-box
-          end_spheres_against(*lo, *hi, mg, out);
-          corners_against(*hi, *lo, mg, out);
-          break;
-        case 8:  // box-box: corners, then edges crossing with neither edge's corners inside
-          corners_against(*lo, *hi, mg, out);
-          corners_against(*hi, *lo, mg, out);
-          edges_across(*lo, *hi, mg, out);
-          break;
+        case 5: capsule_box(*lo, *hi, mg, out); break;  // contact_segment_box.cpp
+        case 8: box_box(*lo, *hi, mg, out); break;  // contact_segment_box.cpp
         default: break;
       }
     }

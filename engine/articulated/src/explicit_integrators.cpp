@@ -67,7 +67,8 @@ void explicit_forces(const Model& m, const SimOptions& o, const State& s, const 
   for (const PairContact& c : ws.pair_contacts) {
     const Vec3 va = v[c.body_a].tail<3>() + v[c.body_a].head<3>().cross(c.point);
     const Vec3 vb = v[c.body_b].tail<3>() + v[c.body_b].head<3>().cross(c.point);
-    const Vec3 f = contact_force(vb - va, c.normal, c.depth, contact_mu(c.mix, o.contact.mu), c.mix.frictionless);
+    const Vec3 f =
+        contact_force(vb - va, c.normal, c.depth * c.gain, contact_mu(c.mix, o.contact.mu), c.mix.frictionless);
     w[c.body_b] += point_wrench(c.point, f);
     w[c.body_a] -= point_wrench(c.point, f);
     if (c.mix.condim > 3) spin_torque(c.body_b, c.body_a, f.dot(c.normal), c.normal, c.mix);

@@ -184,7 +184,7 @@ Record articulated_frame_record(const Model& m, const SimOptions& o, const State
   }
   for (size_t i = 0; i < npair; ++i) {
     const PairContact& c = ws.pair_contacts[i];
-    const Vec3 f = o.contact.stiffness * c.depth * c.normal;
+    const Vec3 f = o.contact.stiffness * c.depth * c.gain * c.normal;
     for (double v : {c.point.x(), c.point.y(), c.point.z(), f.x(), f.y(), f.z()})
       contacts.data.push_back(static_cast<float>(v));
   }

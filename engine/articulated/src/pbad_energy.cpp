@@ -226,10 +226,10 @@ double pbad_energy(const Model& m, const SimOptions& o, const State& s, const Pb
     for (const PairContact& c : ws.pair_contacts) {
       e += 0.5 * kk * c.depth * c.depth;
       if (!derivs) continue;
-      const Vec3 f = kk * c.depth * c.normal;  // force on b; the energy's gradient at b's point is -f
+      const Vec3 f = kk * c.depth * c.gain * c.normal;  // force on b; the energy's gradient at b's point is -f
       add_point_force(ws, c.body_b, c.point, -f, exact);
       add_point_force(ws, c.body_a, c.point, f, exact);
-      ws.pair_terms.push_back({c.body_a, c.body_b, c.point, c.point, c.normal, kk});
+      ws.pair_terms.push_back({c.body_a, c.body_b, c.point, c.point, c.normal, kk * c.gain * c.gain});
     }
     // Friction on the relative slip of the two bodies' material points that met at q_i.
     for (const PairAnchor& pa : p.pair_anchors) {

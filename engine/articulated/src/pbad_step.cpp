@@ -158,7 +158,7 @@ void pbad_begin(const Model& m, const SimOptions& o, State& s, PbadStep& p, SimW
       if (!c.mix.frictionless)  // condim 1: no friction anchor
         p.pair_anchors.push_back({c.body_a, c.body_b, k0.xmat[c.body_a].transpose() * (c.point - k0.xpos[c.body_a]),
                                   k0.xmat[c.body_b].transpose() * (c.point - k0.xpos[c.body_b]), c.normal,
-                                  o.contact.stiffness * c.depth, contact_mu(c.mix, o.contact.mu), c.mix.condim,
+                                  o.contact.stiffness * c.depth * c.gain, contact_mu(c.mix, o.contact.mu), c.mix.condim,
                                   c.mix.torsion, c.mix.roll});
   }
   p.q = s.qpos;

@@ -8,6 +8,7 @@
 
 #include "pliant/articulated/io.h"
 #include "pliant/articulated/sim.h"
+#include "contact_internal.h"
 #include "sim_internal.h"
 
 namespace pliant::articulated::pair_test {
@@ -130,6 +131,60 @@ inline size_t expect_pair_derivatives(const Model& m) {
   EXPECT_LT((pair_part - gn).norm(), 1e-5 * gn.norm());
   EXPECT_GT(gn.block(0, 6, 6, 6).norm(), 0.1 * gn.norm());  // the a-b coupling per-body blocks cannot hold
   return contacts.size();
+}
+
+// Geometric overlap of every capsule-box geom pair at q, independent of the contact
+// code's closed form: r - min over 4001 axis points of the box's signed distance
+// (the sampled minimum of a convex function: within 1e-4 m of it for these sizes).
+inline double deepest_capsule_in_box(const Model& m, const VecX& q) {
+  Kinematics k;
+  kinematics(m, q, &k);
+  double worst = 0;
+  for (const Geom& c : m.geoms) {
+    if (c.type != GeomType::Capsule || c.body == 0) continue;
+    const Vec3 cc = k.xpos[c.body] + k.xmat[c.body] * c.pos;
+    const Vec3 axis = k.xmat[c.body] * c.quat.toRotationMatrix().col(2);
+    for (const Geom& b : m.geoms) {
+      if (b.type != GeomType::Box || b.body == c.body) continue;
+      const Vec3 bc = k.xpos[b.body] + k.xmat[b.body] * b.pos;
+      const Mat3 br = k.xmat[b.body] * b.quat.toRotationMatrix();
+      double dmin = 1e300;
+      Vec3 n;
+      for (int i = 0; i <= 4000; ++i) {
+        const Vec3 x = cc + axis * (c.size[1] * (2.0 * i / 4000 - 1));
+        dmin = std::min(dmin, contact_internal::shape_distance(GeomType::Box, b.size, bc, br, x, &n));
+      }
+      worst = std::max(worst, c.size[0] - dmin);
+    }
+  }
+  return worst;
+}
+
+// Geometric overlap of every box-box geom pair at q: the deepest of 201 points along
+// each edge of one box inside the other (both ways; an edge pressed into a face shows
+// here, corners alone would not).
+inline double deepest_box_in_box(const Model& m, const VecX& q) {
+  Kinematics k;
+  kinematics(m, q, &k);
+  double worst = 0;
+  for (const Geom& a : m.geoms)
+    for (const Geom& b : m.geoms) {
+      if (a.type != GeomType::Box || b.type != GeomType::Box || a.body == b.body) continue;
+      const Vec3 ac = k.xpos[a.body] + k.xmat[a.body] * a.pos, bc = k.xpos[b.body] + k.xmat[b.body] * b.pos;
+      const Mat3 ar = k.xmat[a.body] * a.quat.toRotationMatrix(), br = k.xmat[b.body] * b.quat.toRotationMatrix();
+      Vec3 n;
+      for (int ax = 0; ax < 3; ++ax)
+        for (int e = 0; e < 4; ++e)
+          for (int i = 0; i <= 200; ++i) {
+            const int u = (ax + 1) % 3, v = (ax + 2) % 3;
+            Vec3 l;
+            l[ax] = a.size[ax] * (2.0 * i / 200 - 1);
+            l[u] = (e & 1 ? 1 : -1) * a.size[u];
+            l[v] = (e & 2 ? 1 : -1) * a.size[v];
+            worst = std::max(worst, -contact_internal::shape_distance(GeomType::Box, b.size, bc, br, ac + ar * l, &n));
+          }
+    }
+  return worst;
 }
 
 }  // namespace pliant::articulated::pair_test

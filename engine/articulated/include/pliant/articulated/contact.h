@@ -232,21 +232,26 @@ inline bool pair_contact_on(const Model& m, const ContactOptions& c) {
 // points when interior to both, plus every end sphere against the other capsule but the
 // deepest: side by side, the overlap's two ends; energy continuous, contact_pair_primitives.cpp),
 // sphere-box (exact), capsule-box (the capsule's end spheres against the
-// box, the box's corners against the capsule), box-box (each box's corners against
-// the other box, plus edge-edge crossings whose edges have no corner inside the other
-// box, along the edge-edge direction), mesh-sphere (the sphere's centre against the
+// box, the box's corners against the capsule, and the segment's point deepest in /
+// nearest the box in place of the deepest of those where it lies between the ends and
+// off the corners: a capsule across an edge or under a face; energy continuous), box-box (each box's corners against
+// the other box, plus each box's edges whose deepest point in the other lies between
+// their corners: an edge pressed into a face, two edges crossing), mesh-sphere (the sphere's centre against the
 // mesh's signed distance), mesh-capsule and mesh-box (the mesh's contact samples
 // against the capsule / box, and the capsule's end spheres / the box's corners against
 // the mesh; as the obstacle path does), mesh-mesh (each mesh's samples against the
 // other's signed distance, both ways). A pair's margin m adds m to every depth
-// (penalty on m - distance), except box edge-edge crossings (see README). Missed: a capsule's side across a box with
-// neither end sphere nor box corner inside the other (see README, Missing).
+// (penalty on m - distance).
 struct PairContact {
   int body_a, body_b;
   Vec3 point;   // world: the deepest point of b's surface (a point of both bodies' lines of action)
   Vec3 normal;  // unit, pushes body_b away from body_a
   double depth; // > 0
   ContactMix mix{};  // the pair's (GeomPair::mix)
+  // The depth's gradient is gain x normal (force k depth gain along normal): < 1 where
+  // a segment's deepest point in a box sits where two faces' depths meet (the faces'
+  // normals mixed, contact_segment_box.cpp); 1 elsewhere.
+  double gain = 1;
 };
 // Active contacts of the pairs at kinematics k (out is cleared; no allocation once
 // its capacity suffices). self_collision false: explicit pairs only. Depth = the

@@ -1,0 +1,198 @@
+// Segments against boxes: a capsule against a box (end spheres, the box's edges against
+// the segment, the segment's deepest point where it penetrates the box), and a box's
+// edges into another box (an edge pressed into a face with both corners outside).
+#include <algorithm>
+#include <cmath>
+
+#include "contact_internal.h"
+
+namespace pliant::articulated::contact_internal {
+
+namespace {
+
+// Segment x(t) = a + t u, t in [0, 1], penetrating the box |x_i| <= h_i (box frame):
+// its deepest point. Inside, the signed distance is the max of the six face lines
+// l(t) = +-(a_i + t u_i) - h_i (outside, the true distance is >= that max, so a
+// negative minimum of it is the segment's); a max of lines is least at t = 0, 1 or
+// where two lines cross, so the minimum is exact. Returns false where the segment
+// stays outside or the minimum is at an end (that end sphere is as deep); else the
+// minimiser *t (the middle where the minimum is flat), the signed distance *d < 0 and
+// its gradient in x at fixed t, *n (box frame): the face's unit normal, or at a kink
+// between two faces a mix of their normals, |n| < 1.
+bool segment_box_minimum(const Vec3& a, const Vec3& u, const Vec3& h, double* t_out, double* d_out, Vec3* n_out) {
+  const double tol = 1e-12 * (h.maxCoeff() + a.cwiseAbs().maxCoeff() + u.cwiseAbs().maxCoeff());
+  // Inside: sd = max over the six face lines l_j(t) = s (a_i + t u_i) - h_i (the
+  // true distance outside is >= this, so a negative minimum of it is the segment's).
+  // A max of lines is least at t = 0, 1 or where two lines of opposite slope cross.
+  const auto g = [&](double t) {
+    double m = -1e300;
+    for (int i = 0; i < 3; ++i) m = std::max(m, std::abs(a[i] + t * u[i]) - h[i]);
+    return m;
+  };
+  double cand[17];
+  int nc = 0;
+  cand[nc++] = 0;
+  cand[nc++] = 1;
+  for (int j = 0; j < 6; ++j)
+    for (int k = j + 1; k < 6; ++k) {
+      const double sj = j & 1 ? -1 : 1, sk = k & 1 ? -1 : 1;
+      const double slope = sj * u[j / 2] - sk * u[k / 2];
+      if (std::abs(slope) < 1e-15) continue;
+      const double t = -(sj * a[j / 2] - h[j / 2] - sk * a[k / 2] + h[k / 2]) / slope;
+      if (t > 0 && t < 1) cand[nc++] = t;
+    }
+  double gmin = 1e300;
+  for (int i = 0; i < nc; ++i) gmin = std::min(gmin, g(cand[i]));
+  if (gmin < -tol) {
+    if (g(0) <= gmin + tol || g(1) <= gmin + tol) return false;  // an end sphere is as deep
+    double lo = 1, hi = 0;
+    for (int i = 0; i < nc; ++i)
+      if (g(cand[i]) <= gmin + tol) lo = std::min(lo, cand[i]), hi = std::max(hi, cand[i]);
+    const double t = 0.5 * (lo + hi);
+    const Vec3 x = a + t * u;
+    // The active face lines at t: a flat minimum has one of slope 0; a kink, lines of
+    // both signs. The minimum's gradient (minimax, Danskin) is the mix l1 n1 + l2 n2
+    // of the steepest falling and rising lines' normals with l1 s1 + l2 s2 = 0.
+    int fall = -1, rise = -1, flat = -1;
+    double s_fall = 0, s_rise = 0;
+    for (int j = 0; j < 6; ++j) {
+      const int i = j / 2;
+      const double sg = j & 1 ? -1 : 1, lj = sg * x[i] - h[i], sj = sg * u[i];
+      if (lj < gmin - tol) continue;
+      if (sj < s_fall) s_fall = sj, fall = j;
+      if (sj > s_rise) s_rise = sj, rise = j;
+      if (sj == 0 && flat < 0) flat = j;
+    }
+    Vec3 n = Vec3::Zero();
+    if (fall >= 0 && rise >= 0) {
+      n[fall / 2] += (fall & 1 ? -1 : 1) * s_rise / (s_rise - s_fall);
+      n[rise / 2] += (rise & 1 ? -1 : 1) * -s_fall / (s_rise - s_fall);
+    } else {
+      const int j = flat >= 0 ? flat : fall >= 0 ? fall : rise;
+      if (j < 0) return false;
+      n[j / 2] = j & 1 ? -1 : 1;
+    }
+    *t_out = t;
+    *d_out = gmin;
+    *n_out = n;
+    return n.squaredNorm() > 1e-12;
+  }
+  return false;  // outside: the end spheres and edges hold the segment's minimum (capsule_box)
+}
+
+}  // namespace
+
+// Candidates: the end spheres against the box and the segment against each of the
+// box's 12 edges (segment_closest, clamped on both: a continuous distance, whose
+// gradient at the closest points is exact by the envelope theorem). The edges carry a
+// capsule lying across one (two where it lies over a face with both ends beyond it, an
+// end sphere and an edge where one end overhangs: two-point support, no rocking on one
+// point), a box face across a capsule (its two edges) and a box corner in a capsule
+// (its three edges: three times the old corner contact's stiffness there). Where the
+// segment stays outside the box its nearest point lies at an end, on an edge or over a
+// face between two edges at the same distance, so the candidates are exact; where it
+// penetrates, its deepest point (depth d_s > every candidate's) replaces the deepest
+// candidate: energy k/2 (d_s^2 + sum_i d_i^2 - max_i d_i^2), continuous as the segment
+// enters (d_s -> max d_i, like capsule_capsule's crossing). d_s's gradient: the
+// minimiser's motion drops out (envelope theorem); at a kink between two faces the
+// deeper face's normal stands in for the faces' mix. The Gauss-Newton matrix k n n^T of
+// every contact drops the closest points' and the normal's motion.
+void capsule_box(const Placed& cap, const Placed& box, double margin, std::vector<PairContact>* out) {
+  const size_t first = out->size();
+  end_spheres_against(cap, box, margin, out);
+  const double rho = cap.g->size[0] + margin, hl = cap.g->size[1];
+  const Vec3 p0 = cap.c - cap.r.col(2) * hl, dc = cap.r.col(2) * (2 * hl);
+  const Vec3& h = box.g->size;
+  for (int ax = 0; ax < 3; ++ax)
+    for (int e = 0; e < 4; ++e) {
+      const int u = (ax + 1) % 3, v = (ax + 2) % 3;
+      Vec3 local;
+      local[ax] = -h[ax];
+      local[u] = (e & 1 ? 1 : -1) * h[u];
+      local[v] = (e & 2 ? 1 : -1) * h[v];
+      const Vec3 pe = box.c + box.r * local, de = box.r.col(ax) * (2 * h[ax]);
+      double s, t;
+      segment_closest(p0, dc, pe, de, &s, &t);
+      const Vec3 xs = p0 + s * dc, diff = xs - (pe + t * de);
+      const double dist = diff.norm();
+      if (dist >= rho || !(dist > 1e-12)) continue;
+      const Vec3 n = diff / dist;
+      out->push_back({box.g->body, cap.g->body, xs - rho * n, n, rho - dist});
+    }
+  const Vec3 a = box.r.transpose() * (p0 - box.c), ul = box.r.transpose() * dc;
+  double t, d;
+  Vec3 nl;
+  if (!segment_box_minimum(a, ul, h, &t, &d, &nl)) return;
+  size_t deepest = first;
+  for (size_t i = first + 1; i < out->size(); ++i)
+    if ((*out)[i].depth > (*out)[deepest].depth) deepest = i;
+  if (deepest < out->size()) out->erase(out->begin() + static_cast<long>(deepest));
+  const double gain = nl.norm();
+  const Vec3 n = box.r * nl / gain;
+  out->push_back({box.g->body, cap.g->body, p0 + t * dc - rho * n, n, rho - d, ContactMix{}, gain});
+}
+
+namespace {
+
+// Box a's edges into box b: an edge whose deepest point in b lies between its corners
+// (an edge pressed into b's face, e.g. a box leaning on another's edge: the corners
+// and the former edge-edge test missed it and the box sank) gets that point's contact, depth
+// margin - d (segment_box_minimum: exact, the middle of a flat minimum), in place of
+// the deeper of its two corners' contacts where that corner is in b (the edge's depth
+// tends to that corner's as its minimum reaches it, so the energy stays continuous;
+// where two edges claim one corner the second edge's contact is left out). Gradient as
+// capsule_box's. corner_at: index in *out of each of a's corner contacts in b, or -1;
+// the corners to erase are appended to erase[*ne].
+void box_edges_into(const Placed& a, const Placed& b, double margin, const long* corner_at, long* erase, int* ne,
+                    std::vector<PairContact>* out) {
+  const Vec3& h = a.g->size;
+  const Mat3 rt = b.r.transpose();
+  for (int ax = 0; ax < 3; ++ax)
+    for (int e = 0; e < 4; ++e) {
+      const int u = (ax + 1) % 3, v = (ax + 2) % 3, start = (e & 1) << u | (e >> 1 & 1) << v;
+      const Vec3 p0 = a.c + a.r * box_corner(h, start), d = a.r.col(ax) * (2 * h[ax]);
+      double t, dist;
+      Vec3 nl;
+      if (!segment_box_minimum(rt * (p0 - b.c), rt * d, b.g->size, &t, &dist, &nl)) continue;
+      const long c0 = corner_at[start], c1 = corner_at[start | 1 << ax];
+      const long drop = c0 < 0 ? c1 : c1 < 0 ? c0 : ((*out)[c0].depth >= (*out)[c1].depth ? c0 : c1);
+      if (drop >= 0) {
+        if (std::find(erase, erase + *ne, drop) != erase + *ne) continue;
+        erase[(*ne)++] = drop;
+      }
+      const double gain = nl.norm();
+      const Vec3 n = b.r * nl / gain;
+      // b's face pushes a's edge: body_a = b, body_b = a, along b's outward normal.
+      out->push_back({b.g->body, a.g->body, p0 + t * d - margin * n, n, margin - dist, ContactMix{}, gain});
+    }
+}
+
+// Box a's corners in box b (point_against, the margin as radius), recording each one's
+// index in *out (-1: not in b).
+void corners_recorded(const Placed& a, const Placed& b, double margin, long* at, std::vector<PairContact>* out) {
+  for (int f = 0; f < 8; ++f) {
+    const size_t before = out->size();
+    point_against(b, a.g->body, a.c + a.r * box_corner(a.g->size, f), margin, out);
+    at[f] = out->size() > before ? static_cast<long>(before) : -1;
+  }
+}
+
+}  // namespace
+
+// Box against box: each box's corners in the other and each box's edges into the other
+// (box_edges_into). Two boxes crossing on their edges get both edges' contacts, at the
+// kink between two faces each (mixed normals): for the 45-degree crosswise pair their
+// forces sum to k times the edges' distance, which the former edge-edge contact gave
+// alone (it switched off with a jump where a corner entered; removed).
+void box_box(const Placed& a, const Placed& b, double margin, std::vector<PairContact>* out) {
+  long at_a[8], at_b[8], erase[24];
+  int ne = 0;
+  corners_recorded(a, b, margin, at_a, out);
+  corners_recorded(b, a, margin, at_b, out);
+  box_edges_into(a, b, margin, at_a, erase, &ne, out);
+  box_edges_into(b, a, margin, at_b, erase, &ne, out);
+  std::sort(erase, erase + ne);
+  for (int i = ne - 1; i >= 0; --i) out->erase(out->begin() + erase[i]);
+}
+
+}  // namespace pliant::articulated::contact_internal
