@@ -95,8 +95,9 @@ TEST(ContactCapsuleBox, SegmentContactIsContinuousAndItsGradientExact) {
     for (const PairContact& p : c) e += p.depth * p.depth;
     return e;
   };
-  // Centre 0.16 beyond... the capsule's inner end over the face, its outer part over
-  // the edge x = 0.1; pitch from -4 to 4 degrees moves the nearest point along it.
+  // Centre at x 0.12: the capsule's inner end over the face, its outer part beyond the
+  // edge x = 0.1; pitching from -4 to 4 degrees hands the touch from the inner end
+  // sphere to the edge's contact.
   double worst = 0, emax = 0;
   double prev = energy(contacts_at(-4, 0.12));
   for (int i = 1; i <= 800; ++i) {
@@ -108,7 +109,7 @@ TEST(ContactCapsuleBox, SegmentContactIsContinuousAndItsGradientExact) {
   std::printf("capsule-box energy: largest change per 0.01 degree %.3g of max %.3g\n", worst, emax);
   EXPECT_GT(emax, 0);
   EXPECT_LT(worst, 0.02 * emax);
-  // Gradient: capsule across the edge, tilted, one end sphere also in.
+  // Gradient: capsule across the edge, tilted and turned.
   EXPECT_GE(expect_pair_derivatives(two_bodies("0 0 0", "<geom type=\"box\" size=\"0.1 0.1 0.05\"/>",
                                                "0.12 0.01 0.0675",
                                                "<geom type=\"capsule\" size=\"0.02 0.1\" euler=\"10 92 30\"/>")),
