@@ -80,7 +80,9 @@ void end_spheres_against(const Placed& cap, const Placed& s, double margin, std:
 void capsule_capsule(const Placed& a, const Placed& b, double margin, std::vector<PairContact>* out);
 // Capsule-box: end spheres, box edges and the segment's deepest point; box-box: corners
 // and edges pressed into the other box (contact_segment_box.cpp).
-void capsule_box(const Placed& cap, const Placed& box, double margin, std::vector<PairContact>* out);
+// end_spheres false: a static box obstacle, whose end-sphere contacts the obstacle path has.
+void capsule_box(const Placed& cap, const Placed& box, double margin, std::vector<PairContact>* out,
+                 bool end_spheres = true);
 void box_box(const Placed& a, const Placed& b, double margin, std::vector<PairContact>* out);
 
 // Pairs with a mesh (contact_pair_meshes.cpp).

@@ -69,6 +69,21 @@ std::vector<GeomPair> contact_geom_pairs(const Model& m) {
       out.push_back(p);
     }
   }
+  // Moving capsules against static box obstacles: the capsule's side (the obstacle path
+  // has only its end spheres), with the mix the obstacle path uses.
+  for (size_t i = 0; i < m.geoms.size(); ++i) {
+    const Geom& ga = m.geoms[i];
+    if (ga.body == 0 || !ga.contact || ga.type != GeomType::Capsule) continue;
+    for (size_t j = 0; j < m.geoms.size(); ++j) {
+      const Geom& gb = m.geoms[j];
+      if (gb.body != 0 || !gb.contact || gb.type != GeomType::Box) continue;
+      GeomPair p = pair_of(static_cast<int>(i), static_cast<int>(j));
+      p.world_sides = true;
+      p.mix = contact_mix(ga, gb);
+      p.reach += p.mix.margin;
+      out.push_back(p);
+    }
+  }
   for (const ContactPair& cp : m.contact_pairs) {
     GeomPair p = pair_of(cp.geom1, cp.geom2);
     p.explicit_pair = true;
@@ -89,7 +104,7 @@ void find_pair_contacts(const Model& m, const Kinematics& k, const std::vector<G
                         std::vector<PairContact>* out, bool self_collision) {
   out->clear();
   for (const GeomPair& pr : pairs) {
-    if (!self_collision && !pr.explicit_pair) continue;
+    if (!self_collision && !pr.explicit_pair && !pr.world_sides) continue;
     const Geom &g0 = m.geoms[pr.a], &g1 = m.geoms[pr.b];
     Placed a{&g0, k.xpos[g0.body] + k.xmat[g0.body] * g0.pos, Mat3()};
     Placed b{&g1, k.xpos[g1.body] + k.xmat[g1.body] * g1.pos, Mat3()};
@@ -108,7 +123,9 @@ void find_pair_contacts(const Model& m, const Kinematics& k, const std::vector<G
     if (rank(hi->g->type) < rank(lo->g->type)) std::swap(lo, hi), std::swap(mesh_lo, mesh_hi);
     const int pair = rank(lo->g->type) * 3 + rank(hi->g->type);
     const double mg = pr.mix.margin;
-    if (lo->g->type == GeomType::Mesh) {
+    if (pr.world_sides) {
+      capsule_box(*lo, *hi, mg, out, false);
+    } else if (lo->g->type == GeomType::Mesh) {
       mesh_mesh(*lo, *mesh_lo, *hi, *mesh_hi, mg, out);
     } else if (hi->g->type == GeomType::Mesh) {  // against a sphere, capsule or box
       mesh_against(*hi, *mesh_hi, *lo, mg, out);

@@ -97,9 +97,10 @@ bool segment_box_minimum(const Vec3& a, const Vec3& u, const Vec3& h, double* t_
 // minimiser's motion drops out (envelope theorem); at a kink between two faces the
 // deeper face's normal stands in for the faces' mix. The Gauss-Newton matrix k n n^T of
 // every contact drops the closest points' and the normal's motion.
-void capsule_box(const Placed& cap, const Placed& box, double margin, std::vector<PairContact>* out) {
+void capsule_box(const Placed& cap, const Placed& box, double margin, std::vector<PairContact>* out,
+                 bool end_spheres) {
   const size_t first = out->size();
-  end_spheres_against(cap, box, margin, out);
+  if (end_spheres) end_spheres_against(cap, box, margin, out);
   const double rho = cap.g->size[0] + margin, hl = cap.g->size[1];
   const Vec3 p0 = cap.c - cap.r.col(2) * hl, dc = cap.r.col(2) * (2 * hl);
   const Vec3& h = box.g->size;
@@ -123,6 +124,9 @@ void capsule_box(const Placed& cap, const Placed& box, double margin, std::vecto
   double t, d;
   Vec3 nl;
   if (!segment_box_minimum(a, ul, h, &t, &d, &nl)) return;
+  // (Against a static box the end spheres are not among the candidates: the deepest
+  // point then replaces the deepest edge only, so the energy jumps by the difference
+  // where, deep inside, the minimum reaches an end.)
   size_t deepest = first;
   for (size_t i = first + 1; i < out->size(); ++i)
     if ((*out)[i].depth > (*out)[deepest].depth) deepest = i;

@@ -19,16 +19,21 @@ using namespace pair_test;
 struct CapBoxRest {
   double overlap = 0, speed = 0, iterations = 0, z = 0;  // z: the capsule centre's final height
 };
-CapBoxRest capbox_drop(const std::string& box, const std::string& pose, double half, int steps, int last) {
-  const Model m = model_from_mjcf("<mujoco><worldbody><body name=\"base\"><geom type=\"box\" " + box +
-                                      "/></body><body name=\"cap\" " + pose +
+// static_box: the box a world geom (an obstacle; self_collision off), else a jointless
+// body (a body pair). rk4: RK4 at dt 1e-3 instead.
+CapBoxRest capbox_drop(const std::string& box, const std::string& pose, double half, int steps, int last,
+                       bool static_box = false, bool rk4 = false) {
+  const std::string base = static_box ? "<geom type=\"box\" " + box + "/>"
+                                      : "<body name=\"base\"><geom type=\"box\" " + box + "/></body>";
+  const Model m = model_from_mjcf("<mujoco><worldbody>" + base + "<body name=\"cap\" " + pose +
                                       "><freejoint/><geom type=\"capsule\" size=\"0.02 " + std::to_string(half) +
                                       "\" euler=\"0 90 0\" mass=\"0.5\"/></body></worldbody></mujoco>",
                                   "capbox.xml");
   SimOptions o;
-  o.dt = 0.01;
-  o.integrator = Integrator::Pbad3;
-  o.contact.self_collision = true;
+  o.dt = rk4 ? 1e-3 : 0.01;
+  o.integrator = rk4 ? Integrator::Rk4 : Integrator::Pbad3;
+  if (rk4) o.contact.damping = 50;  // the explicit spring-damper settles
+  o.contact.self_collision = !static_box;
   State s = state_init(m);
   SimWorkspace ws;
   CapBoxRest r;
@@ -64,6 +69,23 @@ TEST(ContactCapsuleBox, CapsuleAcrossBoxEdgesRestsOnThem) {
   EXPECT_NEAR(plank.z, 0.05 + 0.02, 1e-3);  // on the plank's top, not through it
   EXPECT_LT(ridge.overlap, 1e-3);
   EXPECT_NEAR(ridge.z, 0.05 * std::sqrt(2.0) + 0.02, 1e-3);
+}
+
+// The same against a static box (a world geom: the obstacle path has the end spheres,
+// the pair path the box's edges and the deepest point) with PBAD3, and with RK4 (the
+// explicit integrators take the same pair contacts) across the body plank: before,
+// both fell through.
+TEST(ContactCapsuleBox, CapsuleAcrossAStaticBoxAndWithRk4RestsOnIt) {
+  const CapBoxRest fixed = capbox_drop("size=\"0.03 0.1 0.05\"", "pos=\"0.004 0 0.075\"", 0.12, 100, 30, true);
+  const CapBoxRest rk4 = capbox_drop("size=\"0.03 0.1 0.05\"", "pos=\"0.004 0 0.075\"", 0.12, 400, 100, false, true);
+  std::printf("capsule across a static plank: overlap %.3g m, z %.5f, %.2f LM it/step; RK4 across the body plank: "
+              "overlap %.3g m, z %.5f\n",
+              fixed.overlap, fixed.z, fixed.iterations, rk4.overlap, rk4.z);
+  EXPECT_LT(fixed.overlap, 1e-3);
+  EXPECT_LT(fixed.speed, 1e-2);
+  EXPECT_NEAR(fixed.z, 0.07, 1e-3);
+  EXPECT_LT(rk4.overlap, 1e-3);
+  EXPECT_NEAR(rk4.z, 0.07, 1e-3);
 }
 
 // Across a face diagonally (30 degrees to its edges), ends outside the face: the

@@ -213,6 +213,10 @@ struct GeomPair {
   int a, b;      // geom indices (a < b for filtered pairs; explicit: as written)
   double reach;  // bounding radius of a + of b (about each geom's centre) + margin
   bool explicit_pair = false;  // from Model::contact_pairs: on without self_collision
+  // A moving capsule (a) and a static box obstacle (b, a world geom): the box's edges
+  // and the segment's deepest point only (its end spheres meet the box on the obstacle
+  // path); on without self_collision.
+  bool world_sides = false;
   // Friction, margin, condim: contact_mix of the two geoms, or an explicit pair's own
   // (its mu, else the scene's; its margin; its condim).
   ContactMix mix;
@@ -221,9 +225,20 @@ struct GeomPair {
 };
 std::vector<GeomPair> contact_geom_pairs(const Model& m);
 double geom_bounding_radius(const Geom& g);
-// Whether body-body contact runs at all: on with self_collision, or for explicit pairs.
+// Whether a moving capsule and a static box obstacle (both in contact) exist: their
+// sides meet through the pair path (GeomPair::world_sides).
+inline bool capsule_box_obstacles(const Model& m) {
+  bool cap = false, box = false;
+  for (const Geom& g : m.geoms) {
+    cap = cap || (g.body != 0 && g.contact && g.type == GeomType::Capsule);
+    box = box || (g.body == 0 && g.contact && g.type == GeomType::Box);
+  }
+  return cap && box;
+}
+// Whether body-body contact runs at all: on with self_collision, for explicit pairs, or
+// for capsule sides against static boxes.
 inline bool pair_contact_on(const Model& m, const ContactOptions& c) {
-  return c.enabled && (c.self_collision || !m.contact_pairs.empty());
+  return c.enabled && (c.self_collision || !m.contact_pairs.empty() || capsule_box_obstacles(m));
 }
 
 // A body-body contact: penalty k/2 depth^2, force k depth normal on body_b at point,
