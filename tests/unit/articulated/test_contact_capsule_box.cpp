@@ -88,6 +88,40 @@ TEST(ContactCapsuleBox, CapsuleAcrossAStaticBoxAndWithRk4RestsOnIt) {
   EXPECT_NEAR(rk4.z, 0.07, 1e-3);
 }
 
+// PBAD's gradient (penalty, friction on the pair anchors) against central differences
+// for a capsule across a static box's edge: the pair contact with the world (body 0
+// takes no force), with an end sphere on the obstacle path too.
+TEST(ContactCapsuleBox, StaticBoxSideGradientMatchesFiniteDifferences) {
+  const Model m = model_from_mjcf(R"(<mujoco><worldbody><geom type="box" size="0.1 0.1 0.05"/>
+    <body name="cap" pos="0.12 0.01 0.0675" euler="10 92 30"><freejoint/><geom type="capsule" size="0.02 0.1"/></body>
+    </worldbody></mujoco>)", "capbox.xml");
+  SimOptions o;
+  o.dt = 0.01;
+  State s = state_init(m);
+  SimWorkspace ws;
+  PbadStep p;
+  pbad_begin(m, o, s, p, ws);
+  ASSERT_TRUE(p.any_pairs);
+  EXPECT_FALSE(p.pair_anchors.empty());
+  VecX q = s.qpos;
+  VecX dv(m.nv);
+  for (int i = 0; i < m.nv; ++i) dv[i] = 0.0015 * std::sin(1.3 * i + 0.4);
+  qpos_integrate(m, q, dv, 1.0);
+  const auto moved = [&](int i, double h) {
+    VecX e = VecX::Zero(m.nv), qq = q;
+    e[i] = h;
+    qpos_integrate(m, qq, e, 1.0);
+    return qq;
+  };
+  pbad_evaluate(m, o, s, p, q, ws);
+  const VecX g = ws.grad;
+  EXPECT_FALSE(ws.pair_contacts.empty());
+  for (int i = 0; i < m.nv; ++i) {
+    const double fd = (pbad_evaluate(m, o, s, p, moved(i, 1e-7), ws) - pbad_evaluate(m, o, s, p, moved(i, -1e-7), ws)) / 2e-7;
+    EXPECT_NEAR(g[i], fd, 1e-6 * (1 + g.norm())) << i;
+  }
+}
+
 // Across a face diagonally (30 degrees to its edges), ends outside the face: the
 // segment over the face carries it; before, it fell through the face.
 TEST(ContactCapsuleBox, CapsuleLyingDiagonallyAcrossAFaceRestsOnIt) {
