@@ -151,9 +151,9 @@ TEST(Job, PileSceneBodiesRestOnEachOther) {
   // 12.31 since capsule sides and box edges meet boxes (art8): that 4.01 trajectory
   // rested on the two missed contacts above; now capsule_a rolls off box_mid and
   // box_mid rests on box_low with three corners in its face and box_low's edge under
-  // its overhanging fourth, one contact at the edge's deepest point, which jumps
-  // between the ends of the pressed interval as box_mid rocks (7-17 iterations per
-  // step while it rests; README, Missing: a line contact along the edge).
+  // its overhanging fourth (one contact at the edge's deepest point): 7-17 iterations
+  // per step while it rests (why: README, Missing; friction on sliding contact points
+  // and the exact Hessian's material-point assumption take part).
   EXPECT_LT(run.iterations_per_step, 13.0);
   for (size_t b = 1; b < a.model.bodies.size(); ++b) EXPECT_GT(s.qpos[7 * (b - 1) + 2], 0.02) << b;
   const Record r = articulated_frame_record(a.model, a.options, s, 0, ws);
@@ -245,9 +245,9 @@ TEST(Job, PairsSceneBallTileAndRodRest) {
   // 12.31 since capsule sides and box edges meet boxes (art8): that 4.01 trajectory
   // rested on the two missed contacts above; now capsule_a rolls off box_mid and
   // box_mid rests on box_low with three corners in its face and box_low's edge under
-  // its overhanging fourth, one contact at the edge's deepest point, which jumps
-  // between the ends of the pressed interval as box_mid rocks (7-17 iterations per
-  // step while it rests; README, Missing: a line contact along the edge).
+  // its overhanging fourth (one contact at the edge's deepest point): 7-17 iterations
+  // per step while it rests (why: README, Missing; friction on sliding contact points
+  // and the exact Hessian's material-point assumption take part).
   EXPECT_LT(run.iterations_per_step, 13.0);
 }
 
@@ -271,9 +271,9 @@ TEST(Job, SpinRollSceneStopsAsTheAnalyticAnswersSay) {
   // 12.31 since capsule sides and box edges meet boxes (art8): that 4.01 trajectory
   // rested on the two missed contacts above; now capsule_a rolls off box_mid and
   // box_mid rests on box_low with three corners in its face and box_low's edge under
-  // its overhanging fourth, one contact at the edge's deepest point, which jumps
-  // between the ends of the pressed interval as box_mid rocks (7-17 iterations per
-  // step while it rests; README, Missing: a line contact along the edge).
+  // its overhanging fourth (one contact at the edge's deepest point): 7-17 iterations
+  // per step while it rests (why: README, Missing; friction on sliding contact points
+  // and the exact Hessian's material-point assumption take part).
   EXPECT_LT(run.iterations_per_step, 13.0);
 }
 
