@@ -312,6 +312,11 @@ void optimizers(const std::string& scene, int iterations) {
     // The pure L-BFGS baseline's variant (optimizer.h): LBFGS_LS, LBFGS_MEMORY,
     // LBFGS_RESTARTS for the main lbfgs row; LBFGS_VARIANTS rows set their own.
     std::string variant_suffix;
+    // HYBRID_LS=armijo|wolfe|...: the hybrid's L-BFGS phase line search.
+    if (const char* e = std::getenv("HYBRID_LS"); e && k == OptimizerKind::Hybrid)
+      os.hybrid_lbfgs_line_search = parse_line_search(e);
+    // HYBRID_START_LBFGS=1: the hybrid starts in its L-BFGS phase (experiment).
+    if (const char* e = std::getenv("HYBRID_START_LBFGS"); e && k == OptimizerKind::Hybrid) st.in_lbfgs = std::atoi(e) != 0;
     if (k == OptimizerKind::LBFGS && !extra) {
       if (const char* e = std::getenv("LBFGS_LS")) os.lbfgs_line_search = parse_line_search(e);
       if (const char* e = std::getenv("LBFGS_MEMORY")) os.lbfgs_memory = std::atoi(e);
@@ -387,6 +392,7 @@ void optimizers(const std::string& scene, int iterations) {
                         {"lm_damping", os.lm_damping == OptimizerSettings::Damping::TrustRegion ? "trust_region" : "marquardt"},
                         {"jacobian", os.jacobian == JacobianKind::Sensitivity ? "sensitivity" : "finite_difference"},
                         {"lbfgs_line_search", line_search_name(os.lbfgs_line_search)},
+                        {"hybrid_lbfgs_line_search", line_search_name(os.hybrid_lbfgs_line_search)},
                         {"lbfgs_memory", os.lbfgs_memory},
                         {"lbfgs_restarts", os.lbfgs_restarts},
                         {"lbfgs_restarts_used", st.lbfgs_restarts_used},

@@ -135,6 +135,7 @@ void optimize(const ResidualFn& rf, const OptimizerSettings& settings, Optimizer
   Eigen::VectorXd g_prev, theta_prev;
   OptimizerSettings s = settings;
   if (s.kind == OptimizerKind::Spacetime) s.kind = OptimizerKind::Hybrid;  // see optimizer.h
+  if (s.kind == OptimizerKind::Hybrid) s.lbfgs_line_search = s.hybrid_lbfgs_line_search;
   bool lbfgs = s.kind == OptimizerKind::LBFGS || (s.kind == OptimizerKind::Hybrid && st.in_lbfgs);
   int lm_stalls = 0;
   if (st.iteration == 0) st.lambda = s.lambda_initial;

@@ -248,6 +248,10 @@ SoftModel soft_compile(const Scene& scene) {
         "lm_damping", m.optimizer.lm_damping == OptimizerSettings::Damping::TrustRegion ? "trust_region" : "marquardt",
         {"marquardt", "trust_region"});
     m.optimizer.lm_damping = damping == "trust_region" ? OptimizerSettings::Damping::TrustRegion : OptimizerSettings::Damping::Marquardt;
+    // The hybrid's L-BFGS phase line search (optimizer.h; eleventh session).
+    const std::string hls = oj->choice("hybrid_lbfgs_line_search", line_search_name(m.optimizer.hybrid_lbfgs_line_search),
+                                       {"armijo", "wolfe", "strong_wolfe", "bracketing", "nocedal_wright"});
+    m.optimizer.hybrid_lbfgs_line_search = parse_line_search(hls);
     // Rollout Jacobian: exact forward sensitivities or finite differences (optimizer.h).
     const std::string jac = oj->choice("jacobian", m.optimizer.jacobian == JacobianKind::Sensitivity ? "sensitivity" : "finite_difference",
                                        {"sensitivity", "finite_difference"});

@@ -1,7 +1,9 @@
 // L-BFGS variants for a strong baseline (eleventh session): restarts after a failed
 // line search, LBFGS++'s Wolfe line searches, the memory and the raw first step.
+// Also the hybrid's L-BFGS phase with a Wolfe search (hybrid_lbfgs_line_search).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <stdexcept>
 
 #include "pliant/soft/optimizer.h"
@@ -147,4 +149,76 @@ TEST(OptimizerLbfgs, RawGradientFirstStepAndMemory) {
     const Eigen::VectorXd r = test::rosenbrock_residuals(sst.theta);
     EXPECT_LT((test::rosenbrock_jacobian(sst.theta).transpose() * r).norm(), 1e-4) << m;
   }
+}
+
+namespace {
+struct HybridWolfeRun {
+  OptimizerState st;
+  std::vector<Eigen::VectorXd> thetas;  // theta after each iteration (first: the start)
+  int fused_calls = 0;
+};
+
+// The hybrid on the damped Rosenbrock, started in its L-BFGS phase (state.in_lbfgs,
+// as a resumed run) with stall = 0 so that phase goes on while it gains (LM alone
+// solves this problem without ever stalling).
+HybridWolfeRun hybrid_wolfe_run(OptimizerSettings::LineSearch hybrid_ls, OptimizerSettings::LineSearch pure_ls) {
+  OptimizerSettings s;
+  s.kind = OptimizerKind::Hybrid;
+  s.max_iterations = 200;
+  s.tolerance = 1e-14;
+  s.stall = 0;
+  s.hybrid_lbfgs_line_search = hybrid_ls;
+  s.lbfgs_line_search = pure_ls;  // the pure L-BFGS's: must not reach the hybrid
+  HybridWolfeRun run;
+  run.st.theta = Eigen::VectorXd::Constant(6, -1.2);
+  run.st.in_lbfgs = true;
+  run.thetas.push_back(run.st.theta);
+  const JacobianFn jf = [](const Eigen::VectorXd& x, const Eigen::VectorXd&) { return test::rosenbrock_jacobian(x); };
+  // Not fused_trials: only an LBFGS++ search (f and gradient at every trial) calls it.
+  const ResidualJacobianFn ff = [&run](const Eigen::VectorXd& x, Eigen::VectorXd& r) {
+    ++run.fused_calls;
+    r = test::rosenbrock_residuals(x);
+    return test::rosenbrock_jacobian(x);
+  };
+  const IterationFn on_it = [&run](const OptimizerState& st) {
+    run.thetas.push_back(st.theta);
+    return true;
+  };
+  optimize(test::rosenbrock_residuals, s, run.st, on_it, jf, ff);
+  return run;
+}
+}  // namespace
+
+TEST(OptimizerLbfgs, HybridWolfePhaseMeetsTheWolfeConditionsAndLowersEveryAcceptedStep) {
+  using L = OptimizerSettings::LineSearch;
+  const HybridWolfeRun w = hybrid_wolfe_run(L::Wolfe, L::Armijo);
+  const auto grad = [](const Eigen::VectorXd& x) -> Eigen::VectorXd {
+    return test::rosenbrock_jacobian(x).transpose() * test::rosenbrock_residuals(x);
+  };
+  const auto f = [](const Eigen::VectorXd& x) { return 0.5 * test::rosenbrock_residuals(x).squaredNorm(); };
+  int lbfgs_steps = 0;
+  ASSERT_EQ(w.thetas.size(), w.st.history.size());
+  for (size_t i = 0; i < w.st.step_kinds.size(); ++i) {
+    const std::string& k = w.st.step_kinds[i];
+    const Eigen::VectorXd &x0 = w.thetas[i], &x1 = w.thetas[i + 1];
+    if (k.find("rejected") != std::string::npos) {
+      EXPECT_EQ(w.st.history[i + 1], w.st.history[i]) << i;
+      continue;
+    }
+    EXPECT_LT(w.st.history[i + 1], w.st.history[i]) << i << " " << k;  // every accepted step lowers it
+    if (k != "lbfgs") continue;
+    ++lbfgs_steps;
+    // Wolfe conditions along the accepted step s = x1 - x0 (c1 = 1e-4, c2 = 0.9):
+    // sufficient decrease and curvature g(x1).s >= c2 g(x0).s.
+    const Eigen::VectorXd sv = x1 - x0;
+    EXPECT_LE(f(x1), f(x0) + 1e-4 * grad(x0).dot(sv) + 1e-12) << i;
+    EXPECT_GE(grad(x1).dot(sv), 0.9 * grad(x0).dot(sv) - 1e-12) << i;
+  }
+  EXPECT_GE(lbfgs_steps, 5);
+  EXPECT_GT(w.fused_calls, 0);
+  EXPECT_LT(grad(w.st.theta).norm(), 1e-5);  // at the minimum
+  // The default phase (Armijo, no gradient at trials) even when the pure L-BFGS is set to Wolfe.
+  const HybridWolfeRun a = hybrid_wolfe_run(L::Armijo, L::Wolfe);
+  EXPECT_EQ(a.fused_calls, 0);
+  EXPECT_NE(std::count(a.st.step_kinds.begin(), a.st.step_kinds.end(), "lbfgs"), 0);
 }

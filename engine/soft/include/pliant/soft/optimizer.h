@@ -89,6 +89,10 @@ struct OptimizerSettings {
   // L-BFGS-B only (its signature takes LBFGSBParam and a step bound).
   enum class LineSearch { Armijo, Wolfe, StrongWolfe, Bracketing, NocedalWright };
   LineSearch lbfgs_line_search = LineSearch::Armijo;
+  // The hybrid's L-BFGS phase uses this one instead (lbfgs_line_search is the pure
+  // L-BFGS's); scene key optimizer.hybrid_lbfgs_line_search (eleventh session).
+  // Armijo = the behaviour before.
+  LineSearch hybrid_lbfgs_line_search = LineSearch::Armijo;
 };
 
 // "armijo", "wolfe", "strong_wolfe", "bracketing", "nocedal_wright"; parse throws
