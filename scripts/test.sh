@@ -35,10 +35,11 @@ if [ "${1:-}" != "--no-sanitize" ]; then
   echo "== Sanitizer + fuzz build (clang, ASan + UBSan)"
   # Line tables only: sanitizer reports keep file:line, the build skips full
   # debug info (a third of this pass's compile and link time). No editor, bench
-  # or end-to-end tests: this pass runs the unit and fuzz tests.
+  # or end-to-end tests: this pass runs the unit and fuzz tests. -O1, not -O2: clang
+  # with ASan spends far less in the optimiser (articulated dynamics.cpp 54 -> 30 CPU s).
   CC=clang CXX=clang++ cmake -S . -B build-asan -G "$(generator build-asan)" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-    -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -gline-tables-only -DNDEBUG" \
-    -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O2 -gline-tables-only -DNDEBUG" \
+    -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -gline-tables-only -DNDEBUG" \
+    -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O1 -gline-tables-only -DNDEBUG" \
     -DPLIANT_EDITOR=OFF -DPLIANT_BENCH=OFF -DPLIANT_SANITIZE=ON -DPLIANT_FUZZ=ON -DPLIANT_INTEGRATION_TESTS=OFF
   cmake --build build-asan -j"$JOBS" --target unit_and_fuzz_tests
   echo "== Unit and fuzz tests under ASan + UBSan"
