@@ -1,6 +1,6 @@
 // Segments against boxes: a capsule against a box (end spheres, the box's edges against
 // the segment, the segment's deepest point where it penetrates the box), and a box's
-// edges into another box (an edge pressed into a face with both corners outside).
+// edges into another box (every vertex of an edge's depth profile in the other box).
 #include <algorithm>
 #include <cmath>
 
@@ -138,65 +138,103 @@ void capsule_box(const Placed& cap, const Placed& box, double margin, std::vecto
 
 namespace {
 
-// Box a's edges into box b: an edge whose deepest point in b lies between its corners
-// (an edge pressed into b's face, e.g. a box leaning on another's edge: the corners
-// and the former edge-edge test missed it and the box sank) gets that point's contact, depth
-// margin - d (segment_box_minimum: exact, the middle of a flat minimum), in place of
-// the deeper of its two corners' contacts where that corner is in b (the edge's depth
-// tends to that corner's as its minimum reaches it, so the energy stays continuous;
-// where two edges claim one corner the second edge's contact is left out). Gradient as
-// capsule_box's. corner_at: index in *out of each of a's corner contacts in b, or -1;
-// the corners to erase are appended to erase[*ne].
-void box_edges_into(const Placed& a, const Placed& b, double margin, const long* corner_at, long* erase, int* ne,
-                    std::vector<PairContact>* out) {
+// Vertices of the depth profile of segment x(t) = a + t u (t in (0, 1)) inside the box
+// |x_i| <= h_i (box frame): the breakpoints of g(t) = max of the six face lines
+// l_j(t) = +-(a_i + t u_i) - h_i where g < 0, at most 15 (one per pair of lines). For
+// an edge lying across a face these are the two ends of its pressed interval (where
+// it passes under the face's side planes), for two edges crossing the one peak. The
+// value at a vertex, l_1 = l_2 at t*(q), has the gradient (s_2 dl_1 - s_1 dl_2) /
+// (s_2 - s_1) (t*'s motion included; s the lines' slopes in t), a mix of the two
+// faces' normals (the steepest falling and rising active lines; both may fall or
+// rise): *ns (box frame), |n| the contact's gain. Returns their number.
+int segment_box_vertices(const Vec3& a, const Vec3& u, const Vec3& h, double* ts, double* ds, Vec3* ns) {
+  const double tol = 1e-12 * (h.maxCoeff() + a.cwiseAbs().maxCoeff() + u.cwiseAbs().maxCoeff());
+  const auto g = [&](double t) {
+    double m = -1e300;
+    for (int i = 0; i < 3; ++i) m = std::max(m, std::abs(a[i] + t * u[i]) - h[i]);
+    return m;
+  };
+  int nv = 0;
+  for (int j = 0; j < 6; ++j)
+    for (int k = j + 1; k < 6; ++k) {
+      const double sj = j & 1 ? -1 : 1, sk = k & 1 ? -1 : 1;
+      const double slope = sj * u[j / 2] - sk * u[k / 2];
+      if (std::abs(slope) < 1e-15) continue;
+      const double t = -(sj * a[j / 2] - h[j / 2] - sk * a[k / 2] + h[k / 2]) / slope;
+      if (!(t > 0 && t < 1)) continue;
+      const double gt = g(t), lj = sj * (a[j / 2] + t * u[j / 2]) - h[j / 2];
+      if (gt >= -tol || lj < gt - tol) continue;  // outside the box, or under the envelope
+      bool seen = false;  // three lines through one point
+      for (int v = 0; v < nv; ++v) seen = seen || std::abs(ts[v] - t) < 1e-12;
+      if (seen) continue;
+      const Vec3 x = a + t * u;
+      int lo = -1, hi = -1;
+      double s_lo = 1e300, s_hi = -1e300;
+      for (int q = 0; q < 6; ++q) {
+        const int i = q / 2;
+        const double sg = q & 1 ? -1 : 1, sq = sg * u[i];
+        if (sg * x[i] - h[i] < gt - tol) continue;
+        if (sq < s_lo) s_lo = sq, lo = q;
+        if (sq > s_hi) s_hi = sq, hi = q;
+      }
+      if (lo < 0 || hi < 0 || !(s_hi - s_lo > 1e-15)) continue;
+      Vec3 n = Vec3::Zero();
+      n[lo / 2] += (lo & 1 ? -1 : 1) * s_hi / (s_hi - s_lo);
+      n[hi / 2] += (hi & 1 ? -1 : 1) * -s_lo / (s_hi - s_lo);
+      if (n.squaredNorm() <= 1e-12) continue;
+      ts[nv] = t;
+      ds[nv] = gt;
+      ns[nv] = n;
+      ++nv;
+    }
+  return nv;
+}
+
+// Box a's edges into box b: a contact at every vertex of each edge's depth profile in b
+// (segment_box_vertices; an edge pressed into b's face with both corners outside, a box
+// lying across another's edge: the corners missed these and the box sank), depth
+// margin - d, on top of the corners' contacts. A box lying flat across another's edge
+// touches on a polygon whose corners are its corners in the other box and the two
+// points where the edges cross; these are those points (each crossing found from both
+// edges, as two crossing edges' peak is). The former rule (one contact at each edge's
+// deepest point, in place of the deeper corner) jumped the contact by the pressed
+// interval's length (and a corner by the edge's) as the resting box tilted by 1e-6
+// rad either way: a kinked energy whose minimum LM could only approach by shrinking
+// steps (pile: 11.25 LM iterations per step). Where a vertex reaches an edge's end
+// (the corner on b's medial plane, i.e. at b's edge) or two vertices merge, a
+// contact ends with its depth > 0: the energy jumps by k/2 d^2 there.
+void box_edges_into(const Placed& a, const Placed& b, double margin, std::vector<PairContact>* out) {
   const Vec3& h = a.g->size;
   const Mat3 rt = b.r.transpose();
   for (int ax = 0; ax < 3; ++ax)
     for (int e = 0; e < 4; ++e) {
       const int u = (ax + 1) % 3, v = (ax + 2) % 3, start = (e & 1) << u | (e >> 1 & 1) << v;
       const Vec3 p0 = a.c + a.r * box_corner(h, start), d = a.r.col(ax) * (2 * h[ax]);
-      double t, dist;
-      Vec3 nl;
-      if (!segment_box_minimum(rt * (p0 - b.c), rt * d, b.g->size, &t, &dist, &nl)) continue;
-      const long c0 = corner_at[start], c1 = corner_at[start | 1 << ax];
-      const long drop = c0 < 0 ? c1 : c1 < 0 ? c0 : ((*out)[c0].depth >= (*out)[c1].depth ? c0 : c1);
-      if (drop >= 0) {
-        if (std::find(erase, erase + *ne, drop) != erase + *ne) continue;
-        erase[(*ne)++] = drop;
+      double ts[15], ds[15];
+      Vec3 ns[15];
+      const int nv = segment_box_vertices(rt * (p0 - b.c), rt * d, b.g->size, ts, ds, ns);
+      for (int i = 0; i < nv; ++i) {
+        const double gain = ns[i].norm();
+        const Vec3 n = b.r * ns[i] / gain;
+        // b's face pushes a's edge: body_a = b, body_b = a, along b's outward normal.
+        out->push_back({b.g->body, a.g->body, p0 + ts[i] * d - margin * n, n, margin - ds[i], ContactMix{}, gain});
       }
-      const double gain = nl.norm();
-      const Vec3 n = b.r * nl / gain;
-      // b's face pushes a's edge: body_a = b, body_b = a, along b's outward normal.
-      out->push_back({b.g->body, a.g->body, p0 + t * d - margin * n, n, margin - dist, ContactMix{}, gain});
     }
-}
-
-// Box a's corners in box b (point_against, the margin as radius), recording each one's
-// index in *out (-1: not in b).
-void corners_recorded(const Placed& a, const Placed& b, double margin, long* at, std::vector<PairContact>* out) {
-  for (int f = 0; f < 8; ++f) {
-    const size_t before = out->size();
-    point_against(b, a.g->body, a.c + a.r * box_corner(a.g->size, f), margin, out);
-    at[f] = out->size() > before ? static_cast<long>(before) : -1;
-  }
 }
 
 }  // namespace
 
-// Box against box: each box's corners in the other and each box's edges into the other
-// (box_edges_into). Two boxes crossing on their edges get both edges' contacts, at the
-// kink between two faces each (mixed normals): for the 45-degree crosswise pair their
-// forces sum to k times the edges' distance, which the former edge-edge contact gave
-// alone (it switched off with a jump where a corner entered; removed).
+// Box against box: each box's corners in the other (point_against, the margin as
+// radius) and each box's edges into the other (box_edges_into). Two boxes crossing on
+// their edges get both edges' contacts, at the kink between two faces each (mixed
+// normals): for the 45-degree crosswise pair their forces sum to k times the edges'
+// distance, which the former edge-edge contact gave alone (it switched off with a
+// jump where a corner entered; removed).
 void box_box(const Placed& a, const Placed& b, double margin, std::vector<PairContact>* out) {
-  long at_a[8], at_b[8], erase[24];
-  int ne = 0;
-  corners_recorded(a, b, margin, at_a, out);
-  corners_recorded(b, a, margin, at_b, out);
-  box_edges_into(a, b, margin, at_a, erase, &ne, out);
-  box_edges_into(b, a, margin, at_b, erase, &ne, out);
-  std::sort(erase, erase + ne);
-  for (int i = ne - 1; i >= 0; --i) out->erase(out->begin() + erase[i]);
+  corners_against(a, b, margin, out);
+  corners_against(b, a, margin, out);
+  box_edges_into(a, b, margin, out);
+  box_edges_into(b, a, margin, out);
 }
 
 }  // namespace pliant::articulated::contact_internal

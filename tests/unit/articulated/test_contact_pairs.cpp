@@ -70,6 +70,40 @@ TEST(Contact, CrosswiseBoxesOnEdgesRestAtThePenaltyDepth) {
   std::printf("crosswise boxes: resting depth / (m g / k) = %.4f\n", ratio);
 }
 
+// A box lying flat across another box's edge (the pile's box_mid on box_low: three
+// corners in the lower box's face, the fourth overhanging) touches on a polygon: its
+// three corners and the two points where its edges cross the lower box's edge, each
+// found from both edges (7 contacts). The former one contact at the pressed edge's
+// deepest point (in place of a corner) jumped by the pressed length as the box tilted
+// by 1e-6 rad either way: LM stopped on that kink every step, |gradient| 0.58 N.
+TEST(Contact, BoxLyingAcrossAnEdgeRestsAtASmoothMinimum) {
+  const Model m = model_from_mjcf(R"(<mujoco><worldbody><geom type="plane"/>
+    <body name="low" pos="0 0 0.04998"><freejoint/><geom type="box" size="0.15 0.1 0.05" mass="2"/></body>
+    <body name="top" pos="0.036 0.022 0.1405" quat="0.9659258 0 0 0.2588190"><freejoint/>
+      <geom type="box" size="0.08 0.06 0.04" mass="1"/></body>
+    </worldbody></mujoco>)", "across.xml");
+  SimOptions o;
+  o.dt = 0.01;
+  o.contact.mu = 0.6;
+  o.contact.self_collision = true;
+  State s = state_init(m);
+  SimWorkspace ws;
+  double iterations = 0, worst_gradient = 0;
+  for (int i = 0; i < 100; ++i) {
+    StepInfo info;
+    ASSERT_TRUE(sim_step(m, o, s, ws, &info));
+    if (i < 50) continue;
+    iterations += info.iterations;
+    worst_gradient = std::max(worst_gradient, info.energy_residual);
+  }
+  EXPECT_EQ(pair_contacts_at(m, s.qpos).size(), 7u);
+  EXPECT_NEAR(s.qpos[9], 0.14, 2e-4);  // on the lower box, not in it
+  EXPECT_LT(worst_gradient, 1e-6);     // LM's grad_tol 2.9e-6 N (3 kg)
+  EXPECT_LT(iterations / 50, 1.5);
+  std::printf("box across an edge: %zu contacts, z %.5f, %.2f LM it/step at rest, |gradient| <= %.2g\n",
+              pair_contacts_at(m, s.qpos).size(), s.qpos[9], iterations / 50, worst_gradient);
+}
+
 // Three bodies dropped on a free box that stands on the ground: each comes to rest at
 // the penalty's static depth m g / (n k) (n contacts sharing its weight).
 TEST(Contact, BodiesDroppedOnABoxRestAtThePenaltyDepth) {

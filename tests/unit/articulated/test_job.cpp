@@ -152,11 +152,15 @@ TEST(Job, PileSceneBodiesRestOnEachOther) {
   // rested on the two missed contacts above; now capsule_a rolls off box_mid and
   // box_mid rests on box_low with three corners in its face and box_low's edge under
   // its overhanging fourth (one contact at the edge's deepest point): 7-17 iterations
-  // per step while it rests (why: README, Missing; friction on sliding contact points
-  // and the exact Hessian's material-point assumption take part); 11.57 once LM stops
-  // at a kink (a rejected step already under 10x the length tolerance) instead of
-  // raising its damping until the step vanishes.
-  EXPECT_LT(run.iterations_per_step, 12.0);
+  // per step while it rests; 11.57 once LM stops at a kink (a rejected step already
+  // under 10x the length tolerance) instead of raising its damping until the step
+  // vanishes; 4.01 since a box edge gets a contact at every vertex of its depth
+  // profile (the resting contact polygon's crossing points) instead of the deepest one,
+  // which jumped along the pressed interval as box_mid tilted by 1e-6 rad: the energy
+  // was kinked at the resting pose, every resting step ended on that kink (|gradient|
+  // median 4 N); now 1 iteration per resting step at |gradient| < 1e-8 N. The rest
+  // are impacts (sliding Coulomb friction: README, Missing). Back above 4.5: a kink.
+  EXPECT_LT(run.iterations_per_step, 4.5);
   for (size_t b = 1; b < a.model.bodies.size(); ++b) EXPECT_GT(s.qpos[7 * (b - 1) + 2], 0.02) << b;
   const Record r = articulated_frame_record(a.model, a.options, s, 0, ws);
   EXPECT_EQ(r.find("contacts")->shape[0], ws.contacts.size() + ws.pair_contacts.size());

@@ -263,9 +263,10 @@ struct PairContact {
   Vec3 normal;  // unit, pushes body_b away from body_a
   double depth; // > 0
   ContactMix mix{};  // the pair's (GeomPair::mix)
-  // The depth's gradient is gain x normal (force k depth gain along normal): < 1 where
-  // a segment's deepest point in a box sits where two faces' depths meet (the faces'
-  // normals mixed, contact_segment_box.cpp); 1 elsewhere.
+  // The depth's gradient is gain x normal (force k depth gain along normal): != 1 where
+  // the point sits where two faces' depths meet (a segment's deepest point in a box, a
+  // vertex of a box edge's depth profile: the faces' normals mixed,
+  // contact_segment_box.cpp); 1 elsewhere.
   double gain = 1;
 };
 // Active contacts of the pairs at kinematics k (out is cleared; no allocation once
