@@ -107,15 +107,34 @@ Eigen::VectorXd radius_step(const Eigen::MatrixXd& JtJ, const Eigen::VectorXd& g
   lambda = hi;
   return d;
 }
+// A restored memory must fit n parameters and its own residual count (the
+// deserializer checks the same; this guards hand-made states).
+bool memory_consistent(const OptimizerMemory& m, int n) {
+  const Eigen::Index rows = m.r.size();
+  auto fits = [&](const Eigen::MatrixXd& A) { return A.size() == 0 || (A.rows() == rows && A.cols() == n); };
+  auto vec = [&](const Eigen::VectorXd& v) { return v.size() == 0 || v.size() == n; };
+  if (!fits(m.J) || !fits(m.J_at) || !vec(m.g_prev) || !vec(m.theta_prev) || m.S.size() != m.Y.size()) return false;
+  for (size_t i = 0; i < m.S.size(); ++i)
+    if (m.S[i].size() != n || m.Y[i].size() != n) return false;
+  return true;
+}
 }  // namespace
 
 void optimize(const ResidualFn& rf, const OptimizerSettings& settings, OptimizerState& st,
               const IterationFn& on_iteration, const JacobianFn& jacobian, const ResidualJacobianFn& fused) {
   const int n = int(st.theta.size());
   const bool fuse = settings.fused_trials && static_cast<bool>(fused);
+  // Everything a later iteration reads lives in st.memory (optimizer.h), so the state
+  // handed to on_iteration is complete: a checkpoint of it continues exactly.
+  OptimizerMemory& mem = st.memory;
+  const bool resumed = mem.theta.size() == n && mem.r.size() > 0 && mem.theta == st.theta;
+  if (resumed && !memory_consistent(mem, n))
+    throw std::invalid_argument("optimize: the state's memory does not fit its " + std::to_string(n) +
+                                " parameters");
+  if (!resumed) mem = OptimizerMemory();
   // Fused trials: the exact Jacobian at st.theta, from the evaluation that gave r
   // (empty when that evaluation's Jacobian was not finite).
-  Eigen::MatrixXd J_at;
+  Eigen::MatrixXd& J_at = mem.J_at;
   auto evaluate = [&](const Eigen::VectorXd& t, Eigen::MatrixXd& Jt) -> Eigen::VectorXd {
     ++st.evaluations;
     if (!fuse) return rf(t);
@@ -124,33 +143,36 @@ void optimize(const ResidualFn& rf, const OptimizerSettings& settings, Optimizer
     if (!Jt.allFinite()) Jt.resize(0, 0);
     return rt;
   };
-  Eigen::VectorXd r = evaluate(st.theta, J_at);
+  Eigen::VectorXd& r = mem.r;
+  if (!resumed) r = evaluate(st.theta, J_at), mem.theta = st.theta;
   // The point J_at belongs to: reused only while it is st.theta.
   Eigen::VectorXd J_at_theta = st.theta;
   st.objective = 0.5 * r.squaredNorm();
   if (st.history.empty()) st.history.push_back(st.objective);
   const double f_initial = st.history.front();
   // L-BFGS memory.
-  std::deque<Eigen::VectorXd> S, Y;
-  Eigen::VectorXd g_prev, theta_prev;
+  std::deque<Eigen::VectorXd>& S = mem.S;
+  std::deque<Eigen::VectorXd>& Y = mem.Y;
+  Eigen::VectorXd& g_prev = mem.g_prev;
+  Eigen::VectorXd& theta_prev = mem.theta_prev;
   OptimizerSettings s = settings;
   if (s.kind == OptimizerKind::Spacetime) s.kind = OptimizerKind::Hybrid;  // see optimizer.h
   if (s.kind == OptimizerKind::Hybrid) s.lbfgs_line_search = s.hybrid_lbfgs_line_search;
   bool lbfgs = s.kind == OptimizerKind::LBFGS || (s.kind == OptimizerKind::Hybrid && st.in_lbfgs);
-  int lm_stalls = 0;
+  int& lm_stalls = mem.lm_stalls;
   if (st.iteration == 0) st.lambda = s.lambda_initial;
   // LM's Jacobian carried to the next iteration (Broyden-updated after an accepted
   // step) and how many iterations in a row have used an updated one.
-  Eigen::MatrixXd J;
-  int reused = 0;
+  Eigen::MatrixXd& J = mem.J;
+  int& reused = mem.reused;
   // Length of the last accepted LM step: the hybrid's first L-BFGS step has it.
-  double last_lm_step = 0;
+  double& last_lm_step = mem.last_lm_step;
   // Trust-region damping: the radius in Marquardt's scaling (< 0: not set yet, the
   // next LM step has lambda's length and sets it).
-  double radius = -1;
+  double& radius = mem.radius;
   const bool trust = s.lm_damping == OptimizerSettings::Damping::TrustRegion;
   // Length of the last accepted L-BFGS step: a restart's first step has it.
-  double last_lbfgs_step = 0;
+  double& last_lbfgs_step = mem.last_lbfgs_step;
   // LBFGS++'s line searches evaluate f and the gradient together at every trial:
   // the fused pass when given, else a rollout and a Jacobian. The last evaluation is
   // kept so the accepted point's residuals and Jacobian need no second pass.
@@ -372,6 +394,14 @@ void optimize(const ResidualFn& rf, const OptimizerSettings& settings, Optimizer
       }
     }
     st.in_lbfgs = lbfgs;
+    // A Jacobian of an earlier point is never used again (accepted steps strictly
+    // decrease the objective, so theta does not return to it): drop it, so the memory
+    // holds only what belongs to st.theta.
+    if (J_at.size() && J_at_theta != st.theta) J_at.resize(0, 0);
+    // With fused trials the carried J is dead too: the next iteration takes J_at or a
+    // fresh Jacobian before reading it (no Broyden reuse step).
+    if (fuse && J.size()) J.resize(0, 0);
+    mem.theta = st.theta;
     ++st.iteration;
     st.history.push_back(st.objective);
     st.step_kinds.push_back(accepted ? kind : kind + "-rejected");

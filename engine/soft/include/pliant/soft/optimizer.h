@@ -18,6 +18,8 @@
 // (steps that do not are rejected), so the history is monotone.
 #pragma once
 #include <Eigen/Core>
+#include <cstdint>
+#include <deque>
 #include <functional>
 #include <string>
 #include <vector>
@@ -100,6 +102,29 @@ struct OptimizerSettings {
 const char* line_search_name(OptimizerSettings::LineSearch l);
 OptimizerSettings::LineSearch parse_line_search(const std::string& name);
 
+// What optimize() carries from one iteration to the next besides OptimizerState's
+// own fields, so that a state checkpointed after an iteration and restored
+// (optimizer_state_serialize / _deserialize) continues bit for bit. Kept in the state
+// rather than in optimize()'s locals (the same allocations, plus one m x n copy per
+// iteration with fused trials, whose dead J is dropped at the iteration's end).
+// Sizes: m residuals, n parameters; J and J_at are m x n, usually only one of them kept
+// between iterations (J without fused trials, J_at with them). spider_walk.json:
+// m = 30, n = 20, J_at 4.8 kB, the whole serialized state 5.9 kB per checkpoint.
+struct OptimizerMemory {
+  Eigen::VectorXd theta;  // the point r belongs to; empty: optimize() starts afresh
+  Eigen::VectorXd r;      // residuals at theta (m)
+  Eigen::MatrixXd J;      // LM's Jacobian for the next iteration (Broyden-updated), m x n or empty
+  int reused = 0;         // iterations in a row that used a Broyden-updated J
+  Eigen::MatrixXd J_at;   // exact Jacobian at theta from the evaluation that gave r (fused trials,
+                          // LBFGS++ line searches), m x n or empty
+  int lm_stalls = 0;      // hybrid: stalled LM steps in a row
+  double last_lm_step = 0;     // length of the last accepted LM step
+  double last_lbfgs_step = 0;  // length of the last accepted L-BFGS step
+  double radius = -1;          // trust region radius in Marquardt's scaling (< 0: unset)
+  std::deque<Eigen::VectorXd> S, Y;  // L-BFGS curvature pairs (n each)
+  Eigen::VectorXd g_prev, theta_prev;  // L-BFGS: gradient and point of the last L-BFGS iteration
+};
+
 struct OptimizerState {
   Eigen::VectorXd theta;
   double objective = 0;
@@ -107,10 +132,22 @@ struct OptimizerState {
   int iteration = 0;
   int evaluations = 0;      // rollouts, Jacobian columns included
   bool in_lbfgs = false;
-  int lbfgs_restarts_used = 0;  // L-BFGS restarts after failed line searches (not checkpointed)
+  int lbfgs_restarts_used = 0;  // L-BFGS restarts after failed line searches
   std::vector<double> history;  // objective after each accepted iteration (first: initial)
   std::vector<std::string> step_kinds;  // "lm" or "lbfgs" per iteration
+  // Continued by optimize() when memory.theta == theta (a state it left, or one
+  // restored from a checkpoint); otherwise optimize() evaluates r(theta) and starts
+  // with empty memory (a new run, or a resume from a theta-only checkpoint).
+  OptimizerMemory memory;
 };
+
+// Versioned little-endian binary form of a state, all doubles (optimizer_state.cpp):
+// what a checkpoint needs to continue exactly. `tag` is the caller's (e.g. a hash of
+// the scene the run belongs to), returned by deserialize. deserialize throws
+// std::runtime_error naming the problem (bad magic, version, CRC, a size that does
+// not fit, truncation, trailing bytes); zero bytes after the end (padding) are allowed.
+std::vector<uint8_t> optimizer_state_serialize(const OptimizerState& s, uint32_t tag = 0);
+OptimizerState optimizer_state_deserialize(const std::vector<uint8_t>& bytes, uint32_t* tag = nullptr);
 
 using ResidualFn = std::function<Eigen::VectorXd(const Eigen::VectorXd&)>;
 // Called after every iteration; return false to stop (cancellation, checkpoints).
