@@ -1,7 +1,10 @@
 // Job kind "soft": optimize the DMP parameters, then re-simulate and write frames.
 #include <chrono>
 #include <cmath>
+#include <cstring>
 
+#include "pliant/core/blob_field.h"
+#include "pliant/core/crc32.h"
 #include "pliant/core/error.h"
 #include "pliant/core/json_reader.h"
 #include "pliant/soft/soft.h"
@@ -17,6 +20,23 @@ Field vector_field(const std::string& name, const std::vector<double>& v) {
   Field f{name, {uint32_t(v.size())}, {}};
   for (double x : v) f.data.push_back(float(x));
   return f;
+}
+
+// theta in full precision beside the f32 "theta"-style fields (navigation gaits).
+Field theta_bytes_field(const std::string& name, const Eigen::VectorXd& theta) {
+  std::vector<uint8_t> b(size_t(theta.size()) * sizeof(double));
+  if (!b.empty()) std::memcpy(b.data(), theta.data(), b.size());
+  return bytes_field(name, b);
+}
+
+// The scene a checkpoint's optimizer memory belongs to: a CRC of the document less
+// optimizer.iterations (a resume may raise the budget; anything else that changed
+// can change the residuals, so the memory is then dropped).
+uint32_t scene_tag(const Scene& scene) {
+  nlohmann::json d = scene.doc;
+  if (d.is_object() && d.contains("optimizer") && d["optimizer"].is_object()) d["optimizer"].erase("iterations");
+  const std::string text = d.dump();
+  return crc32(text.data(), text.size());
 }
 
 }  // namespace
@@ -93,10 +113,15 @@ nlohmann::json run_navigation(JobContext& ctx, SoftModel& m, std::chrono::steady
     pk.obj.w_effort = m.problem.obj.w_effort;
     Eigen::VectorXd theta;
     const Field* fc = cached.find(std::string("gait_theta_") + names[k]);
+    // Full precision; checkpoints written before it existed hold the f32 copy only.
+    const Field* fc64 = cached.find(std::string("gait_theta_f64_") + names[k]);
     if (!nav.cached_theta.empty()) {
       theta = nav.cached_theta[k];
     } else if (k == 2 && mirror_gait(pk, gaits[1].theta, &theta)) {
       // Symmetric body: turning right is the mirror image of turning left.
+    } else if (fc64 && int(fc64->data.size()) == 2 * pk.dmp.parameters()) {
+      theta.resize(pk.dmp.parameters());
+      std::memcpy(theta.data(), fc64->data.data(), size_t(theta.size()) * sizeof(double));
     } else if (fc && int(fc->data.size()) == pk.dmp.parameters()) {
       theta.resize(pk.dmp.parameters());
       for (int i = 0; i < theta.size(); ++i) theta[i] = fc->data[i];
@@ -116,6 +141,7 @@ nlohmann::json run_navigation(JobContext& ctx, SoftModel& m, std::chrono::steady
     ck.index = k;
     ck.fields.push_back(vector_field(std::string("gait_theta_") + names[k],
                                      std::vector<double>(theta.data(), theta.data() + theta.size())));
+    ck.fields.push_back(theta_bytes_field(std::string("gait_theta_f64_") + names[k], theta));
     ctx.take.append(ck);
     gaits.push_back(measure_gait(pk, names[k], theta, nav.body_axis));
     const Gait& g = gaits.back();
@@ -183,13 +209,40 @@ nlohmann::json soft_run_job(JobContext& ctx) {
   }
   const Problem& p = m.problem;
 
-  // Resume from the last checkpoint when asked.
+  // Resume from the last checkpoint when asked: its "optimizer" blob (the whole
+  // OptimizerState in doubles, optimizer_state.cpp) continues exactly; checkpoints
+  // without one (written before it existed) hold theta and the history in f32 and
+  // four scalars, and the run continues from those with fresh optimizer memory.
   OptimizerState st;
   st.theta = initial_theta(p);
+  const uint32_t tag = scene_tag(ctx.scene);
   if (ctx.resume) {
     TakeReader reader(ctx.take.dir());
     Record ck;
-    if (reader.latest(RecordKind::Checkpoint, &ck)) {
+    const Field* blob = nullptr;
+    if (reader.latest(RecordKind::Checkpoint, &ck) && (blob = ck.find("optimizer"))) {
+      auto fail = [&](const std::string& problem) {
+        throw InputError(ctx.scene.file, "/optimizer",
+                         "take " + ctx.take.dir().string() + ": " + problem +
+                             "; the take cannot be resumed, run without --resume");
+      };
+      OptimizerState c;
+      uint32_t ck_tag = 0;
+      try {
+        c = optimizer_state_deserialize(field_bytes(*blob), &ck_tag);
+      } catch (const std::runtime_error& e) {
+        fail(e.what());
+      }
+      if (c.theta.size() != st.theta.size())
+        fail("its checkpoint was made for a controller of " + std::to_string(c.theta.size()) +
+             " parameters, the scene has " + std::to_string(st.theta.size()));
+      if (ck_tag != tag) {
+        c.memory = OptimizerMemory();
+        ctx.events.log("info", "the scene changed since the checkpoint (beyond optimizer.iterations): the "
+                               "optimizer continues from its theta with fresh memory");
+      }
+      st = std::move(c);
+    } else {
       const Field* th = ck.find("theta");
       const Field* hist = ck.find("objective_history");
       const Field* state = ck.find("optimizer_state");
@@ -203,7 +256,6 @@ nlohmann::json soft_run_job(JobContext& ctx) {
       }
     }
   }
-  // Checkpoints hold theta in f32: the resumed run continues from the rounded value.
   const auto t_opt = std::chrono::steady_clock::now();
   ctx.progress.stage("optimize", m.optimizer.max_iterations);
   const IterationFn checkpoint = [&](const OptimizerState& s) {
@@ -214,6 +266,8 @@ nlohmann::json soft_run_job(JobContext& ctx) {
     ck.fields.push_back(vector_field("objective_history", s.history));
     ck.fields.push_back(vector_field(
         "optimizer_state", {double(s.iteration), s.lambda, s.in_lbfgs ? 1.0 : 0.0, double(s.evaluations)}));
+    // The f32 fields above are for older readers; this one resumes (and gives the editor theta).
+    ck.fields.push_back(bytes_field("optimizer", optimizer_state_serialize(s, tag)));
     ctx.take.append(ck);
     ctx.progress.report(s.iteration, s.objective);
     ctx.progress.check_cancelled();

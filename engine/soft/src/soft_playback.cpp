@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "pliant/core/blob_field.h"
 #include "pliant/soft/soft.h"
 
 namespace pliant::soft {
@@ -51,6 +52,18 @@ bool soft_take_theta(const std::string& take_dir, const SoftModel& m, Eigen::Vec
   TakeReader reader(take_dir);
   Record ck;
   if (!reader.latest(RecordKind::Checkpoint, &ck)) return false;
+  // The full-precision theta of the job's "optimizer" blob when it has one (the
+  // controller the job played back), else the f32 "theta".
+  if (const Field* blob = ck.find("optimizer")) {
+    try {
+      OptimizerState st = optimizer_state_deserialize(field_bytes(*blob));
+      if (st.theta.size() == m.problem.dmp.parameters()) {
+        *theta = std::move(st.theta);
+        return true;
+      }
+    } catch (const std::runtime_error&) {  // damaged: the f32 copy below
+    }
+  }
   const Field* th = ck.find("theta");
   if (!th || int(th->data.size()) != m.problem.dmp.parameters()) return false;
   theta->resize(th->data.size());

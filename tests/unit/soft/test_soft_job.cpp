@@ -127,6 +127,26 @@ TEST(SoftJob, SpacetimeMethodReportsItsTerms) {
   EXPECT_EQ(ck.index, 2);
 }
 
+// A spacetime run resumes from its checkpoint's theta (in full precision: the
+// history so far is kept bit for bit) and finishes the iteration budget.
+TEST(SoftJob, SpacetimeResumesFromItsCheckpoint) {
+  TempDir tmp;
+  nlohmann::json first;
+  {
+    TakeWriter take = TakeWriter::create(tmp.dir / "take", Manifest{});
+    first = run(scene_with(1, "spacetime"), take, false);
+  }
+  TakeWriter take = TakeWriter::reopen(tmp.dir / "take");
+  const nlohmann::json m = run(scene_with(2, "spacetime"), take, true);
+  EXPECT_EQ(m["iterations"], 2);
+  const auto h0 = first["objective_history"].get<std::vector<double>>();
+  const auto h = m["objective_history"].get<std::vector<double>>();
+  ASSERT_EQ(h.size(), 3u);
+  EXPECT_EQ(h[0], h0[0]);
+  EXPECT_EQ(h[1], h0[1]);
+  EXPECT_LE(h[2], h[1]);
+}
+
 // "basis": "rotation_strain" switches the character's map (a rotation of the first
 // mode's coordinate keeps the volume, unlike linear modes); "course" sets its term.
 TEST(SoftJob, SceneSelectsRotationStrainBasisAndCourseTerm) {
