@@ -1,7 +1,10 @@
 // Crash safety of `pliant run`: SIGTERM cancels at a safe point and leaves a
 // readable take with status "cancelled"; kill -9 leaves every complete frame
-// readable (bitwise equal to a re-run) and the take can be resumed.
+// readable (bitwise equal to a re-run) and the take can be resumed; a soft job
+// killed mid-optimization resumes to the uninterrupted run's result.
 #include <signal.h>
+
+#include <fstream>
 
 #include "cli_fixture.h"
 
@@ -139,6 +142,68 @@ TEST_F(Crash, Kill9KeepsEveryCompleteFrameAndResumes) {
           << "frame " << n;
     }
   }
+}
+
+// The soft job: kill -9 mid-optimization, then --resume. The checkpoint holds the
+// optimizer's whole state in doubles, so the resumed run ends exactly where an
+// uninterrupted one does (objective history, rollouts, every frame). The worm crawl
+// at resolution 6 with 25 iterations: ~1 s per run in Release.
+constexpr int kSoftIterations = 25;
+
+nlohmann::json soft_worm_scene() {
+  std::ifstream in(kRepo / "assets/scenes/soft_worm_crawl.json");
+  nlohmann::json s = nlohmann::json::parse(in);
+  s["character"]["mesh"] = (kRepo / "assets/characters/worm.obj").string();
+  s["character"]["resolution"] = 6;
+  s["simulation"]["frames"] = 20;
+  s["optimizer"]["iterations"] = kSoftIterations;
+  return s;
+}
+
+TEST_F(Crash, SoftKill9MidOptimizationResumesToTheUninterruptedResult) {
+  const fs::path scene = write_scene("worm.json", soft_worm_scene());
+  const ProcessResult whole =
+      pliant({"run", scene.string(), "--take", (dir_ / "whole").string(), "--threads", "1"});
+  ASSERT_EQ(whole.exit_code, 0) << whole.err;
+  const fs::path take_dir = dir_ / "take";
+  {
+    LiveProcess p({kPliant, "run", scene.string(), "--take", take_dir.string(), "--threads", "1"},
+                  dir_ / "stderr.txt");
+    // Killed once the second iteration's checkpoint is in the take (the progress
+    // event follows the checkpoint's write).
+    for (;;) {
+      const auto line = p.read_line(60);
+      ASSERT_TRUE(line) << "no optimizer progress";
+      const auto j = nlohmann::json::parse(*line);
+      if (j["event"] == "progress" && j.value("stage", "") == "optimize" && j.value("iter", 0) >= 2) break;
+    }
+    p.send_signal(SIGKILL);
+    EXPECT_EQ(p.finish(nullptr).term_signal, SIGKILL);
+  }
+  {
+    TakeReader killed(take_dir);
+    EXPECT_EQ(killed.manifest().status, "running");
+    Record ck;
+    ASSERT_TRUE(killed.latest(RecordKind::Checkpoint, &ck));
+    EXPECT_GE(ck.index, 2);
+    EXPECT_LT(ck.index, kSoftIterations) << "the optimization ended before the kill";
+    EXPECT_EQ(killed.frame_count(), 0u);  // frames come after the optimization
+  }
+  const ProcessResult resumed =
+      pliant({"run", scene.string(), "--take", take_dir.string(), "--threads", "1", "--resume"});
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
+  TakeReader a(dir_ / "whole"), b(take_dir);
+  const nlohmann::json &ma = a.manifest().metrics, &mb = b.manifest().metrics;
+  EXPECT_EQ(mb["iterations"], kSoftIterations);
+  // Exact: the JSON numbers round-trip doubles.
+  EXPECT_EQ(mb["objective_final"].get<double>(), ma["objective_final"].get<double>());
+  EXPECT_EQ(mb["objective_history"], ma["objective_history"]);
+  EXPECT_EQ(mb["rollouts"], ma["rollouts"]);
+  EXPECT_EQ(mb["step_kinds"], ma["step_kinds"]);
+  ASSERT_EQ(a.frame_count(), b.frame_count());
+  for (size_t n = 0; n < a.frame_count(); ++n)
+    EXPECT_TRUE(bitwise_equal(a.read_frame_at(n).find("vertices")->data, b.read_frame_at(n).find("vertices")->data))
+        << "frame " << n;
 }
 
 }  // namespace
