@@ -6,10 +6,12 @@
 #include <gtest/gtest.h>
 
 #include <bit>
+#include <cstring>
 #include <string>
 #include <vector>
 
 #include "optimizer_test_problems.h"
+#include "pliant/core/crc32.h"
 #include "pliant/soft/optimizer.h"
 
 using namespace pliant::soft;
@@ -219,4 +221,23 @@ TEST(OptimizerState, TruncatedOrDamagedBytesAreErrors) {
   bad = good;
   bad.push_back(1);
   EXPECT_NE(error_of(bad).find("trailing bytes"), std::string::npos);
+  // A body cut anywhere but sealed again (length and CRC fixed up) reaches the field
+  // parser: every cut is an error, none reads out of bounds; so is a huge theta size.
+  auto sealed = [](std::vector<uint8_t> b, size_t body) {
+    b.resize(24 + body);
+    const uint64_t n = body;
+    const uint32_t crc = pliant::crc32(b.data() + 24, body);
+    std::memcpy(b.data() + 8, &n, 8);
+    std::memcpy(b.data() + 16, &crc, 4);
+    return b;
+  };
+  for (size_t body = 0; body + 24 < good.size(); body += (body < 200 ? 1 : 5)) {
+    const std::string e = error_of(sealed(good, body));
+    EXPECT_NE(e.find("soft optimizer checkpoint"), std::string::npos) << body << ": " << e;
+  }
+  bad = good;
+  const uint64_t huge = uint64_t(1) << 60;
+  std::memcpy(bad.data() + 24 + 29, &huge, 8);  // theta's length, after 29 bytes of scalars
+  EXPECT_NE(error_of(sealed(bad, bad.size() - 24)).find("theta of"), std::string::npos)
+      << error_of(sealed(bad, bad.size() - 24));
 }

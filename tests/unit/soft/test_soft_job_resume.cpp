@@ -1,12 +1,11 @@
 // --resume of the soft job continues exactly as the uninterrupted run: a take cut
 // after iteration k's checkpoint (what kill -9 leaves) resumed to N ends with the
 // same objective history, rollout count, step kinds and frames (bit for bit) as the
-// run of N, for the hybrid (Broyden reuse), the
-// hybrid with fused trials and a trust region, pure L-BFGS (its curvature pairs) and
-// a hybrid that is in its L-BFGS phase when it stops. The editor's theta of a take is
-// the one the job played back. A damaged checkpoint is an InputError naming the take;
-// an old checkpoint (f32 theta and history, no "optimizer" blob) still resumes as
-// before.
+// run of N, for the hybrid (Broyden reuse), the hybrid with fused trials and a trust
+// region, pure L-BFGS (its curvature pairs) and a hybrid that is in its L-BFGS phase
+// when it stops (SoftJobResumeSlow). The editor's theta of a take is the one the job
+// played back. A damaged checkpoint is an InputError naming the take; an old
+// checkpoint (f32 theta and history, no "optimizer" blob) still resumes as before.
 #include <gtest/gtest.h>
 
 #include <unistd.h>
@@ -143,7 +142,9 @@ TEST(SoftJobResume, LbfgsResumesExactly) {
 // The worm crawl's hybrid switches to L-BFGS after ~16 iterations: stopped after the
 // second iteration of an L-BFGS phase (its previous point and gradient, and a
 // curvature pair, are in the memory), the resumed run goes on with L-BFGS exactly.
-TEST(SoftJobResume, HybridInsideItsLbfgsPhaseResumesExactly) {
+// 28 iterations (1 s in Release): Release only (label unit_slow_no_asan, CMakeLists);
+// test_optimizer_state.cpp checks the same case on Rosenbrock under ASan too.
+TEST(SoftJobResumeSlow, HybridInsideItsLbfgsPhaseResumesExactly) {
   int k = -1;
   const nlohmann::json m = expect_exact_resume(resume_worm(R"("method": "hybrid")", 25), [&k](const auto& cks) {
     // optimizer_state [iteration, lambda, in_lbfgs, rollouts] after each iteration.
