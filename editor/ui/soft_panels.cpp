@@ -192,6 +192,16 @@ void draw_soft_inspector(App& app) {
     json_int(doc, "horizon_frames", "/optimizer/horizon_frames", 60, 1, 100000);
     json_double(doc, "fd_step", "/optimizer/fd_step", 1e-3, 1e-5f, 1e-12, 1, "%.1e");
     json_double(doc, "tolerance", "/optimizer/tolerance", 1e-6, 1e-7f, 0, 1, "%.1e");
+    // Pure L-BFGS's variant (soft_compile.cpp; soft_worm_crawl.json pins it).
+    const json& sc = doc.scene();
+    const json* opt = sc.is_object() && sc.contains("optimizer") ? &sc["optimizer"] : nullptr;
+    if (opt && opt->is_object() && opt->value("method", std::string("hybrid")) == "lbfgs") {
+      json_choice(doc, "lbfgs_line_search", "/optimizer/lbfgs_line_search", "armijo",
+                  {"armijo", "wolfe", "strong_wolfe", "bracketing", "nocedal_wright"});
+      json_int(doc, "lbfgs_memory", "/optimizer/lbfgs_memory", 8, 1, 1000);
+      json_double(doc, "lbfgs_initial_step (0: raw gradient)", "/optimizer/lbfgs_initial_step", 1.0, 0.01f, 0, 1e12);
+      json_int(doc, "lbfgs_restarts", "/optimizer/lbfgs_restarts", 0, 0, 1000);
+    }
   }
 }
 

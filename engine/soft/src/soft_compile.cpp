@@ -241,7 +241,8 @@ SoftModel soft_compile(const Scene& scene) {
     // LM damping at the start, Broyden reuse iterations, L-BFGS first step (optimizer.h).
     m.optimizer.lambda_initial = oj->number("lm_lambda_initial", m.optimizer.lambda_initial, 1e-12, 1e12);
     m.optimizer.broyden_reuse = int(oj->integer("broyden_reuse", m.optimizer.broyden_reuse, 0, 1000));
-    m.optimizer.lbfgs_initial_step = oj->number("lbfgs_initial_step", m.optimizer.lbfgs_initial_step, 1e-12, 1e12);
+    // 0 = the first step is the raw gradient itself (alpha 1 on -g; optimizer.h).
+    m.optimizer.lbfgs_initial_step = oj->number("lbfgs_initial_step", m.optimizer.lbfgs_initial_step, 0, 1e12);
     // Fused trials and the LM damping schedule (optimizer.h; tenth session).
     m.optimizer.fused_trials = oj->boolean("fused_trials", m.optimizer.fused_trials);
     const std::string damping = oj->choice(
@@ -252,6 +253,14 @@ SoftModel soft_compile(const Scene& scene) {
     const std::string hls = oj->choice("hybrid_lbfgs_line_search", line_search_name(m.optimizer.hybrid_lbfgs_line_search),
                                        {"armijo", "wolfe", "strong_wolfe", "bracketing", "nocedal_wright"});
     m.optimizer.hybrid_lbfgs_line_search = parse_line_search(hls);
+    // Pure L-BFGS's variant (optimizer.h; bench env only before 2026-12-01): its
+    // line search, the curvature pairs kept (the hybrid's L-BFGS phase keeps as many)
+    // and the restarts after a failed line search.
+    const std::string lls = oj->choice("lbfgs_line_search", line_search_name(m.optimizer.lbfgs_line_search),
+                                       {"armijo", "wolfe", "strong_wolfe", "bracketing", "nocedal_wright"});
+    m.optimizer.lbfgs_line_search = parse_line_search(lls);
+    m.optimizer.lbfgs_memory = int(oj->integer("lbfgs_memory", m.optimizer.lbfgs_memory, 1, 1000));
+    m.optimizer.lbfgs_restarts = int(oj->integer("lbfgs_restarts", m.optimizer.lbfgs_restarts, 0, 1000));
     // Rollout Jacobian: exact forward sensitivities or finite differences (optimizer.h).
     const std::string jac = oj->choice("jacobian", m.optimizer.jacobian == JacobianKind::Sensitivity ? "sensitivity" : "finite_difference",
                                        {"sensitivity", "finite_difference"});
