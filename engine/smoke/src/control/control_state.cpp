@@ -8,10 +8,9 @@
 //   checkpoints load with an empty trace from 0 s: their runs predate it)
 //   f64 admm_beta (version >= 5; older checkpoints: 0, the continuation schedule's beta)
 #include <cmath>
-#include <cstring>
-#include <stdexcept>
 #include <string>
 
+#include "pliant/core/byte_stream.h"
 #include "pliant/smoke/control.h"
 // after control.h: smoke_workspace.h needs SmokeModel declared
 #include "../smoke_workspace.h"
@@ -24,57 +23,18 @@ constexpr uint32_t kMagic = 0x53434c50;  // "PLCS"
 // 5: ADMM penalty (residual balancing)
 constexpr uint32_t kVersion = 5;
 
-template <class T>
-void put(std::vector<uint8_t>& b, const T& v) {
-  const size_t o = b.size();
-  b.resize(o + sizeof(T));
-  std::memcpy(b.data() + o, &v, sizeof(T));
-}
-
-template <class T>
-void put_array(std::vector<uint8_t>& b, const std::vector<T>& v) {
-  put<uint64_t>(b, v.size());
-  const size_t o = b.size();
-  b.resize(o + v.size() * sizeof(T));
-  if (!v.empty()) std::memcpy(b.data() + o, v.data(), v.size() * sizeof(T));
-}
-
-struct Reader {
-  const std::vector<uint8_t>& b;
-  size_t pos = 0;
-  [[noreturn]] void bad(const std::string& what) const {
-    throw std::runtime_error("control checkpoint: " + what + " at byte " + std::to_string(pos) + " of " +
-                             std::to_string(b.size()));
-  }
-  template <class T>
-  T get() {
-    if (b.size() - pos < sizeof(T)) bad("truncated");
-    T v;
-    std::memcpy(&v, b.data() + pos, sizeof(T));
-    pos += sizeof(T);
-    return v;
-  }
-  template <class T>
-  std::vector<T> get_array() {
-    const uint64_t n = get<uint64_t>();
-    if (n > (b.size() - pos) / sizeof(T)) bad("array of " + std::to_string(n) + " values longer than the data");
-    std::vector<T> v(n);
-    if (n) std::memcpy(v.data(), b.data() + pos, n * sizeof(T));
-    pos += n * sizeof(T);
-    return v;
-  }
-  FaceSeries series() {
-    const uint32_t frames = get<uint32_t>();
-    if (frames > (b.size() - pos) / sizeof(uint64_t)) bad("frame count " + std::to_string(frames) + " too large");
-    FaceSeries s(frames);
-    for (auto& f : s) f = get_array<float>();
-    return s;
-  }
-};
-
+// A FaceSeries: u32 frames, then per frame u64 n + n f32.
 void put_series(std::vector<uint8_t>& b, const FaceSeries& s) {
-  put<uint32_t>(b, uint32_t(s.size()));
-  for (const auto& f : s) put_array(b, f);
+  append_value<uint32_t>(b, uint32_t(s.size()));
+  for (const auto& f : s) append_array(b, f);
+}
+
+FaceSeries get_series(ByteReader& r) {
+  const uint32_t frames = r.get<uint32_t>();
+  if (frames > r.remaining() / sizeof(uint64_t)) r.bad("frame count " + std::to_string(frames) + " too large");
+  FaceSeries s(frames);
+  for (auto& f : s) f = r.get_array<float>();
+  return s;
 }
 
 }  // namespace
@@ -89,24 +49,25 @@ ControlState control_init(const ControlModel& m) {
 
 std::vector<uint8_t> control_state_serialize(const ControlState& s) {
   std::vector<uint8_t> b;
-  put(b, kMagic);
-  put(b, kVersion);
-  put<int32_t>(b, s.iteration);
-  put<double>(b, s.wall_s);
+  append_value(b, kMagic);
+  append_value(b, kVersion);
+  append_value<int32_t>(b, s.iteration);
+  append_value<double>(b, s.wall_s);
   for (const FaceSeries* f : {&s.force, &s.velocity, &s.split, &s.dual}) put_series(b, *f);
-  for (const auto* h : {&s.objective_history, &s.primal_residual_history, &s.dual_residual_history}) put_array(b, *h);
-  put<int32_t>(b, s.phase);
-  put<double>(b, s.nso_damping);
-  put<int32_t>(b, s.level);
-  put<uint8_t>(b, s.lbfgs_stopped ? 1 : 0);
-  put<double>(b, s.trace_s);
-  put_array(b, s.objective_trace);
-  put<double>(b, s.admm_beta);
+  for (const auto* h : {&s.objective_history, &s.primal_residual_history, &s.dual_residual_history})
+    append_array(b, *h);
+  append_value<int32_t>(b, s.phase);
+  append_value<double>(b, s.nso_damping);
+  append_value<int32_t>(b, s.level);
+  append_value<uint8_t>(b, s.lbfgs_stopped ? 1 : 0);
+  append_value<double>(b, s.trace_s);
+  append_array(b, s.objective_trace);
+  append_value<double>(b, s.admm_beta);
   return b;
 }
 
 ControlState control_state_deserialize(const std::vector<uint8_t>& bytes) {
-  Reader r{bytes};
+  ByteReader r(bytes, "control checkpoint");
   if (r.get<uint32_t>() != kMagic) r.bad("not a control checkpoint (bad magic)");
   const uint32_t version = r.get<uint32_t>();
   if (version < 2 || version > kVersion) r.bad("unsupported version " + std::to_string(version));
@@ -114,7 +75,7 @@ ControlState control_state_deserialize(const std::vector<uint8_t>& bytes) {
   s.iteration = r.get<int32_t>();
   if (s.iteration < 0) r.bad("negative iteration");
   s.wall_s = r.get<double>();
-  for (FaceSeries* f : {&s.force, &s.velocity, &s.split, &s.dual}) *f = r.series();
+  for (FaceSeries* f : {&s.force, &s.velocity, &s.split, &s.dual}) *f = get_series(r);
   for (auto* h : {&s.objective_history, &s.primal_residual_history, &s.dual_residual_history})
     *h = r.get_array<double>();
   s.phase = r.get<int32_t>();
@@ -142,7 +103,7 @@ ControlState control_state_deserialize(const std::vector<uint8_t>& bytes) {
     s.admm_beta = r.get<double>();
     if (!(s.admm_beta >= 0 && std::isfinite(s.admm_beta))) r.bad("bad ADMM penalty");
   }
-  if (r.pos != bytes.size()) r.bad("trailing bytes");
+  if (r.remaining() != 0) r.bad("trailing bytes");
   return s;
 }
 
