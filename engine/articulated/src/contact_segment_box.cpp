@@ -10,6 +10,24 @@ namespace pliant::articulated::contact_internal {
 
 namespace {
 
+// The six face lines of the box |x_i| <= h_i along x(t) = a + t u: line j is
+// s_j (a_{j/2} + t u_{j/2}) - h_{j/2}, s_j = +1 for even j, -1 for odd. Their max is
+// the signed distance inside the box (outside, a lower bound of it).
+double face_line_envelope(const Vec3& a, const Vec3& u, const Vec3& h, double t) {
+  double m = -1e300;
+  for (int i = 0; i < 3; ++i) m = std::max(m, std::abs(a[i] + t * u[i]) - h[i]);
+  return m;
+}
+
+// Where face lines j and k cross (false where they are parallel).
+bool face_lines_cross(const Vec3& a, const Vec3& u, const Vec3& h, int j, int k, double* t) {
+  const double sj = j & 1 ? -1 : 1, sk = k & 1 ? -1 : 1;
+  const double slope = sj * u[j / 2] - sk * u[k / 2];
+  if (std::abs(slope) < 1e-15) return false;
+  *t = -(sj * a[j / 2] - h[j / 2] - sk * a[k / 2] + h[k / 2]) / slope;
+  return true;
+}
+
 // Segment x(t) = a + t u, t in [0, 1], penetrating the box |x_i| <= h_i (box frame):
 // its deepest point. Inside, the signed distance is the max of the six face lines
 // l(t) = +-(a_i + t u_i) - h_i (outside, the true distance is >= that max, so a
@@ -21,25 +39,15 @@ namespace {
 // between two faces a mix of their normals, |n| < 1.
 bool segment_box_minimum(const Vec3& a, const Vec3& u, const Vec3& h, double* t_out, double* d_out, Vec3* n_out) {
   const double tol = 1e-12 * (h.maxCoeff() + a.cwiseAbs().maxCoeff() + u.cwiseAbs().maxCoeff());
-  // Inside: sd = max over the six face lines l_j(t) = s (a_i + t u_i) - h_i (the
-  // true distance outside is >= this, so a negative minimum of it is the segment's).
-  // A max of lines is least at t = 0, 1 or where two lines of opposite slope cross.
-  const auto g = [&](double t) {
-    double m = -1e300;
-    for (int i = 0; i < 3; ++i) m = std::max(m, std::abs(a[i] + t * u[i]) - h[i]);
-    return m;
-  };
+  const auto g = [&](double t) { return face_line_envelope(a, u, h, t); };
   double cand[17];
   int nc = 0;
   cand[nc++] = 0;
   cand[nc++] = 1;
   for (int j = 0; j < 6; ++j)
     for (int k = j + 1; k < 6; ++k) {
-      const double sj = j & 1 ? -1 : 1, sk = k & 1 ? -1 : 1;
-      const double slope = sj * u[j / 2] - sk * u[k / 2];
-      if (std::abs(slope) < 1e-15) continue;
-      const double t = -(sj * a[j / 2] - h[j / 2] - sk * a[k / 2] + h[k / 2]) / slope;
-      if (t > 0 && t < 1) cand[nc++] = t;
+      double t;
+      if (face_lines_cross(a, u, h, j, k, &t) && t > 0 && t < 1) cand[nc++] = t;
     }
   double gmin = 1e300;
   for (int i = 0; i < nc; ++i) gmin = std::min(gmin, g(cand[i]));
@@ -149,19 +157,13 @@ namespace {
 // rise): *ns (box frame), |n| the contact's gain. Returns their number.
 int segment_box_vertices(const Vec3& a, const Vec3& u, const Vec3& h, double* ts, double* ds, Vec3* ns) {
   const double tol = 1e-12 * (h.maxCoeff() + a.cwiseAbs().maxCoeff() + u.cwiseAbs().maxCoeff());
-  const auto g = [&](double t) {
-    double m = -1e300;
-    for (int i = 0; i < 3; ++i) m = std::max(m, std::abs(a[i] + t * u[i]) - h[i]);
-    return m;
-  };
+  const auto g = [&](double t) { return face_line_envelope(a, u, h, t); };
   int nv = 0;
   for (int j = 0; j < 6; ++j)
     for (int k = j + 1; k < 6; ++k) {
-      const double sj = j & 1 ? -1 : 1, sk = k & 1 ? -1 : 1;
-      const double slope = sj * u[j / 2] - sk * u[k / 2];
-      if (std::abs(slope) < 1e-15) continue;
-      const double t = -(sj * a[j / 2] - h[j / 2] - sk * a[k / 2] + h[k / 2]) / slope;
-      if (!(t > 0 && t < 1)) continue;
+      double t;
+      if (!face_lines_cross(a, u, h, j, k, &t) || !(t > 0 && t < 1)) continue;
+      const double sj = j & 1 ? -1 : 1;
       const double gt = g(t), lj = sj * (a[j / 2] + t * u[j / 2]) - h[j / 2];
       if (gt >= -tol || lj < gt - tol) continue;  // outside the box, or under the envelope
       bool seen = false;  // three lines through one point
