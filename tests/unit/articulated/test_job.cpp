@@ -148,24 +148,13 @@ TEST(Job, PileSceneBodiesRestOnEachOther) {
   // was under 1.2 mm.
   EXPECT_LT(run.max_capsule_in_box, 3e-3);
   EXPECT_LT(run.max_box_in_box, 3e-3);
-  // 2.70 over these 150 steps while sliding friction acted on sphere / capsule centres;
-  // 4.01 since it acts at the contact point (the ball and capsules' rotation is now
-  // coupled to their slip, as it physically is, so LM resolves stick / roll too);
-  // 12.31 since capsule sides and box edges meet boxes (art8): that 4.01 trajectory
-  // rested on the two missed contacts above; now capsule_a rolls off box_mid and
-  // box_mid rests on box_low with three corners in its face and box_low's edge under
-  // its overhanging fourth (one contact at the edge's deepest point): 7-17 iterations
-  // per step while it rests; 11.57 once LM stops at a kink (a rejected step already
-  // under 10x the length tolerance) instead of raising its damping until the step
-  // vanishes; 4.01 since a box edge gets a contact at every vertex of its depth
-  // profile (the resting contact polygon's crossing points) instead of the deepest one,
-  // which jumped along the pressed interval as box_mid tilted by 1e-6 rad: the energy
-  // was kinked at the resting pose, every resting step ended on that kink (|gradient|
-  // median 4 N); now 1 iteration per resting step at |gradient| < 1e-8 N. 3.80 (max
-  // 15, was 50 at step 15) since body-body contacts enter LM's model Gauss-Newton only
-  // (README, "Pair contacts' Hessian"): the 50-iteration step was LM zigzagging on a
-  // capsule turning about its axis (its per-body geometric term made the model's
-  // curvature 2.65x too low there), not sliding friction.
+  // 3.80 LM iterations per step over these 150 steps (max 15). The bounds catch the two
+  // regressions found so far (README, "Pair contacts' Hessian" and the box-edge
+  // contacts): one contact at a box edge's deepest point, which jumped along the pressed
+  // interval as box_mid tilted by 1e-6 rad, kinked the resting energy (11.57 per step,
+  // every resting step ended on the kink); a per-body geometric Hessian term for pair
+  // contacts made LM's model 2.65x too soft for a capsule turning about its axis (max
+  // 50 at step 15).
   EXPECT_LT(run.iterations_per_step, 4.2);
   EXPECT_LE(run.max_iterations, 20);
   for (size_t b = 1; b < a.model.bodies.size(); ++b) EXPECT_GT(s.qpos[7 * (b - 1) + 2], 0.02) << b;
