@@ -55,7 +55,9 @@ bool json_choice(Document& doc, const char* label, const std::string& ptr, const
   bool changed = false;
   if (ImGui::BeginCombo(label, cur.c_str())) {
     for (const std::string& c : choices) {
-      if (ImGui::Selectable(c.c_str(), cur == c) && cur != c) {
+      const bool picked = ImGui::Selectable(c.c_str(), cur == c);
+      ui_mark(ptr + "=" + c);  // scripts pick a choice: click_item /optimizer/method=lbfgs
+      if (picked && cur != c) {
         doc.set(ptr, c);
         changed = true;
       }

@@ -473,4 +473,37 @@ TEST(EditorSoft, SteadyObjectiveWidgetsWriteTheSceneKey) {
   EXPECT_EQ(h.app->doc.scene()["objectives"]["steady"], added);
 }
 
+// Pure L-BFGS's variant keys (soft_worm_crawl.json pins them): the Optimizer panel
+// shows them only once the method is lbfgs, picked in its combo; a drag writes
+// /optimizer/lbfgs_memory, the line-search combo /optimizer/lbfgs_line_search,
+// each one undo step.
+TEST(EditorSoft, LbfgsOptimizerKeysAppearForPureLbfgsAndWriteTheScene) {
+  EditorHarness h("soft_lbfgs_keys");
+  h.start(spider_scene(h), /*gl=*/false, 1280, 2400);  // tall: the Optimizer panel needs no scrolling
+  ASSERT_EQ(h.run("wait 2\n"), "");
+  ASSERT_NE(h.app->marks.find("/optimizer/method"), nullptr);
+  EXPECT_EQ(h.app->marks.find("/optimizer/lbfgs_memory"), nullptr);  // lm: hidden
+  const size_t steps = h.app->doc.history().size();
+  ASSERT_EQ(h.run("click_item /optimizer/method\nwait 1\nclick_item /optimizer/method=lbfgs\nwait 2\n"), "");
+  ASSERT_EQ(h.app->doc.scene()["optimizer"]["method"], "lbfgs");
+  ASSERT_NE(h.app->marks.find("/optimizer/lbfgs_memory"), nullptr);
+  EXPECT_NE(h.app->marks.find("/optimizer/lbfgs_initial_step"), nullptr);
+  EXPECT_EQ(h.app->doc.history().size(), steps + 1);
+  ASSERT_EQ(h.run("drag_item /optimizer/lbfgs_memory 60 0 6\nwait 1\n"), "");
+  ASSERT_TRUE(h.app->doc.scene()["optimizer"].contains("lbfgs_memory"));
+  EXPECT_GT(h.app->doc.scene()["optimizer"]["lbfgs_memory"].get<int>(), 8);
+  EXPECT_EQ(h.app->doc.history().size(), steps + 2);
+  ASSERT_EQ(h.run("click_item /optimizer/lbfgs_line_search\nwait 1\n"
+                  "click_item /optimizer/lbfgs_line_search=wolfe\nwait 1\n"), "");
+  EXPECT_EQ(h.app->doc.scene()["optimizer"]["lbfgs_line_search"], "wolfe");
+  EXPECT_EQ(h.app->doc.history().size(), steps + 3);
+  h.app->cmd_undo();
+  h.app->cmd_undo();
+  EXPECT_FALSE(h.app->doc.scene()["optimizer"].contains("lbfgs_memory"));
+  h.app->cmd_undo();
+  EXPECT_EQ(h.app->doc.scene()["optimizer"].value("method", std::string("hybrid")), "lm");
+  ASSERT_EQ(h.run("wait 2\n"), "");
+  EXPECT_EQ(h.app->marks.find("/optimizer/lbfgs_memory"), nullptr);
+}
+
 }  // namespace pliant::editor::test
