@@ -1,13 +1,14 @@
 // Job kind "soft": optimize the DMP parameters, then re-simulate and write frames.
 #include <chrono>
 #include <cmath>
-#include <cstring>
 
 #include "pliant/core/blob_field.h"
+#include "pliant/core/byte_stream.h"
 #include "pliant/core/crc32.h"
 #include "pliant/core/error.h"
 #include "pliant/core/json_reader.h"
 #include "pliant/soft/soft.h"
+#include "pliant/soft/spacetime_state.h"
 
 namespace pliant::soft {
 namespace {
@@ -20,13 +21,6 @@ Field vector_field(const std::string& name, const std::vector<double>& v) {
   Field f{name, {uint32_t(v.size())}, {}};
   for (double x : v) f.data.push_back(float(x));
   return f;
-}
-
-// theta in full precision beside the f32 "theta"-style fields (navigation gaits).
-Field theta_bytes_field(const std::string& name, const Eigen::VectorXd& theta) {
-  std::vector<uint8_t> b(size_t(theta.size()) * sizeof(double));
-  if (!b.empty()) std::memcpy(b.data(), theta.data(), b.size());
-  return bytes_field(name, b);
 }
 
 // The scene a checkpoint's optimizer memory belongs to: a CRC of the document less
@@ -98,50 +92,101 @@ nlohmann::json run_navigation(JobContext& ctx, SoftModel& m, std::chrono::steady
   nlohmann::json gait_json = nlohmann::json::object(), gait_theta = nlohmann::json::object();
   const auto t_opt = std::chrono::steady_clock::now();
   ctx.progress.stage("gaits", 3);
-  // Gaits cached in the take (one checkpoint after each optimized gait): --resume
-  // skips the ones already there.
+  // Every checkpoint holds every gait so far: once done its theta (gait_theta_<name>
+  // in f32, gait_theta_f64_<name> as doubles in bytes), and for an optimized gait its
+  // optimizer state (gait_optimizer_<name>, the "PLSO" blob; one checkpoint per
+  // iteration while it runs, without the memory once done). --resume takes the done
+  // gaits as they are and continues an unfinished one from its state exactly.
   Record cached;
   if (ctx.resume) {
     TakeReader reader(ctx.take.dir());
     reader.latest(RecordKind::Checkpoint, &cached);
   }
-  Record ck;
-  ck.kind = RecordKind::Checkpoint;
+  const uint32_t tag = scene_tag(ctx.scene);
+  std::vector<Field> done;  // the gaits done, repeated in every checkpoint
+  nlohmann::json gait_optimization = nlohmann::json::object();
   for (int k = 0; k < 3; ++k) {
     Problem pk = m.problem;
     pk.obj = gait_objectives(nav, k);
     pk.obj.w_effort = m.problem.obj.w_effort;
+    const int n = pk.dmp.parameters();
+    const std::string name = names[k];
     Eigen::VectorXd theta;
-    const Field* fc = cached.find(std::string("gait_theta_") + names[k]);
+    const Field* fc = cached.find("gait_theta_" + name);
     // Full precision; checkpoints written before it existed hold the f32 copy only.
-    const Field* fc64 = cached.find(std::string("gait_theta_f64_") + names[k]);
+    const Field* fc64 = cached.find("gait_theta_f64_" + name);
+    OptimizerState st;
+    bool have_state = false;  // st is this gait's optimization
+    // The gait's optimizer state in the take, if any (a damaged one is an InputError).
+    auto restore = [&] {
+      const Field* fo = cached.find("gait_optimizer_" + name);
+      if (!fo) return;
+      auto fail = [&](const std::string& problem) {
+        throw InputError(ctx.scene.file, "/navigation",
+                         "take " + ctx.take.dir().string() + ": gait " + name + ": " + problem +
+                             "; the take cannot be resumed, run without --resume");
+      };
+      uint32_t ck_tag = 0;
+      try {
+        st = optimizer_state_deserialize(field_bytes(*fo), &ck_tag);
+      } catch (const std::runtime_error& e) {
+        fail(e.what());
+      }
+      if (st.theta.size() != n)
+        fail("its checkpoint has " + std::to_string(st.theta.size()) + " parameters, the scene " +
+             std::to_string(n));
+      if (ck_tag != tag) st.memory = OptimizerMemory();  // scene changed: as the main job does
+      have_state = true;
+    };
+    const std::vector<uint8_t> b64 = fc64 ? field_bytes(*fc64) : std::vector<uint8_t>();
     if (!nav.cached_theta.empty()) {
       theta = nav.cached_theta[k];
     } else if (k == 2 && mirror_gait(pk, gaits[1].theta, &theta)) {
       // Symmetric body: turning right is the mirror image of turning left.
-    } else if (fc64 && int(fc64->data.size()) == 2 * pk.dmp.parameters()) {
-      theta.resize(pk.dmp.parameters());
-      std::memcpy(theta.data(), fc64->data.data(), size_t(theta.size()) * sizeof(double));
-    } else if (fc && int(fc->data.size()) == pk.dmp.parameters()) {
-      theta.resize(pk.dmp.parameters());
-      for (int i = 0; i < theta.size(); ++i) theta[i] = fc->data[i];
+    } else if (fc64 && b64.size() == size_t(n) * sizeof(double)) {
+      theta.resize(n);
+      ByteReader(b64, "gait theta").get_values(theta.data(), size_t(n));
+      restore();
+    } else if (fc && int(fc->data.size()) == n) {
+      theta.resize(n);
+      for (int i = 0; i < n; ++i) theta[i] = fc->data[i];
+      restore();
     } else {
-      OptimizerState st;
-      st.theta = initial_theta(pk);
+      restore();
+      if (!have_state) st.theta = initial_theta(pk);
+      have_state = true;
       const ResidualFn rf = [&pk](const Eigen::VectorXd& th) { return residuals(pk, th); };
       optimize(
           rf, m.optimizer, st,
-          [&](const OptimizerState&) {
+          [&](const OptimizerState& s) {
+            Record r;
+            r.kind = RecordKind::Checkpoint;
+            r.index = k;
+            r.fields = done;
+            r.fields.push_back(bytes_field("gait_optimizer_" + name, optimizer_state_serialize(s, tag)));
+            ctx.take.append(r);
             ctx.progress.check_cancelled();
             return true;
           },
           problem_jacobian(pk, m.optimizer), problem_residual_jacobian(pk, m.optimizer));
       theta = st.theta;
     }
+    done.push_back(vector_field("gait_theta_" + name, std::vector<double>(theta.data(), theta.data() + theta.size())));
+    std::vector<uint8_t> bytes;
+    append_doubles(bytes, theta.data(), size_t(theta.size()));
+    done.push_back(bytes_field("gait_theta_f64_" + name, bytes));
+    if (have_state) {
+      st.memory = OptimizerMemory();  // done: only the record is kept
+      done.push_back(bytes_field("gait_optimizer_" + name, optimizer_state_serialize(st, tag)));
+      gait_optimization[name] = {{"iterations", st.iteration},
+                                 {"rollouts", st.evaluations},
+                                 {"objective_history", st.history},
+                                 {"step_kinds", st.step_kinds}};
+    }
+    Record ck;
+    ck.kind = RecordKind::Checkpoint;
     ck.index = k;
-    ck.fields.push_back(vector_field(std::string("gait_theta_") + names[k],
-                                     std::vector<double>(theta.data(), theta.data() + theta.size())));
-    ck.fields.push_back(theta_bytes_field(std::string("gait_theta_f64_") + names[k], theta));
+    ck.fields = done;
     ctx.take.append(ck);
     gaits.push_back(measure_gait(pk, names[k], theta, nav.body_axis));
     const Gait& g = gaits.back();
@@ -189,6 +234,7 @@ nlohmann::json run_navigation(JobContext& ctx, SoftModel& m, std::chrono::steady
           {"gaits", gait_json},
           {"gait_theta", gait_theta},
           {"gaits_cached", !nav.cached_theta.empty()},
+          {"gait_optimization", gait_optimization},
           {"gaits_s", gaits_s},
           {"navigate_s", seconds_since(t_nav)},
           {"wall_s", seconds_since(t0)}};
@@ -213,6 +259,11 @@ nlohmann::json soft_run_job(JobContext& ctx) {
   // OptimizerState in doubles, optimizer_state.cpp) continues exactly; checkpoints
   // without one (written before it existed) hold theta and the history in f32 and
   // four scalars, and the run continues from those with fresh optimizer memory.
+  // A spacetime run also carries its point, weights and report ("spacetime" blob,
+  // spacetime_state.cpp); without one (older takes) it restarts from theta's rollout.
+  const bool is_spacetime = m.optimizer.kind == OptimizerKind::Spacetime;
+  SpacetimeCarry carry;
+  SpacetimeReport spacetime;
   OptimizerState st;
   st.theta = initial_theta(p);
   const uint32_t tag = scene_tag(ctx.scene);
@@ -242,6 +293,25 @@ nlohmann::json soft_run_job(JobContext& ctx) {
                                "optimizer continues from its theta with fresh memory");
       }
       st = std::move(c);
+      const Field* sb = is_spacetime ? ck.find("spacetime") : nullptr;
+      if (sb) {
+        SpacetimeCheckpoint sc;
+        uint32_t sc_tag = 0;
+        try {
+          sc = spacetime_checkpoint_deserialize(field_bytes(*sb), &sc_tag);
+        } catch (const std::runtime_error& e) {
+          fail(e.what());
+        }
+        const SpacetimeVars& v = sc.carry.vars;
+        const int ns = spacetime_state_size(p), modes = p.dmp.modes;
+        if (sc.iteration != st.iteration || v.theta.size() != st.theta.size() || int(v.frames.size()) != p.frames ||
+            v.act.rows() != modes || v.frames.front().q.size() != ns - 6 || sc.carry.res.size() <= p.frames * (ns + modes))
+          fail("its spacetime state does not fit its optimizer state or the scene");
+        if (sc_tag == tag) {  // a changed scene: continue from theta's rollout, as the memory is dropped
+          carry = std::move(sc.carry);
+          spacetime = std::move(sc.report);
+        }
+      }
     } else {
       const Field* th = ck.find("theta");
       const Field* hist = ck.find("objective_history");
@@ -268,13 +338,17 @@ nlohmann::json soft_run_job(JobContext& ctx) {
         "optimizer_state", {double(s.iteration), s.lambda, s.in_lbfgs ? 1.0 : 0.0, double(s.evaluations)}));
     // The f32 fields above are for older readers; this one resumes (and gives the editor theta).
     ck.fields.push_back(bytes_field("optimizer", optimizer_state_serialize(s, tag)));
+    if (is_spacetime)
+      ck.fields.push_back(bytes_field("spacetime", spacetime_checkpoint_serialize({s.iteration, carry, spacetime}, tag)));
     ctx.take.append(ck);
     ctx.progress.report(s.iteration, s.objective);
     ctx.progress.check_cancelled();
     return true;
   };
-  SpacetimeReport spacetime;
-  soft_optimize(m, st, checkpoint, &spacetime);
+  if (is_spacetime)
+    spacetime_optimize(p, m.spacetime, st, checkpoint, &spacetime, &carry);
+  else
+    soft_optimize(m, st, checkpoint);
   const double optimize_s = seconds_since(t_opt);
 
   // Re-simulate the whole take under the optimized controller.
@@ -323,7 +397,7 @@ nlohmann::json soft_run_job(JobContext& ctx) {
       {"dmp_parameters", p.dmp.parameters()},
       {"cubature_cells", m.cubature.cells},
       {"cubature_kept_fraction", m.cubature.kept_fraction}};
-  if (m.optimizer.kind == OptimizerKind::Spacetime)
+  if (is_spacetime)
     metrics["spacetime"] = {{"merit", spacetime.merit},
                             {"physics_violation_m", spacetime.physics_violation},
                             {"dmp_mismatch_m", spacetime.dmp_mismatch},

@@ -299,9 +299,11 @@ Eigen::MatrixXd spacetime_jacobian(const Problem& p, const SpacetimeVars& v, dou
 }
 
 void spacetime_optimize(const Problem& p, const SpacetimeSettings& s, OptimizerState& st,
-                        const IterationFn& on_iteration, SpacetimeReport* report) {
+                        const IterationFn& on_iteration, SpacetimeReport* report, SpacetimeCarry* carry) {
   SpacetimeReport local;
   SpacetimeReport& rep = report ? *report : local;
+  SpacetimeCarry local_carry;
+  SpacetimeCarry& c = carry ? *carry : local_carry;
   const Character& ch = *p.character;
   const int ns = spacetime_state_size(p), T = p.frames, m = p.dmp.modes;
   const double a_max = max_activation_m(ch, p.dmp);
@@ -310,14 +312,16 @@ void spacetime_optimize(const Problem& p, const SpacetimeSettings& s, OptimizerS
     const Eigen::VectorXd r = residuals(p, th);
     return r.allFinite() ? 0.5 * r.squaredNorm() : std::numeric_limits<double>::infinity();
   };
-  double best = resimulated(st.theta);
+  // A restored checkpoint: st holds the best theta and its objective, c the point.
+  const bool restored = !c.vars.frames.empty();
+  double best = restored ? st.objective : resimulated(st.theta);
   if (st.history.empty()) st.history.push_back(best);
   const double f_initial = st.history.front();
   st.objective = best;
   Eigen::VectorXd best_theta = st.theta;
 
-  SpacetimeVars v = spacetime_from_rollout(p, st.theta);
-  double w_dmp = s.w_dmp_initial;
+  SpacetimeVars& v = c.vars;
+  double& w_dmp = c.w_dmp;
   auto merit_of = [&](const SpacetimeVars& x, Eigen::VectorXd* res) {
     try {
       *res = spacetime_residuals(p, x, s.w_physics, w_dmp);
@@ -333,12 +337,19 @@ void spacetime_optimize(const Problem& p, const SpacetimeSettings& s, OptimizerS
     rep.dmp_mismatch.push_back(res.segment(T * ns, T * m).norm() / std::sqrt(w_dmp * T));
     rep.w_dmp.push_back(w_dmp);
   };
-  Eigen::VectorXd res;
-  double merit = merit_of(v, &res);
-  record(res);
-  rep.resimulated.push_back(best);
-  double lambda = s.lambda_initial;
-  while (st.iteration < s.max_iterations) {
+  Eigen::VectorXd& res = c.res;
+  double& merit = c.merit;
+  double& lambda = c.lambda;
+  if (!restored) {
+    v = spacetime_from_rollout(p, st.theta);
+    w_dmp = s.w_dmp_initial;
+    merit = merit_of(v, &res);
+    record(res);
+    rep.resimulated.push_back(best);
+    lambda = s.lambda_initial;
+    c.stopped = false;
+  }
+  while (st.iteration < s.max_iterations && !c.stopped) {
     if (best <= s.tolerance * f_initial) break;
     const Eigen::MatrixXd Jd = spacetime_jacobian(p, v, s.w_physics, w_dmp, s.fd_step_m, s.jacobian);
     const bool exact = s.jacobian == JacobianKind::Sensitivity && !ch.rotation_strain;  // one step + solve per frame
@@ -396,8 +407,9 @@ void spacetime_optimize(const Problem& p, const SpacetimeSettings& s, OptimizerS
     st.history.push_back(best);
     st.step_kinds.push_back(accepted ? "spacetime" : "spacetime-rejected");
     st.evaluations = rep.steps / std::max(1, T) + int(rep.resimulated.size());
+    // Before on_iteration: a checkpoint taken there must know the run ends here.
+    c.stopped = !accepted && w_dmp >= s.w_dmp_max;
     if (on_iteration && !on_iteration(st)) break;
-    if (!accepted && w_dmp >= s.w_dmp_max) break;
   }
 }
 

@@ -16,6 +16,7 @@
 #include <filesystem>
 #include <functional>
 
+#include "pliant/core/blob_field.h"
 #include "pliant/core/error.h"
 #include "pliant/core/scene.h"
 #include "pliant/soft/soft.h"
@@ -31,9 +32,10 @@ struct ResumeTempDir {
   ~ResumeTempDir() { std::filesystem::remove_all(dir); }
 };
 
-nlohmann::json run_soft_job(const Scene& scene, const std::filesystem::path& dir, bool resume) {
+nlohmann::json run_soft_job(const Scene& scene, const std::filesystem::path& dir, bool resume,
+                            Progress::Sink sink = {}) {
   TakeWriter take = resume ? TakeWriter::reopen(dir) : TakeWriter::create(dir, Manifest{});
-  Progress progress;
+  Progress progress(std::move(sink));
   std::FILE* null_out = std::fopen("/dev/null", "w");
   JobEvents events(null_out);
   JobContext ctx{scene, take, progress, events, 1, resume};
@@ -111,7 +113,17 @@ nlohmann::json expect_exact_resume(const Scene& scene, const std::function<int(c
                                       << resumed["objective_history"].dump();
   EXPECT_EQ(resumed["rollouts"], whole["rollouts"]);
   EXPECT_EQ(resumed["step_kinds"], whole["step_kinds"]);
+  // Spacetime's per-iteration blocks (merit, violation, DMP weight, ...) and steps.
+  EXPECT_EQ(resumed.value("spacetime", nlohmann::json()), whole.value("spacetime", nlohmann::json()));
   expect_same_frames(tmp.dir / "whole", tmp.dir / "parts");
+  // The last checkpoints' blobs (theta and all the carried state) agree bit for bit.
+  Record lw, lr;
+  EXPECT_TRUE(TakeReader(tmp.dir / "whole").latest(RecordKind::Checkpoint, &lw));
+  EXPECT_TRUE(TakeReader(tmp.dir / "parts").latest(RecordKind::Checkpoint, &lr));
+  for (const char* blob : {"optimizer", "spacetime"}) {
+    EXPECT_EQ(lw.find(blob) != nullptr, lr.find(blob) != nullptr) << blob;
+    if (lw.find(blob) && lr.find(blob)) EXPECT_TRUE(job_bits_equal(lw.find(blob)->data, lr.find(blob)->data)) << blob;
+  }
   return whole;
 }
 
@@ -272,4 +284,175 @@ TEST(SoftJobResume, ChangedSceneKeepsThetaAndDropsTheMemory) {
   const auto h = m["objective_history"].get<std::vector<double>>();
   ASSERT_EQ(h.size(), 6u);
   EXPECT_TRUE(job_bits_equal(std::vector<double>(h.begin(), h.begin() + 4), h0));
+}
+
+// Spacetime: killed after iteration 2, the resumed run continues from the
+// checkpoint's "spacetime" blob (every frame's state, the activations, the DMP weight,
+// lambda, the report so far), so its history, rollouts, per-iteration report and
+// frames are the uninterrupted run's (before the blob it restarted the trajectory
+// from theta's rollout at the initial DMP weight).
+TEST(SoftJobResume, SpacetimeResumesExactly) {
+  const nlohmann::json m = expect_exact_resume(resume_worm(R"("method": "spacetime")", 4), at(2));
+  EXPECT_EQ(m["spacetime"]["merit"].size(), 5u);
+}
+
+// A damaged or cut-short "spacetime" blob is an InputError naming the take and the byte.
+TEST(SoftJobResume, DamagedSpacetimeBlobIsAnInputErrorNamingTheTake) {
+  ResumeTempDir tmp;
+  const std::filesystem::path dir = tmp.dir / "take";
+  run_soft_job(resume_worm(R"("method": "spacetime")", 1), dir, false);
+  Record ck;
+  ASSERT_TRUE(TakeReader(dir).latest(RecordKind::Checkpoint, &ck));
+  for (const bool truncate : {false, true}) {
+    SCOPED_TRACE(truncate ? "truncated" : "damaged");
+    Record bad = ck;
+    Field* blob = nullptr;
+    for (Field& f : bad.fields)
+      if (f.name == "spacetime") blob = &f;
+    ASSERT_NE(blob, nullptr);
+    if (truncate) {
+      blob->data.resize(blob->data.size() / 2);
+      blob->shape = {uint32_t(blob->data.size())};
+    } else {
+      uint32_t w = std::bit_cast<uint32_t>(blob->data[blob->data.size() / 2]);
+      blob->data[blob->data.size() / 2] = std::bit_cast<float>(w ^ 0x100u);
+    }
+    {
+      TakeWriter w = TakeWriter::reopen(dir);
+      w.append(bad);
+      w.finish("done");
+    }
+    try {
+      run_soft_job(resume_worm(R"("method": "spacetime")", 2), dir, true);
+      ADD_FAILURE() << "no error";
+    } catch (const InputError& e) {
+      const std::string msg = e.what();
+      EXPECT_NE(msg.find(dir.string()), std::string::npos) << msg;
+      EXPECT_NE(msg.find(truncate ? "truncated" : "CRC mismatch"), std::string::npos) << msg;
+      EXPECT_NE(msg.find("at byte"), std::string::npos) << msg;
+    }
+  }
+}
+
+// A spacetime checkpoint without the blob (older takes) resumes as before: from the
+// "optimizer" state's theta, the trajectory rebuilt from its rollout.
+TEST(SoftJobResume, SpacetimeCheckpointWithoutItsBlobResumesAsBefore) {
+  ResumeTempDir tmp;
+  const std::filesystem::path dir = tmp.dir / "take";
+  run_soft_job(resume_worm(R"("method": "spacetime")", 1), dir, false);
+  Record ck;
+  ASSERT_TRUE(TakeReader(dir).latest(RecordKind::Checkpoint, &ck));
+  std::erase_if(ck.fields, [](const Field& f) { return f.name == "spacetime"; });
+  {
+    TakeWriter w = TakeWriter::reopen(dir);
+    w.append(ck);
+    w.finish("done");
+  }
+  const Scene scene = resume_worm(R"("method": "spacetime")", 2);
+  const nlohmann::json m = run_soft_job(scene, dir, true);
+  soft::SoftModel model = soft::soft_compile(scene);
+  soft::soft_bind(model);
+  soft::OptimizerState st = soft::optimizer_state_deserialize(field_bytes(*ck.find("optimizer")));
+  soft::spacetime_optimize(model.problem, model.spacetime, st);
+  EXPECT_EQ(m["iterations"], 2);
+  EXPECT_TRUE(job_bits_equal(m["objective_history"].get<std::vector<double>>(), st.history));
+}
+
+namespace {
+
+// The worm with a short navigation task: forward and left gaits optimized (hybrid,
+// `iterations` each; right is the left one mirrored), one controller period played.
+Scene resume_navigation(int iterations) {
+  Scene s = resume_worm(R"("method": "hybrid")", iterations);
+  s.doc["navigation"] = {{"goal_m", {0.4, 0.0}},     {"goal_tolerance_m", 0.1}, {"planning_time_s", 0.05},
+                         {"max_frames", 20},         {"speed_m_per_s", 0.05},  {"turn_rate_rad_per_s", 0.3}};
+  return s;
+}
+
+// Iteration of a checkpoint's gait optimizer blob (-1: none, or the gait is done).
+int gait_iteration(const Record& ck, const std::string& gait) {
+  const Field* f = ck.find("gait_optimizer_" + gait);
+  if (!f || ck.find("gait_theta_" + gait)) return -1;
+  return soft::optimizer_state_deserialize(field_bytes(*f)).iteration;
+}
+
+}  // namespace
+
+// Thrown by the progress sink once a navigation job's three gaits are done: the job
+// stops there as if killed (its take then ends with the gaits' last checkpoint), so
+// the tests skip the seconds the cost-to-go lattice of the plan takes.
+namespace {
+struct GaitsDone {};
+void stop_after_gaits(const ProgressReport& r) {
+  if (r.stage == "gaits" && r.iter == 3) throw GaitsDone{};
+}
+}  // namespace
+
+// A navigation job killed inside the left gait's optimization (after its second of
+// three iterations) continues that gait from its checkpoint ("gait_optimizer_left"),
+// not from the start: the resumed run's first checkpoint of that gait is its third
+// iteration, and the gaits' checkpoint at the end (thetas in f32 and f64, each
+// gait's optimizer record: history, rollouts, step kinds) is the uninterrupted job's
+// bit for bit. (The plan and frames follow from the gaits; RRT*'s time-limited
+// planned_path may differ run to run.)
+TEST(SoftJobResume, NavigationContinuesTheGaitItWasOptimizing) {
+  if (!soft::navigation_available()) GTEST_SKIP() << "built without OMPL";
+  const Scene scene = resume_navigation(3);
+  ResumeTempDir tmp;
+  EXPECT_THROW(run_soft_job(scene, tmp.dir / "whole", false, stop_after_gaits), GaitsDone);
+  const std::vector<Record> cks = checkpoints(tmp.dir / "whole");
+  size_t cut = cks.size();
+  for (size_t i = 0; i < cks.size() && cut == cks.size(); ++i)
+    if (gait_iteration(cks[i], "left") == 2) cut = i;
+  ASSERT_LT(cut, cks.size()) << "no checkpoint inside the left gait's optimization";
+  {
+    TakeWriter killed = TakeWriter::create(tmp.dir / "parts", Manifest{});
+    for (size_t i = 0; i <= cut; ++i) killed.append(cks[i]);
+  }
+  EXPECT_THROW(run_soft_job(scene, tmp.dir / "parts", true, stop_after_gaits), GaitsDone);
+  const std::vector<Record> after = checkpoints(tmp.dir / "parts");
+  int next = -1;  // the left gait's first iteration in the resumed run
+  for (size_t i = cut + 1; i < after.size() && next < 0; ++i) next = gait_iteration(after[i], "left");
+  EXPECT_EQ(next, 3);
+  const Record& lw = cks.back();
+  const Record& lr = after.back();
+  ASSERT_EQ(lw.fields.size(), lr.fields.size());
+  for (size_t i = 0; i < lw.fields.size(); ++i) {
+    EXPECT_EQ(lw.fields[i].name, lr.fields[i].name);
+    EXPECT_TRUE(job_bits_equal(lw.fields[i].data, lr.fields[i].data)) << lw.fields[i].name;
+  }
+  const Field* left = lw.find("gait_optimizer_left");
+  ASSERT_NE(left, nullptr);
+  EXPECT_EQ(soft::optimizer_state_deserialize(field_bytes(*left)).iteration, 3);
+}
+
+// A navigation checkpoint whose gait optimizer blob is damaged: --resume is an
+// InputError naming the take and the gait, before any work.
+TEST(SoftJobResume, DamagedGaitBlobIsAnInputErrorNamingTheTake) {
+  if (!soft::navigation_available()) GTEST_SKIP() << "built without OMPL";
+  const Scene scene = resume_navigation(3);
+  soft::SoftModel model = soft::soft_compile(scene);
+  soft::OptimizerState st;
+  st.theta = Eigen::VectorXd::Ones(model.problem.dmp.parameters());
+  st.history = {1.0};
+  Record ck;
+  ck.kind = RecordKind::Checkpoint;
+  ck.fields.push_back(bytes_field("gait_optimizer_forward", soft::optimizer_state_serialize(st)));
+  Field& f = ck.fields.back();
+  f.data[f.data.size() / 2] = std::bit_cast<float>(std::bit_cast<uint32_t>(f.data[f.data.size() / 2]) ^ 0x100u);
+  ResumeTempDir tmp;
+  {
+    TakeWriter killed = TakeWriter::create(tmp.dir / "bad", Manifest{});
+    killed.append(ck);
+  }
+  try {
+    run_soft_job(scene, tmp.dir / "bad", true);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find((tmp.dir / "bad").string()), std::string::npos) << msg;
+    EXPECT_NE(msg.find("forward"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("CRC mismatch"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("at byte"), std::string::npos) << msg;
+  }
 }

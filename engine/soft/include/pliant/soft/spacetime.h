@@ -77,6 +77,18 @@ struct SpacetimeReport {
   int steps = 0;                          // reduced_step calls
 };
 
+// What spacetime_optimize carries from one iteration to the next besides
+// OptimizerState (whose theta is the best re-simulated one, not the trajectory's) and
+// the report: with both restored (spacetime_state.h) a run continues bit for bit.
+struct SpacetimeCarry {
+  SpacetimeVars vars;      // the current point; no frames: start from st.theta's rollout
+  Eigen::VectorXd res;     // spacetime_residuals at vars and the weights below
+  double merit = 0;        // |res|^2 / 2
+  double w_dmp = 0;        // the adaptive DMP weight
+  double lambda = 0;       // LM damping
+  bool stopped = false;    // the last iteration ended the run (rejected at w_dmp_max)
+};
+
 // Trajectory and activations of the open-loop rollout of theta (zero violation, zero
 // DMP mismatch).
 SpacetimeVars spacetime_from_rollout(const Problem& p, const Eigen::VectorXd& theta);
@@ -104,11 +116,15 @@ Eigen::MatrixXd spacetime_jacobian(const Problem& p, const SpacetimeVars& v, dou
                                    double fd_step_m, JacobianKind kind = JacobianKind::Sensitivity);
 
 // Continues from st.theta (empty: initial_theta) until st.iteration reaches
-// s.max_iterations (a resumed run rebuilds the trajectory from theta's rollout and
-// starts w_dmp again); st.history holds the best
+// s.max_iterations; st.history holds the best
 // re-simulated objective so far (first: the initial theta's), st.theta the theta that
 // reached it, st.evaluations counts rollout equivalents (steps / frames).
+// carry (optional) is the state between iterations, kept current before every
+// on_iteration call (a checkpoint's): given with frames (a restored checkpoint, with
+// its report in *report and its OptimizerState in st) the run continues from it
+// exactly; without frames it starts from the rollout of st.theta at w_dmp_initial.
 void spacetime_optimize(const Problem& p, const SpacetimeSettings& s, OptimizerState& st,
-                        const IterationFn& on_iteration = {}, SpacetimeReport* report = nullptr);
+                        const IterationFn& on_iteration = {}, SpacetimeReport* report = nullptr,
+                        SpacetimeCarry* carry = nullptr);
 
 }  // namespace pliant::soft
