@@ -368,8 +368,56 @@ void optimizers(const std::string& scene, int iterations) {
       if (const char* e = std::getenv("SPACETIME_STALL")) ss.stall = std::atof(e);
       spacetime_optimize(p, ss, st, on_it, &rep);
     } else {
-      optimize([&p](const Eigen::VectorXd& th) { return residuals(p, th); }, os, st, on_it, problem_jacobian(p, os),
-               problem_residual_jacobian(p, os));
+      ResidualFn rf = [&p](const Eigen::VectorXd& th) { return residuals(p, th); };
+      JacobianFn jf = problem_jacobian(p, os);
+      ResidualJacobianFn ff = problem_residual_jacobian(p, os);
+      IterationFn it_fn = on_it;
+      // DEFERRED=0: the one-pass fused evaluation only (rejected trials pay for J).
+      if (const char* e = std::getenv("DEFERRED"); e && std::atoi(e) == 0) ff.deferred = {};
+      // OPT_TRACE=1: every evaluation (kind, objective, CPU s) and every iteration
+      // (objective, damping, radius, evaluations) on stderr, for profiling.
+      if (std::getenv("OPT_TRACE")) {
+        auto traced = [](const char* kind, double f, double c) {
+          std::fprintf(stderr, "trace eval %-8s f %.6e cpu %.4f\n", kind, f, c);
+        };
+        rf = [rf, traced](const Eigen::VectorXd& th) {
+          const double c = cpu_s();
+          Eigen::VectorXd r = rf(th);
+          traced("rollout", 0.5 * r.squaredNorm(), cpu_s() - c);
+          return r;
+        };
+        if (jf) jf = [jf, traced](const Eigen::VectorXd& th, const Eigen::VectorXd& r0) {
+          const double c = cpu_s();
+          Eigen::MatrixXd J = jf(th, r0);
+          traced("jacobian", 0.5 * r0.squaredNorm(), cpu_s() - c);
+          return J;
+        };
+        if (ff) ff.fused = [f = ff.fused, traced](const Eigen::VectorXd& th, Eigen::VectorXd& r) {
+          const double c = cpu_s();
+          Eigen::MatrixXd J = f(th, r);
+          traced("fused", 0.5 * r.squaredNorm(), cpu_s() - c);
+          return J;
+        };
+        if (ff.deferred) ff.deferred = [f = ff.deferred, traced](const Eigen::VectorXd& th, Eigen::VectorXd& r) {
+          const double c = cpu_s();
+          DeferredJacobian later = f(th, r);
+          const double fr = 0.5 * r.squaredNorm();
+          traced("rollout+", fr, cpu_s() - c);
+          return DeferredJacobian([later, traced, fr] {
+            const double c2 = cpu_s();
+            Eigen::MatrixXd J = later();
+            traced("+sens", fr, cpu_s() - c2);
+            return J;
+          });
+        };
+        it_fn = [on_it, c0](const OptimizerState& s) {
+          std::fprintf(stderr, "trace iter %d %-14s f %.6e (%.3f%%) lambda %.3e radius %.3e evals %d cpu %.3f\n",
+                       s.iteration, s.step_kinds.back().c_str(), s.objective, 100 * s.objective / s.history.front(),
+                       s.lambda, s.memory.radius, s.evaluations, cpu_s() - c0);
+          return on_it(s);
+        };
+      }
+      optimize(rf, os, st, it_fn, jf, ff);
     }
     const double wall = since(t0), cpu = cpu_s() - c0;
     // Re-simulate the optimized controller independently over the take length.

@@ -124,6 +124,9 @@ void optimize(const ResidualFn& rf, const OptimizerSettings& settings, Optimizer
               const IterationFn& on_iteration, const JacobianFn& jacobian, const ResidualJacobianFn& fused) {
   const int n = int(st.theta.size());
   const bool fuse = settings.fused_trials && static_cast<bool>(fused);
+  // Deferred sensitivities: a trial's rollout first, its Jacobian half only once the
+  // trial is accepted (same bits as the one-pass J, so the same path).
+  const bool defer = fuse && static_cast<bool>(fused.deferred);
   // Everything a later iteration reads lives in st.memory (optimizer.h), so the state
   // handed to on_iteration is complete: a checkpoint of it continues exactly.
   OptimizerMemory& mem = st.memory;
@@ -135,16 +138,26 @@ void optimize(const ResidualFn& rf, const OptimizerSettings& settings, Optimizer
   // Fused trials: the exact Jacobian at st.theta, from the evaluation that gave r
   // (empty when that evaluation's Jacobian was not finite).
   Eigen::MatrixXd& J_at = mem.J_at;
-  auto evaluate = [&](const Eigen::VectorXd& t, Eigen::MatrixXd& Jt) -> Eigen::VectorXd {
+  // Jt: the trial's Jacobian, or (deferred) `later` gives it; jacobian_of takes it.
+  auto evaluate = [&](const Eigen::VectorXd& t, Eigen::MatrixXd& Jt, DeferredJacobian& later) -> Eigen::VectorXd {
     ++st.evaluations;
     if (!fuse) return rf(t);
     Eigen::VectorXd rt;
-    Jt = fused(t, rt);
-    if (!Jt.allFinite()) Jt.resize(0, 0);
+    if (defer) later = fused.deferred(t, rt);
+    else Jt = fused(t, rt);
     return rt;
   };
+  auto jacobian_of = [](Eigen::MatrixXd& Jt, DeferredJacobian& later) -> Eigen::MatrixXd {
+    if (later) Jt = later(), later = {};
+    if (!Jt.allFinite()) Jt.resize(0, 0);
+    return std::move(Jt);
+  };
   Eigen::VectorXd& r = mem.r;
-  if (!resumed) r = evaluate(st.theta, J_at), mem.theta = st.theta;
+  if (!resumed) {
+    DeferredJacobian later;
+    r = evaluate(st.theta, J_at, later), mem.theta = st.theta;
+    J_at = jacobian_of(J_at, later);
+  }
   // The point J_at belongs to: reused only while it is st.theta.
   Eigen::VectorXd J_at_theta = st.theta;
   st.objective = 0.5 * r.squaredNorm();
@@ -178,9 +191,30 @@ void optimize(const ResidualFn& rf, const OptimizerSettings& settings, Optimizer
   // kept so the accepted point's residuals and Jacobian need no second pass.
   Eigen::VectorXd ls_x, ls_r;
   Eigen::MatrixXd ls_J;
+  // The search's start, direction, f0 and g.d (deferred sensitivities: see below).
+  Eigen::VectorXd ls_xp, ls_d;
+  double ls_f0 = 0, ls_dg = 0;
+  const bool ls_backtracking = s.lbfgs_line_search == OptimizerSettings::LineSearch::Wolfe ||
+                               s.lbfgs_line_search == OptimizerSettings::LineSearch::StrongWolfe;
+  LBFGSpp::LBFGSParam<double> ls_param;
+  ls_param.max_linesearch = 20;
   auto f_and_grad = [&](const Eigen::VectorXd& x, Eigen::VectorXd& grad) -> double {
     ++st.evaluations;
-    if (fused) {
+    if (defer && ls_backtracking) {
+      // LBFGS++'s backtracking search reads the gradient only where Armijo's condition
+      // f <= f0 + c1 step g.d holds; where it fails by a clear margin (half the asked
+      // decrease, so the step recovered from x cannot flip the test) J is not formed.
+      DeferredJacobian later = fused.deferred(x, ls_r);
+      ls_x = x;
+      const double fx = 0.5 * ls_r.squaredNorm();
+      const double step = ls_d.squaredNorm() > 0 ? (x - ls_xp).dot(ls_d) / ls_d.squaredNorm() : 0;
+      if (std::isfinite(fx) && fx > ls_f0 + 0.5 * step * ls_param.ftol * ls_dg) {
+        ls_J.resize(0, 0);
+        grad.setZero(n);
+        return fx;
+      }
+      ls_J = later ? later() : Eigen::MatrixXd();
+    } else if (fused) {
       ls_J = fused(x, ls_r);
     } else {
       ls_r = rf(x);
@@ -208,14 +242,14 @@ void optimize(const ResidualFn& rf, const OptimizerSettings& settings, Optimizer
   // st.theta, r, st.objective, J_at. A search that throws (no Wolfe point in 20 trials,
   // step out of range) or ends without a decrease fails.
   auto wolfe_step = [&](const Eigen::VectorXd& d, const Eigen::VectorXd& g, double f0, Eigen::VectorXd& r) {
-    LBFGSpp::LBFGSParam<double> param;
-    param.max_linesearch = 20;
+    LBFGSpp::LBFGSParam<double>& param = ls_param;
     param.linesearch = s.lbfgs_line_search == OptimizerSettings::LineSearch::Wolfe
                            ? LBFGSpp::LBFGS_LINESEARCH_BACKTRACKING_WOLFE
                            : LBFGSpp::LBFGS_LINESEARCH_BACKTRACKING_STRONG_WOLFE;
     Eigen::VectorXd x = st.theta, grad = g;
     const Eigen::VectorXd xp = st.theta;
     double fx = f0, step = 1;
+    ls_xp = xp, ls_d = d, ls_f0 = f0, ls_dg = g.dot(d);
     try {
       switch (s.lbfgs_line_search) {
         case OptimizerSettings::LineSearch::Bracketing:
@@ -289,7 +323,8 @@ void optimize(const ResidualFn& rf, const OptimizerSettings& settings, Optimizer
         if (trust && radius < 0) radius = len;
         const Eigen::VectorXd t = st.theta + d;
         Eigen::MatrixXd Jt;
-        const Eigen::VectorXd rn = evaluate(t, Jt);
+        DeferredJacobian later;
+        const Eigen::VectorXd rn = evaluate(t, Jt, later);
         const double fn = 0.5 * rn.squaredNorm();
         if (std::isfinite(fn) && fn < f0) {
           if (s.broyden_reuse > 0 && !fuse) broyden_update(J, d, rn - r);
@@ -304,7 +339,7 @@ void optimize(const ResidualFn& rf, const OptimizerSettings& settings, Optimizer
           }
           last_lm_step = d.norm();
           st.theta = t, r = rn, st.objective = fn;
-          J_at = std::move(Jt), J_at_theta = st.theta;
+          J_at = jacobian_of(Jt, later), J_at_theta = st.theta;
           accepted = true;
         } else {
           // Trust region: half the failed step's length (its lambda grows as needed:
@@ -364,11 +399,12 @@ void optimize(const ResidualFn& rf, const OptimizerSettings& settings, Optimizer
           for (int ls = 0; ls < 20; ++ls) {
             const Eigen::VectorXd t = st.theta + alpha * d;
             Eigen::MatrixXd Jt;
-            const Eigen::VectorXd rn = evaluate(t, Jt);
+            DeferredJacobian later;
+            const Eigen::VectorXd rn = evaluate(t, Jt, later);
             const double fn = 0.5 * rn.squaredNorm();
             if (std::isfinite(fn) && fn <= f0 + 1e-4 * alpha * g.dot(d) && fn < f0) {
               st.theta = t, r = rn, st.objective = fn;
-              J_at = std::move(Jt), J_at_theta = st.theta;
+              J_at = jacobian_of(Jt, later), J_at_theta = st.theta;
               accepted = true;
               break;
             }

@@ -24,6 +24,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <vector>
 
 #include "pliant/soft/fem.h"
@@ -277,19 +278,44 @@ void perturbed_frames(const std::vector<SoftState>& frames, const std::vector<Ma
 
 }  // namespace
 
-MatrixXd sensitivity_jacobian(const Problem& p, const VectorXd& theta, VectorXd* r_out) {
+namespace {
+
+// The rollout half of the pass: frames[f] is the state after step f + 1; returns how
+// many steps did not converge. The buffers of `frames` are reused.
+int rollout_frames(const Problem& p, const VectorXd& theta, std::vector<SoftState>& frames) {
   const Character& ch = *p.character;
-  const SerialEigenProducts serial;
+  const double dt = p.sim.dt_s, a_max = max_activation_m(ch, p.dmp);
+  JacobianWork& w = jacobian_work();
+  SoftState& s = w.s;
+  s = initial_state(ch, p.start_offset_m, Vector3d::Zero(), dt);
+  DmpState dmp = dmp_init(p.dmp);
+  frames.resize(p.frames);
+  int unconverged = 0;
+  for (int f = 0; f < p.frames; ++f) {
+    control_force(ch, dmp_step(p.dmp, theta, dt, dmp), a_max, w.u);
+    StepStats st;
+    reduced_step(ch, p.env, p.sim, w.u, s, &st);
+    if (!st.converged) ++unconverged;
+    frames[f] = s;
+  }
+  return unconverged;
+}
+
+// The sensitivity half: dr/dtheta from a rollout's frames (rollout_frames), the same
+// arithmetic on the same states as when interleaved with the steps, so the same bits.
+MatrixXd jacobian_from_frames(const Problem& p, const VectorXd& theta, const std::vector<SoftState>& frames,
+                              VectorXd* r0_out) {
+  const Character& ch = *p.character;
   const Lattice& lat = ch.lattice;
   const int n = lat.nodes(), r = ch.basis.r(), nt = int(theta.size()), modes = p.dmp.modes;
   const int F = p.frames, mr = std::min(modes, r);
   const double dt = p.sim.dt_s, a_max = max_activation_m(ch, p.dmp);
+  const SerialEigenProducts serial;
   const int threads = column_threads(serial.threads, 3L * n, nt);
 
   JacobianWork& w = jacobian_work();
   StepSensitivityWork& sw = step_sensitivity_work();
-  SoftState& s = w.s;
-  s = initial_state(ch, p.start_offset_m, Vector3d::Zero(), dt);
+  w.start = initial_state(ch, p.start_offset_m, Vector3d::Zero(), dt);
   DmpState dmp = dmp_init(p.dmp);
   w.unit_dmp.resize(nt);
   w.unit_theta.resize(nt);
@@ -298,15 +324,13 @@ MatrixXd sensitivity_jacobian(const Problem& p, const VectorXd& theta, VectorXd*
     w.unit_theta[i].setZero(nt);
     w.unit_theta[i][i] = 1;
   }
-  w.frames.resize(F), w.sens.resize(F);
+  w.sens.resize(F);
   w.X1.setZero(3 * n, nt), w.X2.setZero(3 * n, nt);  // dx/dtheta of frames f-1, f-2
   w.Q1.setZero(r, nt);                                // dq/dtheta of frame f-1
   w.dudt.resize(r, nt), w.unit_y.resize(mr, nt);
-  int unconverged = 0;
 
   for (int f = 0; f < F; ++f) {
     const VectorXd& y = dmp_step(p.dmp, theta, dt, dmp);
-    control_force(ch, y, a_max, w.u);
     // dy/dtheta: the DMP (linear in theta) run on the unit vectors.
 #pragma omp parallel for schedule(static) num_threads(threads) if (threads > 1)
     for (int i = 0; i < nt; ++i) w.unit_y.col(i) = dmp_step(p.dmp, w.unit_theta[i], dt, w.unit_dmp[i]).head(mr);
@@ -315,11 +339,8 @@ MatrixXd sensitivity_jacobian(const Problem& p, const VectorXd& theta, VectorXd*
       const double th = std::tanh(y[k] / a_max);
       w.dudt.row(k) = (ch.basis.omega2[k] * (1 - th * th) / ch.mode_scale[k]) * w.unit_y.row(k);
     }
-    w.start = s;
-    StepStats st;
-    reduced_step(ch, p.env, p.sim, w.u, s, &st);
-    if (!st.converged) ++unconverged;
-    step_sensitivity_into(ch, p.env, p.sim, w.start, s, w.X1, w.X2, w.Q1, w.dudt, threads, sw);
+    const SoftState& start = f ? frames[f - 1] : w.start;
+    step_sensitivity_into(ch, p.env, p.sim, start, frames[f], w.X1, w.X2, w.Q1, w.dudt, threads, sw);
     w.X2.swap(w.X1);
     const int blocks = (nt + kColumnBlock - 1) / kColumnBlock;
 #pragma omp parallel for schedule(static) num_threads(threads) if (threads > 1)
@@ -328,10 +349,8 @@ MatrixXd sensitivity_jacobian(const Problem& p, const VectorXd& theta, VectorXd*
       w.X1.middleCols(c0, nc).noalias() = sw.J * sw.S.middleCols(c0, nc);
     }
     w.Q1 = sw.S.topRows(r);
-    w.frames[f] = s;
     w.sens[f] = sw.S;
   }
-  const std::vector<SoftState>& frames = w.frames;
 
   // dr/dtheta = sum_f dr/dz_f dz_f/dtheta + dr/dtheta|direct: central differences of
   // the frames -> residuals map along each column, a perturbation of ~1e-5 cells.
@@ -359,11 +378,19 @@ MatrixXd sensitivity_jacobian(const Problem& p, const VectorXd& theta, VectorXd*
       Jr(r0.size() - nt + i, i) += std::sqrt(p.obj.w_effort);
     }
   }
-  if (r_out) {
-    *r_out = r0;
-    if (unconverged > 0) r_out->setConstant(std::numeric_limits<double>::quiet_NaN());
-  }
+  if (r0_out) *r0_out = r0;
   return Jr;
+}
+
+}  // namespace
+
+MatrixXd sensitivity_jacobian(const Problem& p, const VectorXd& theta, VectorXd* r_out) {
+  const SerialEigenProducts serial;
+  JacobianWork& w = jacobian_work();
+  const int unconverged = rollout_frames(p, theta, w.frames);
+  MatrixXd J = jacobian_from_frames(p, theta, w.frames, r_out);
+  if (r_out && unconverged > 0) r_out->setConstant(std::numeric_limits<double>::quiet_NaN());
+  return J;
 }
 
 JacobianFn problem_jacobian(const Problem& p, const OptimizerSettings& s) {
@@ -379,7 +406,20 @@ JacobianFn problem_jacobian(const Problem& p, const OptimizerSettings& s) {
 ResidualJacobianFn problem_residual_jacobian(const Problem& p, const OptimizerSettings& s) {
   if (s.jacobian != JacobianKind::Sensitivity || !s.fused_trials) return {};
   const Problem* pp = &p;
-  return [pp](const VectorXd& th, VectorXd& r) { return sensitivity_jacobian(*pp, th, &r); };
+  ResidualJacobianFn f = [pp](const VectorXd& th, VectorXd& r) { return sensitivity_jacobian(*pp, th, &r); };
+  // The two halves apart: a trial that is rejected never pays for its sensitivities.
+  // Each trial owns its frames (60 small states on the spider), so several may wait.
+  f.deferred = [pp](const VectorXd& th, VectorXd& r) -> DeferredJacobian {
+    auto frames = std::make_shared<std::vector<SoftState>>();
+    const int unconverged = rollout_frames(*pp, th, *frames);
+    r = trajectory_residuals(*pp, *frames, th);
+    if (unconverged > 0) {
+      r.setConstant(std::numeric_limits<double>::quiet_NaN());
+      return [] { return MatrixXd(); };
+    }
+    return [pp, th, frames] { return jacobian_from_frames(*pp, th, *frames, nullptr); };
+  };
+  return f;
 }
 
 }  // namespace pliant::soft

@@ -22,6 +22,8 @@
 #include <deque>
 #include <functional>
 #include <string>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 namespace pliant::soft {
@@ -154,8 +156,24 @@ using ResidualFn = std::function<Eigen::VectorXd(const Eigen::VectorXd&)>;
 using IterationFn = std::function<bool(const OptimizerState&)>;
 // J(theta) given r0 = r(theta); an empty result means "use finite differences".
 using JacobianFn = std::function<Eigen::MatrixXd(const Eigen::VectorXd& theta, const Eigen::VectorXd& r0)>;
+// J at the point of an evaluation already made, computed when called (deferred).
+using DeferredJacobian = std::function<Eigen::MatrixXd()>;
 // r(theta) and J(theta) from one pass (settings.fused_trials): writes r, returns J.
-using ResidualJacobianFn = std::function<Eigen::MatrixXd(const Eigen::VectorXd& theta, Eigen::VectorXd& r)>;
+// Optionally `deferred`: the same pass in two halves, r now (writes r) and J from the
+// returned function (empty J: none), with the same bits as the one-pass J; optimize()
+// then pays for J only at accepted points (an LM trial that lowers the objective, a
+// line-search point that meets Armijo's condition).
+struct ResidualJacobianFn {
+  using Fused = std::function<Eigen::MatrixXd(const Eigen::VectorXd& theta, Eigen::VectorXd& r)>;
+  Fused fused;
+  std::function<DeferredJacobian(const Eigen::VectorXd& theta, Eigen::VectorXd& r)> deferred;
+  ResidualJacobianFn() = default;
+  template <class F, class = std::enable_if_t<!std::is_same_v<std::decay_t<F>, ResidualJacobianFn> &&
+                                              std::is_constructible_v<Fused, F>>>
+  ResidualJacobianFn(F f) : fused(std::move(f)) {}  // NOLINT: a lambda converts, as before
+  Eigen::MatrixXd operator()(const Eigen::VectorXd& theta, Eigen::VectorXd& r) const { return fused(theta, r); }
+  explicit operator bool() const { return static_cast<bool>(fused); }
+};
 
 // Continues from `state` (theta set; history may hold a resumed run). jacobian
 // (optional) replaces the finite-difference Jacobian; it counts as one rollout.
