@@ -118,6 +118,13 @@ bool memory_consistent(const OptimizerMemory& m, int n) {
     if (m.S[i].size() != n || m.Y[i].size() != n) return false;
   return true;
 }
+
+// Iterations at the end of kinds[from..] that accepted nothing ("...-rejected").
+int trailing_rejections(const std::vector<std::string>& kinds, size_t from) {
+  int n = 0;
+  for (size_t i = kinds.size(); i > from && kinds[i - 1].ends_with("-rejected"); --i) ++n;
+  return n;
+}
 }  // namespace
 
 void optimize(const ResidualFn& rf, const OptimizerSettings& settings, OptimizerState& st,
@@ -271,8 +278,17 @@ void optimize(const ResidualFn& rf, const OptimizerSettings& settings, Optimizer
     J_at = ls_J, J_at_theta = st.theta;
     return true;
   };
+  // Rejections that end the run: pure LM and L-BFGS stop at a wholly rejected
+  // iteration; the hybrid after three in a row, since the third began from a fresh LM
+  // damping or an empty L-BFGS memory at the same theta, so every later iteration would
+  // repeat one of the last two exactly (up to 12 or 20 rollouts each, for nothing).
+  // Read from step_kinds, so a resumed run stops where the uninterrupted one does; a
+  // run without exact memory (new, or its scene changed) counts only its own.
+  const size_t kinds_from = resumed ? 0 : st.step_kinds.size();
+  const int stop_rejections = s.kind == OptimizerKind::Hybrid ? 3 : 1;
   while (st.iteration < s.max_iterations) {
     if (st.objective <= s.tolerance * f_initial || (s.target >= 0 && st.objective <= s.target)) break;
+    if (trailing_rejections(st.step_kinds, kinds_from) >= stop_rejections) break;
     const double f0 = st.objective;
     bool accepted = false;
     std::string kind;
@@ -442,7 +458,6 @@ void optimize(const ResidualFn& rf, const OptimizerSettings& settings, Optimizer
     st.history.push_back(st.objective);
     st.step_kinds.push_back(accepted ? kind : kind + "-rejected");
     if (on_iteration && !on_iteration(st)) break;
-    if (!accepted && s.kind != OptimizerKind::Hybrid) break;
   }
 }
 

@@ -96,3 +96,36 @@ TEST(Optimizer, BroydenReuseReachesRosenbrockMinimumWithFewerRollouts) {
   }
   EXPECT_LT(evals[1], evals[0]);
 }
+
+// The hybrid at a minimum it cannot improve on (the damping residual keeps it above
+// zero, so the tolerance is never met) stops after three wholly rejected iterations:
+// LM, L-BFGS and LM again from a fresh damping at the same theta, after which each
+// iteration would repeat one of the last two (before: up to 12 + 20 rollouts per
+// iteration until max_iterations). Called again on its state it does nothing more.
+TEST(Optimizer, HybridStopsOnceItOnlyRepeatsRejectedIterations) {
+  for (const auto damping : {OptimizerSettings::Damping::Marquardt, OptimizerSettings::Damping::TrustRegion}) {
+    SCOPED_TRACE(damping == OptimizerSettings::Damping::Marquardt ? "marquardt" : "trust region");
+    OptimizerSettings s;
+    s.kind = OptimizerKind::Hybrid;
+    s.max_iterations = 200;
+    s.tolerance = 1e-12;
+    s.lm_damping = damping;
+    OptimizerState st;
+    st.theta = Eigen::VectorXd::Constant(6, -1.2);
+    const JacobianFn exact = [](const Eigen::VectorXd& x, const Eigen::VectorXd&) {
+      return test::rosenbrock_jacobian(x);
+    };
+    optimize(rosenbrock, s, st, {}, exact);
+    EXPECT_LT(st.iteration, 60);
+    ASSERT_GE(st.step_kinds.size(), 4u);
+    const size_t k = st.step_kinds.size();
+    for (size_t i = k - 3; i < k; ++i) EXPECT_TRUE(st.step_kinds[i].ends_with("-rejected")) << st.step_kinds[i];
+    EXPECT_FALSE(st.step_kinds[k - 4].ends_with("-rejected")) << st.step_kinds[k - 4];
+    const Eigen::VectorXd g = test::rosenbrock_jacobian(st.theta).transpose() * rosenbrock(st.theta);
+    EXPECT_LT(g.norm(), 1e-6);  // a stationary point: nothing left to gain
+    const int evaluations = st.evaluations, iterations = st.iteration;
+    optimize(rosenbrock, s, st, {}, exact);  // a resume of the finished run
+    EXPECT_EQ(st.iteration, iterations);
+    EXPECT_EQ(st.evaluations, evaluations);
+  }
+}

@@ -122,7 +122,9 @@ nlohmann::json expect_exact_resume(const Scene& scene, const std::function<int(c
   EXPECT_TRUE(TakeReader(tmp.dir / "parts").latest(RecordKind::Checkpoint, &lr));
   for (const char* blob : {"optimizer", "spacetime"}) {
     EXPECT_EQ(lw.find(blob) != nullptr, lr.find(blob) != nullptr) << blob;
-    if (lw.find(blob) && lr.find(blob)) EXPECT_TRUE(job_bits_equal(lw.find(blob)->data, lr.find(blob)->data)) << blob;
+    if (lw.find(blob) && lr.find(blob)) {
+      EXPECT_TRUE(job_bits_equal(lw.find(blob)->data, lr.find(blob)->data)) << blob;
+    }
   }
   return whole;
 }

@@ -178,7 +178,9 @@ struct ResidualJacobianFn {
 // Continues from `state` (theta set; history may hold a resumed run). jacobian
 // (optional) replaces the finite-difference Jacobian; it counts as one rollout.
 // fused (optional) is used when s.fused_trials is set; a fused evaluation counts as
-// one rollout.
+// one rollout. Stops at s.max_iterations, at s.tolerance x the initial objective or
+// s.target, after a wholly rejected iteration (LM, L-BFGS) or three in a row (hybrid:
+// from there it would only repeat itself).
 void optimize(const ResidualFn& r, const OptimizerSettings& s, OptimizerState& state,
               const IterationFn& on_iteration = {}, const JacobianFn& jacobian = {},
               const ResidualJacobianFn& fused = {});
