@@ -11,12 +11,11 @@
 //           u64 pairs, per pair vec s + vec y  vec g_prev  vec theta_prev
 //   vec = u64 n + n f64; mat = u64 rows + u64 cols + rows x cols f64 (column-major).
 // Up to 3 zero bytes may follow the body (a take field's padding to 4 bytes).
-#include <cstring>
 #include <stdexcept>
 #include <string>
 
-#include "pliant/core/byte_stream.h"
-#include "pliant/core/crc32.h"
+#include "eigen_bytes.h"
+#include "pliant/core/framed_blob.h"
 #include "pliant/soft/optimizer.h"
 
 namespace pliant::soft {
@@ -24,19 +23,7 @@ namespace {
 
 constexpr uint32_t kMagic = 0x4f534c50;  // "PLSO"
 constexpr uint32_t kVersion = 1;
-constexpr size_t kHeaderBytes = 24;
 constexpr uint32_t kMaxStepKind = 64;
-
-void put_vec(std::vector<uint8_t>& b, const Eigen::VectorXd& v) {
-  append_value<uint64_t>(b, uint64_t(v.size()));
-  append_doubles(b, v.data(), size_t(v.size()));
-}
-
-void put_mat(std::vector<uint8_t>& b, const Eigen::MatrixXd& m) {
-  append_value<uint64_t>(b, uint64_t(m.rows()));
-  append_value<uint64_t>(b, uint64_t(m.cols()));
-  append_doubles(b, m.data(), size_t(m.size()));
-}
 
 int32_t get_count(ByteReader& r, const char* what) {
   const int32_t v = r.get<int32_t>();
@@ -44,44 +31,15 @@ int32_t get_count(ByteReader& r, const char* what) {
   return v;
 }
 
-// A vector of n doubles; `want` >= 0: its size must be 0 or want.
-Eigen::VectorXd get_vec(ByteReader& r, const char* what, int64_t want = -1) {
-  const uint64_t n = r.get_length<double>(what);
-  if (want >= 0 && n != 0 && n != uint64_t(want))
-    r.bad(std::string(what) + " has " + std::to_string(n) + " values, expected " + std::to_string(want));
-  Eigen::VectorXd v(static_cast<Eigen::Index>(n));
-  r.get_values(v.data(), n);
-  return v;
-}
-
-// Empty, or rows x cols.
-Eigen::MatrixXd get_mat(ByteReader& r, const char* what, int64_t rows, int64_t cols) {
-  const uint64_t nr = r.get<uint64_t>(), nc = r.get<uint64_t>();
-  const bool empty = nr == 0 || nc == 0;
-  if (!empty && (nr != uint64_t(rows) || nc != uint64_t(cols)))
-    r.bad(std::string(what) + " is " + std::to_string(nr) + " x " + std::to_string(nc) + ", expected " +
-          std::to_string(rows) + " x " + std::to_string(cols));
-  if (!empty && nr > r.remaining() / sizeof(double) / nc) r.bad(std::string(what) + " longer than the data");
-  Eigen::MatrixXd m(static_cast<Eigen::Index>(empty ? 0 : nr), static_cast<Eigen::Index>(empty ? 0 : nc));
-  r.get_values(m.data(), size_t(m.size()));
-  return m;
-}
-
 }  // namespace
 
 std::vector<uint8_t> optimizer_state_serialize(const OptimizerState& s, uint32_t tag) {
-  std::vector<uint8_t> b;
   const OptimizerMemory& m = s.memory;
-  size_t reserve = kHeaderBytes + 256 + 8 * size_t(s.theta.size() + s.history.size() + m.theta.size() + m.r.size() +
+  size_t reserve = 256 + 8 * size_t(s.theta.size() + s.history.size() + m.theta.size() + m.r.size() +
                                                    m.J.size() + m.J_at.size() + m.g_prev.size() + m.theta_prev.size());
   for (size_t i = 0; i < m.S.size(); ++i) reserve += 16 + 8 * size_t(m.S[i].size() + m.Y[i].size());
   for (const auto& k : s.step_kinds) reserve += 4 + k.size();
-  b.reserve(reserve);
-  append_value(b, kMagic);
-  append_value(b, kVersion);
-  append_value<uint64_t>(b, 0);  // body bytes, set below
-  append_value<uint32_t>(b, 0);  // CRC, set below
-  append_value<uint32_t>(b, tag);
+  std::vector<uint8_t> b = framed_blob_start(kMagic, kVersion, tag, reserve);
   append_value<int32_t>(b, s.iteration);
   append_value<int32_t>(b, s.evaluations);
   append_value<int32_t>(b, s.lbfgs_restarts_used);
@@ -110,29 +68,13 @@ std::vector<uint8_t> optimizer_state_serialize(const OptimizerState& s, uint32_t
   for (size_t i = 0; i < m.S.size(); ++i) put_vec(b, m.S[i]), put_vec(b, m.Y[i]);
   put_vec(b, m.g_prev);
   put_vec(b, m.theta_prev);
-  const uint64_t body = b.size() - kHeaderBytes;
-  const uint32_t crc = crc32(b.data() + kHeaderBytes, body);
-  std::memcpy(b.data() + 8, &body, 8);
-  std::memcpy(b.data() + 16, &crc, 4);
+  framed_blob_finish(b);
   return b;
 }
 
 OptimizerState optimizer_state_deserialize(const std::vector<uint8_t>& bytes, uint32_t* tag) {
   ByteReader r(bytes, "soft optimizer checkpoint");
-  if (r.get<uint32_t>() != kMagic) r.bad("not a soft optimizer state (bad magic)");
-  const uint32_t version = r.get<uint32_t>();
-  if (version != kVersion) r.bad("unsupported version " + std::to_string(version));
-  const uint64_t body = r.get<uint64_t>();
-  const uint32_t crc = r.get<uint32_t>();
-  const uint32_t t = r.get<uint32_t>();
-  if (body > bytes.size() - kHeaderBytes)
-    r.bad("truncated: the body has " + std::to_string(bytes.size() - kHeaderBytes) + " of its " +
-          std::to_string(body) + " bytes");
-  if (bytes.size() - kHeaderBytes - body > 3) r.bad("trailing bytes");
-  for (size_t i = kHeaderBytes + body; i < bytes.size(); ++i)
-    if (bytes[i] != 0) r.bad("trailing bytes");
-  r.set_end(kHeaderBytes + body);
-  if (crc32(bytes.data() + kHeaderBytes, body) != crc) r.bad("CRC mismatch (damaged data)");
+  const uint32_t t = framed_blob_open(bytes, r, kMagic, kVersion, "soft optimizer state");
 
   OptimizerState s;
   s.iteration = get_count(r, "iteration");

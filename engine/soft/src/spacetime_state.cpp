@@ -11,30 +11,17 @@
 //   vec = u64 n + n f64; mat = u64 rows + u64 cols + rows x cols f64 (column-major).
 #include "pliant/soft/spacetime_state.h"
 
-#include <cstring>
 #include <stdexcept>
 #include <string>
 
-#include "pliant/core/byte_stream.h"
-#include "pliant/core/crc32.h"
+#include "eigen_bytes.h"
+#include "pliant/core/framed_blob.h"
 
 namespace pliant::soft {
 namespace {
 
 constexpr uint32_t kMagic = 0x54534c50;  // "PLST"
 constexpr uint32_t kVersion = 1;
-constexpr size_t kHeaderBytes = 24;
-
-void put_vec(std::vector<uint8_t>& b, const Eigen::VectorXd& v) {
-  append_value<uint64_t>(b, uint64_t(v.size()));
-  append_doubles(b, v.data(), size_t(v.size()));
-}
-
-Eigen::VectorXd get_vec(ByteReader& r, const char* what) {
-  Eigen::VectorXd v(static_cast<Eigen::Index>(r.get_length<double>(what)));
-  r.get_values(v.data(), size_t(v.size()));
-  return v;
-}
 
 // A report series: one value per iteration and the initial one.
 std::vector<double> get_series(ByteReader& r, const char* what, int iteration) {
@@ -56,14 +43,8 @@ std::vector<uint8_t> spacetime_checkpoint_serialize(const SpacetimeCheckpoint& c
       throw std::invalid_argument("spacetime_checkpoint_serialize: frames of different sizes");
   if (k.vars.act.cols() != Eigen::Index(k.vars.frames.size()))
     throw std::invalid_argument("spacetime_checkpoint_serialize: activations and frames disagree");
-  std::vector<uint8_t> b;
-  b.reserve(kHeaderBytes + 128 + k.vars.frames.size() * (12 + 8 * size_t(2 * r + 24)) +
+  std::vector<uint8_t> b = framed_blob_start(kMagic, kVersion, tag, 128 + k.vars.frames.size() * (12 + 8 * size_t(2 * r + 24)) +
             8 * size_t(k.vars.act.size() + k.vars.theta.size() + k.res.size() + 5 * rep.merit.size()));
-  append_value(b, kMagic);
-  append_value(b, kVersion);
-  append_value<uint64_t>(b, 0);  // body bytes, set below
-  append_value<uint32_t>(b, 0);  // CRC, set below
-  append_value<uint32_t>(b, tag);
   append_value<int32_t>(b, c.iteration);
   append_value<int32_t>(b, rep.steps);
   append_value<uint8_t>(b, k.stopped ? 1 : 0);
@@ -82,36 +63,19 @@ std::vector<uint8_t> spacetime_checkpoint_serialize(const SpacetimeCheckpoint& c
     append_doubles(b, s.c.data(), 3);
     append_doubles(b, s.c_prev.data(), 3);
   }
-  append_value<uint64_t>(b, uint64_t(k.vars.act.rows()));
-  append_value<uint64_t>(b, uint64_t(k.vars.act.cols()));
-  append_doubles(b, k.vars.act.data(), size_t(k.vars.act.size()));
+  put_mat(b, k.vars.act);
   put_vec(b, k.vars.theta);
   put_vec(b, k.res);
   for (const std::vector<double>* v : {&rep.merit, &rep.physics_violation, &rep.dmp_mismatch, &rep.w_dmp,
                                        &rep.resimulated})
     append_array(b, *v);
-  const uint64_t body = b.size() - kHeaderBytes;
-  const uint32_t crc = crc32(b.data() + kHeaderBytes, body);
-  std::memcpy(b.data() + 8, &body, 8);
-  std::memcpy(b.data() + 16, &crc, 4);
+  framed_blob_finish(b);
   return b;
 }
 
 SpacetimeCheckpoint spacetime_checkpoint_deserialize(const std::vector<uint8_t>& bytes, uint32_t* tag) {
   ByteReader r(bytes, "soft spacetime checkpoint");
-  if (r.get<uint32_t>() != kMagic) r.bad("not a spacetime state (bad magic)");
-  const uint32_t version = r.get<uint32_t>();
-  if (version != kVersion) r.bad("unsupported version " + std::to_string(version));
-  const uint64_t body = r.get<uint64_t>();
-  const uint32_t crc = r.get<uint32_t>();
-  const uint32_t t = r.get<uint32_t>();
-  if (body > bytes.size() - kHeaderBytes)
-    r.bad("truncated: the body has " + std::to_string(bytes.size() - kHeaderBytes) + " of its " +
-          std::to_string(body) + " bytes");
-  for (size_t i = kHeaderBytes + body; i < bytes.size(); ++i)
-    if (bytes[i] != 0 || bytes.size() - kHeaderBytes - body > 3) r.bad("trailing bytes");
-  r.set_end(kHeaderBytes + body);
-  if (crc32(bytes.data() + kHeaderBytes, body) != crc) r.bad("CRC mismatch (damaged data)");
+  const uint32_t t = framed_blob_open(bytes, r, kMagic, kVersion, "spacetime state");
 
   SpacetimeCheckpoint c;
   SpacetimeCarry& k = c.carry;
