@@ -58,6 +58,30 @@ bool job_bits_equal(const std::vector<double>& a, const std::vector<double>& b) 
   return true;
 }
 
+// ck becomes the take's latest checkpoint (appended, the take closed).
+void append_checkpoint(const std::filesystem::path& dir, const Record& ck) {
+  TakeWriter w = TakeWriter::reopen(dir);
+  w.append(ck);
+  w.finish("done");
+}
+
+// ck's blob field `name` cut to half its length, or one bit of it flipped. False if
+// ck has no such field.
+bool damage_blob(Record& ck, const std::string& name, bool truncate) {
+  for (Field& f : ck.fields) {
+    if (f.name != name) continue;
+    if (truncate) {
+      f.data.resize(f.data.size() / 2);
+      f.shape = {uint32_t(f.data.size())};
+    } else {
+      const uint32_t w = std::bit_cast<uint32_t>(f.data[f.data.size() / 2]);
+      f.data[f.data.size() / 2] = std::bit_cast<float>(w ^ 0x100u);
+    }
+    return true;
+  }
+  return false;
+}
+
 bool job_bits_equal(const std::vector<float>& a, const std::vector<float>& b) {
   if (a.size() != b.size()) return false;
   for (size_t i = 0; i < a.size(); ++i)
@@ -184,22 +208,8 @@ TEST(SoftJobResume, DamagedOrTruncatedCheckpointIsAnInputErrorNamingTheTake) {
     run_soft_job(resume_worm(R"("method": "hybrid")", 2), dir, false);
     Record ck;
     ASSERT_TRUE(TakeReader(dir).latest(RecordKind::Checkpoint, &ck));
-    Field* blob = nullptr;
-    for (Field& f : ck.fields)
-      if (f.name == "optimizer") blob = &f;
-    ASSERT_NE(blob, nullptr);
-    if (truncate) {
-      blob->data.resize(blob->data.size() / 2);
-      blob->shape = {uint32_t(blob->data.size())};
-    } else {
-      uint32_t w = std::bit_cast<uint32_t>(blob->data[blob->data.size() / 2]);
-      blob->data[blob->data.size() / 2] = std::bit_cast<float>(w ^ 0x100u);
-    }
-    {
-      TakeWriter w = TakeWriter::reopen(dir);
-      w.append(ck);  // the latest checkpoint now
-      w.finish("done");
-    }
+    ASSERT_TRUE(damage_blob(ck, "optimizer", truncate));
+    append_checkpoint(dir, ck);
     try {
       run_soft_job(resume_worm(R"("method": "hybrid")", 4), dir, true);
       ADD_FAILURE() << "no error";
@@ -223,11 +233,7 @@ TEST(SoftJobResume, OldFormatCheckpointStillResumes) {
   Record ck;
   ASSERT_TRUE(TakeReader(dir).latest(RecordKind::Checkpoint, &ck));
   std::erase_if(ck.fields, [](const Field& f) { return f.name == "optimizer"; });
-  {
-    TakeWriter w = TakeWriter::reopen(dir);
-    w.append(ck);
-    w.finish("done");
-  }
+  append_checkpoint(dir, ck);
   const Scene scene = resume_worm(R"("method": "hybrid")", 6);
   const nlohmann::json m = run_soft_job(scene, dir, true);
   // What the job did before the blob existed, by hand.
@@ -308,22 +314,8 @@ TEST(SoftJobResume, DamagedSpacetimeBlobIsAnInputErrorNamingTheTake) {
   for (const bool truncate : {false, true}) {
     SCOPED_TRACE(truncate ? "truncated" : "damaged");
     Record bad = ck;
-    Field* blob = nullptr;
-    for (Field& f : bad.fields)
-      if (f.name == "spacetime") blob = &f;
-    ASSERT_NE(blob, nullptr);
-    if (truncate) {
-      blob->data.resize(blob->data.size() / 2);
-      blob->shape = {uint32_t(blob->data.size())};
-    } else {
-      uint32_t w = std::bit_cast<uint32_t>(blob->data[blob->data.size() / 2]);
-      blob->data[blob->data.size() / 2] = std::bit_cast<float>(w ^ 0x100u);
-    }
-    {
-      TakeWriter w = TakeWriter::reopen(dir);
-      w.append(bad);
-      w.finish("done");
-    }
+    ASSERT_TRUE(damage_blob(bad, "spacetime", truncate));
+    append_checkpoint(dir, bad);
     try {
       run_soft_job(resume_worm(R"("method": "spacetime")", 2), dir, true);
       ADD_FAILURE() << "no error";
@@ -345,11 +337,7 @@ TEST(SoftJobResume, SpacetimeCheckpointWithoutItsBlobResumesAsBefore) {
   Record ck;
   ASSERT_TRUE(TakeReader(dir).latest(RecordKind::Checkpoint, &ck));
   std::erase_if(ck.fields, [](const Field& f) { return f.name == "spacetime"; });
-  {
-    TakeWriter w = TakeWriter::reopen(dir);
-    w.append(ck);
-    w.finish("done");
-  }
+  append_checkpoint(dir, ck);
   const Scene scene = resume_worm(R"("method": "spacetime")", 2);
   const nlohmann::json m = run_soft_job(scene, dir, true);
   soft::SoftModel model = soft::soft_compile(scene);
@@ -440,8 +428,7 @@ TEST(SoftJobResume, DamagedGaitBlobIsAnInputErrorNamingTheTake) {
   Record ck;
   ck.kind = RecordKind::Checkpoint;
   ck.fields.push_back(bytes_field("gait_optimizer_forward", soft::optimizer_state_serialize(st)));
-  Field& f = ck.fields.back();
-  f.data[f.data.size() / 2] = std::bit_cast<float>(std::bit_cast<uint32_t>(f.data[f.data.size() / 2]) ^ 0x100u);
+  ASSERT_TRUE(damage_blob(ck, "gait_optimizer_forward", false));
   ResumeTempDir tmp;
   {
     TakeWriter killed = TakeWriter::create(tmp.dir / "bad", Manifest{});
