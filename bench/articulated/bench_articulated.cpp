@@ -49,11 +49,16 @@ int main(int argc, char** argv) {
     else if (!std::strcmp(argv[i], "--methods") && i + 1 < argc) only_methods = argv[++i], filtered = true;
     else {
       std::fprintf(stderr, "usage: bench_articulated [--quick] [--out FILE] [--links 10,40] [--dt 0.02,0.05] "
-                           "[--case chain_swing|chain_tilt|pile|mesh_mesh|mesh_terrain|mesh_features] [--methods pbad3,pbad4,mujoco] [--chains-only]\n");
+                           "[--case chain_swing|chain_tilt|pile|mesh_mesh|mesh_terrain|mesh_features|batched] [--methods pbad3,pbad4,mujoco] [--chains-only]\n");
       return 2;
     }
   }
   g_machine = pliant::bench::machine_description();
+  if (only_case == "batched") {
+    batched_case(quick);
+    if (explicit_out) std::ofstream(out) << g_results.dump(1) << "\n";
+    return 0;
+  }
   if (only_case == "pile" || only_case == "mesh_mesh" || only_case == "mesh_terrain" || only_case == "mesh_features") {
     (only_case == "pile"        ? pile_case
      : only_case == "mesh_mesh" ? mesh_mesh_case
