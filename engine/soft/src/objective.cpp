@@ -54,6 +54,11 @@ double heading_yaw(const SoftState& s, const Eigen::Vector3d& axis) {
   return std::atan2(h[2], h[0]);
 }
 
+double tilt_from_up_deg(const SoftState& s, const Eigen::Vector3d& axis) {
+  const Eigen::Vector3d a = s.R * axis.normalized();
+  return std::atan2(std::hypot(a[0], a[2]), a[1]) * 180.0 / M_PI;
+}
+
 namespace {
 
 // The objective's per-frame sums over a trajectory (one pass, buffers reused), then
@@ -88,6 +93,8 @@ class ResidualAccumulator {
     if (o_.w_shuffle > 0) n += p.frames;
     course_at_ = n;
     if (o_.w_course > 0) n += p.frames;
+    upright_at_ = n;
+    if (o_.w_upright > 0) n += 3 * Eigen::Index(p.frames);
     // Unit normal of the course in the ground plane (y up): y x d.
     course_normal_ = Eigen::Vector3d(o_.course_direction[2], 0, -o_.course_direction[0]);
     if (course_normal_.norm() > 1e-12) course_normal_.normalize();
@@ -147,6 +154,9 @@ class ResidualAccumulator {
     if (o_.w_course > 0 && frame_ <= p_.frames)
       res_[course_at_ + frame_ - 1] =
           std::sqrt(o_.w_course * dt_ / std::max(dt_, p_.frames * dt_)) * (com - com0_).dot(course_normal_);
+    if (o_.w_upright > 0 && frame_ <= p_.frames)
+      res_.segment<3>(upright_at_ + 3 * Eigen::Index(frame_ - 1)) =
+          std::sqrt(o_.w_upright / p_.frames) * (s.R * o_.upright_axis - Eigen::Vector3d::UnitY());
     if (o_.w_keyframes > 0) {
       bool have_x = false;
       for (size_t k = 0; k < o_.keyframes.size(); ++k) {
@@ -224,7 +234,7 @@ class ResidualAccumulator {
   const double dt_;
   const SoftState s0_;
   const Eigen::Vector3d com0_;
-  Eigen::Index shuffle_at_ = 0, course_at_ = 0, effort_at_ = 0;
+  Eigen::Index shuffle_at_ = 0, course_at_ = 0, upright_at_ = 0, effort_at_ = 0;
   Eigen::Vector3d course_normal_ = Eigen::Vector3d::Zero();
   std::vector<Eigen::Index> key_at_;
   Eigen::VectorXd res_, x_, xp_;

@@ -172,6 +172,11 @@ SoftModel soft_compile(const Scene& scene) {
       o.w_course = t->number("weight", 1, 0);
       t->finish();
     }
+    if (auto t = oj->object("upright")) {
+      o.upright_axis = unit3(*t, "body_axis", Eigen::Vector3d::UnitY());
+      o.w_upright = t->number("weight", 1, 0);
+      t->finish();
+    }
     if (auto t = oj->object("turn")) {
       o.turn_axis = unit3(*t, "body_axis", Eigen::Vector3d::UnitX());
       o.turn_rate_rad_per_s = t->number("rate_rad_per_s", 0, -100, 100);

@@ -358,12 +358,13 @@ nlohmann::json soft_run_job(JobContext& ctx) {
   const Eigen::Vector3d com0 = centre_of_mass(m.character, s);
   ctx.take.append(soft_frame_record(m, s, 0, true));
   ctx.events.frame(0);
-  double sim_s = 0, max_gain = 0;
+  double sim_s = 0, max_gain = 0, max_tilt = 0;
   for (int f = 1; f < m.frames; ++f) {
     const auto ts = std::chrono::steady_clock::now();
     soft_playback_step(m, pb);
     sim_s += seconds_since(ts);
     max_gain = std::max(max_gain, centre_of_mass(m.character, s)[1] - com0[1]);
+    max_tilt = std::max(max_tilt, tilt_from_up_deg(s, p.obj.upright_axis));
     ctx.take.append(soft_frame_record(m, s, f, false));
     ctx.events.frame(f);
     ctx.progress.report(f + 1);
@@ -384,6 +385,10 @@ nlohmann::json soft_run_job(JobContext& ctx) {
       {"displacement_m", {disp[0], disp[1], disp[2]}},
       {"distance_per_s", sim_time > 0 ? horizontal / sim_time : 0.0},
       {"max_height_gain_m", max_gain},
+      // The upright term's body axis (+y unless set) from +y: a body that lands on its
+      // side ends near 90, a fish rolled belly-up near 180.
+      {"final_tilt_deg", tilt_from_up_deg(s, p.obj.upright_axis)},
+      {"max_tilt_deg", max_tilt},
       {"playback_fps", sim_s > 0 ? (m.frames - 1) / sim_s : 0.0},
       {"compile_s", compile_s},
       {"optimize_s", optimize_s},

@@ -65,7 +65,7 @@ TEST(Objective, TrajectoryResidualsEqualRolloutResiduals) {
           "heading": {"body_axis": [1, 0, 0], "direction": [1, 0, 0], "weight": 1},
           "jump": {"height_m": 0.03, "weight": 3},
           "distance": {"distance_m": 0.5, "direction": [1, 0, 0], "weight": 1},
-          "shuffle": {"weight": 1}, "effort": {"weight": 1e-3}})",
+          "shuffle": {"weight": 1}, "upright": {"weight": 2}, "effort": {"weight": 1e-3}})",
       R"({"method": "none", "horizon_frames": 4})"));
   soft_bind(m);
   m.problem.obj.w_turn = 1;
@@ -79,7 +79,7 @@ TEST(Objective, TrajectoryResidualsEqualRolloutResiduals) {
   const Eigen::VectorXd r = residuals(m.problem, theta);
   const Eigen::VectorXd rt = trajectory_residuals(m.problem, frames, theta);
   ASSERT_EQ(r.size(), rt.size());
-  EXPECT_EQ(r.size(), 3 + 3 + 3 + 1 + 1 + 2 + 4 + 4 + 9 + theta.size());
+  EXPECT_EQ(r.size(), 3 + 3 + 3 + 1 + 1 + 2 + 4 + 4 + 12 + 9 + theta.size());
   for (Eigen::Index i = 0; i < r.size(); ++i) EXPECT_DOUBLE_EQ(r[i], rt[i]) << "residual " << i;
   // A different trajectory gives different residuals (the frames are really read).
   frames[1].c += Eigen::Vector3d(0, 0.01, 0);
@@ -121,6 +121,41 @@ TEST(Objective, CourseTermIsTheLateralOffsetAndFailsWhenThePathVeers) {
     const double fd = (trajectory_residuals(p, plus, theta)[k] - trajectory_residuals(p, minus, theta)[k]) / (2 * h);
     EXPECT_NEAR(fd, scale * normal[a], 1e-6) << "axis " << a;
   }
+}
+
+// The upright term: zero while the body stands (translated, turned about +y), exactly
+// sqrt(w / F) (R a - y) per frame when it tilts (a rotation by phi about +z takes +y
+// to (-sin phi, cos phi, 0)); the tilt metric reads the same angle.
+TEST(Objective, UprightTermIsTheTiltOfTheBodyAxisPerFrame) {
+  SoftModel m = soft_compile(t_scene(R"({"upright": {"weight": 3}, "effort": {"weight": 0}})",
+                                     R"({"method": "none", "horizon_frames": 4})"));
+  soft_bind(m);
+  Problem& p = m.problem;
+  ASSERT_DOUBLE_EQ(p.obj.w_upright, 3.0);
+  ASSERT_TRUE(p.obj.upright_axis.isApprox(Eigen::Vector3d::UnitY()));
+  const Eigen::VectorXd theta = Eigen::VectorXd::Zero(p.dmp.parameters());
+  const SoftState s0 = initial_state(*p.character, p.start_offset_m, Eigen::Vector3d::Zero(), p.sim.dt_s);
+  std::vector<SoftState> standing, tilting;
+  for (int f = 1; f <= p.frames; ++f) {
+    standing.push_back(s0), tilting.push_back(s0);
+    standing.back().c += Eigen::Vector3d(0.05 * f, 0, 0);
+    standing.back().R = Eigen::AngleAxisd(0.3 * f, Eigen::Vector3d::UnitY()).toRotationMatrix();
+    tilting.back().R = Eigen::AngleAxisd(0.2 * f, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  }
+  const Eigen::VectorXd rs = trajectory_residuals(p, standing, theta), rt = trajectory_residuals(p, tilting, theta);
+  ASSERT_EQ(rs.size(), 3 * p.frames + theta.size());
+  EXPECT_LT(rs.head(3 * p.frames).cwiseAbs().maxCoeff(), 1e-15);
+  const double scale = std::sqrt(3.0 / p.frames);
+  for (int f = 0; f < p.frames; ++f) {
+    const double phi = 0.2 * (f + 1);
+    EXPECT_NEAR(rt[3 * f], -scale * std::sin(phi), 1e-14) << "frame " << f;
+    EXPECT_NEAR(rt[3 * f + 1], scale * (std::cos(phi) - 1), 1e-14) << "frame " << f;
+    EXPECT_NEAR(rt[3 * f + 2], 0, 1e-14) << "frame " << f;
+    EXPECT_NEAR(tilt_from_up_deg(tilting[f], p.obj.upright_axis), phi * 180 / M_PI, 1e-9);
+  }
+  EXPECT_NEAR(tilt_from_up_deg(standing.back(), Eigen::Vector3d::UnitY()), 0, 1e-12);
+  // Another axis: the body's +x standing up is 90 degrees off at rest.
+  EXPECT_NEAR(tilt_from_up_deg(s0, Eigen::Vector3d(2, 0, 0)), 90, 1e-12);
 }
 
 // The turn term at rate 0 (spider_walk.json holds its heading with it): zero yaw

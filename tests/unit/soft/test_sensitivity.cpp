@@ -27,6 +27,7 @@ SoftModel t_model(const std::string& environment, const std::string& start, int 
     "objectives": {"velocity": {"target_m_per_s": [0.3, 0, 0.1], "weight": 1},
                    "heading": {"body_axis": [1, 0, 0], "direction": [0, 0, 1], "weight": 1},
                    "jump": {"height_m": 0.03, "weight": 10},
+                   "upright": {"weight": 2},
                    )" + std::string(turn ? R"("turn": {"body_axis": [1, 0, 0], "rate_rad_per_s": 0.5, "speed_m_per_s": 0.1, "weight": 1},)" : "") + R"(
                    "effort": {"weight": 1e-3}},
     "optimizer": {"method": "hybrid", "horizon_frames": )" + std::to_string(frames) + "}}";

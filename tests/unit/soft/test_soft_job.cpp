@@ -165,10 +165,10 @@ TEST(SoftJob, SceneSelectsRotationStrainBasisAndCourseTerm) {
   EXPECT_DOUBLE_EQ(lin.problem.obj.w_course, 0.0);
   // Range checks: a negative weight, a vertical direction (no lateral offset on the
   // ground) and an unknown key are InputErrors at their pointers.
-  auto course_error = [](const std::string& course) {
+  auto term_error = [](const std::string& term, const std::string& body) {
     std::string bad = kScene;
     bad.replace(bad.find("ITER"), 4, "0");
-    bad.replace(bad.find("\"weight\": 10}}"), 14, "\"weight\": 10}, \"course\": " + course + "}");
+    bad.replace(bad.find("\"weight\": 10}}"), 14, "\"weight\": 10}, \"" + term + "\": " + body + "}");
     try {
       soft::soft_compile(parse_scene(bad, "course.json", std::string(PLIANT_ASSETS_DIR) + "/characters"));
     } catch (const InputError& e) {
@@ -176,11 +176,17 @@ TEST(SoftJob, SceneSelectsRotationStrainBasisAndCourseTerm) {
     }
     return std::string("no error");
   };
+  auto course_error = [&](const std::string& course) { return term_error("course", course); };
   EXPECT_EQ(course_error(R"({"weight": -1})"), "/objectives/course/weight");
   EXPECT_EQ(course_error(R"({"direction": [0, 2, 0]})"), "/objectives/course/direction");
   EXPECT_EQ(course_error(R"({"direction": [0, 0, 0]})"), "/objectives/course/direction");
   EXPECT_EQ(course_error(R"({"wieght": 1})"), "/objectives/course/wieght");
   EXPECT_EQ(course_error(R"({"direction": [1, 0.5, 0], "weight": 2})"), "no error");
+  // upright: a body axis (any non-zero direction) and a weight.
+  EXPECT_EQ(term_error("upright", R"({"weight": -1})"), "/objectives/upright/weight");
+  EXPECT_EQ(term_error("upright", R"({"body_axis": [0, 0, 0]})"), "/objectives/upright/body_axis");
+  EXPECT_EQ(term_error("upright", R"({"wieght": 1})"), "/objectives/upright/wieght");
+  EXPECT_EQ(term_error("upright", R"({"body_axis": [0, 2, 0], "weight": 5})"), "no error");
 }
 
 // The optimizer keys of the fifth session reach OptimizerSettings; out of range is

@@ -14,6 +14,9 @@
 //              through the start COM along a direction, scaled by sqrt(dt / T) so
 //              that its sum is the time average (frames); holds a walk's course
 //              (heading alone lets the path veer)
+//   upright    per frame, R a - y for a body axis a that points up at rest, scaled
+//              by sqrt(weight / frames): the mean squared tilt over the horizon (3
+//              frames); heading holds one axis only, so a swimmer could roll about it
 //   keyframes  surface vertices minus (rest position + offset) at chosen frames
 //   turn       mean yaw rate of a body axis about +y minus target (rad/s), and COM
 //              progress along the initial heading per second minus target speed
@@ -58,6 +61,8 @@ struct Objectives {
   double w_shuffle = 0;
   double w_course = 0;
   Eigen::Vector3d course_direction = Eigen::Vector3d::UnitX();  // its horizontal part is used
+  double w_upright = 0;
+  Eigen::Vector3d upright_axis = Eigen::Vector3d::UnitY();
   double w_keyframes = 0;
   std::vector<Keyframe> keyframes;
   double w_turn = 0;
@@ -75,6 +80,9 @@ int steady_window_frames(const Objectives& o, double period_s, double dt_s);
 
 // Yaw of the body axis a in the ground plane: atan2((R a)_z, (R a)_x), radians.
 double heading_yaw(const SoftState& s, const Eigen::Vector3d& axis);
+// Angle between the body axis a turned by the state's frame (R a) and +y, degrees
+// (the job's tilt metrics, with the upright term's axis).
+double tilt_from_up_deg(const SoftState& s, const Eigen::Vector3d& axis);
 
 struct Problem {
   const Character* character = nullptr;
