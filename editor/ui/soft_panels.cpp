@@ -77,6 +77,13 @@ void draw_objectives(App& app) {
     json_vec(doc, "direction", o + "heading/direction", 3);
     json_double(doc, "weight##heading", o + "heading/weight", 1, 0.05f, 0, 1e6);
   }
+  if (objective_toggle(doc, "upright", {{"body_axis", {0, 1, 0}}, {"weight", 10}},
+                       "keep a body axis (the one pointing up at rest) pointing up over the horizon: "
+                       "heading holds one axis, so a swimmer may roll about it; the take reports "
+                       "final_tilt_deg / max_tilt_deg")) {
+    json_vec(doc, "body_axis##upright", o + "upright/body_axis", 3);
+    json_double(doc, "weight##upright", o + "upright/weight", 1, 0.05f, 0, 1e6);
+  }
   if (objective_toggle(doc, "course", {{"direction", {1, 0, 0}}, {"weight", 10}},
                        "keep the centre of mass on the straight line along a direction")) {
     json_vec(doc, "direction##course", o + "course/direction", 3);

@@ -473,6 +473,27 @@ TEST(EditorSoft, SteadyObjectiveWidgetsWriteTheSceneKey) {
   EXPECT_EQ(h.app->doc.scene()["objectives"]["steady"], added);
 }
 
+// The upright objective: the checkbox adds it (+y body axis, weight 10), a drag on
+// its weight writes /objectives/upright/weight, each one undo step; unchecking
+// removes it.
+TEST(EditorSoft, UprightObjectiveWidgetsWriteTheSceneKey) {
+  EditorHarness h("soft_upright");
+  h.start(spider_scene(h), /*gl=*/false, 1280, 1600);
+  const size_t steps = h.app->doc.history().size();
+  ASSERT_FALSE(h.app->doc.scene()["objectives"].contains("upright"));
+  ASSERT_EQ(h.run("wait 1\nclick_item objective_upright\nwait 1\n"), "");
+  ASSERT_TRUE(h.app->doc.scene()["objectives"].contains("upright"));
+  EXPECT_EQ(h.app->doc.scene()["objectives"]["upright"]["body_axis"], json({0, 1, 0}));
+  EXPECT_EQ(h.app->doc.scene()["objectives"]["upright"]["weight"], 10);
+  EXPECT_EQ(h.app->doc.history().size(), steps + 1);
+  ASSERT_EQ(h.run("drag_item /objectives/upright/weight 40 0 6\nwait 1\n"), "");
+  EXPECT_GT(h.app->doc.scene()["objectives"]["upright"]["weight"].get<double>(), 10.5);
+  EXPECT_EQ(h.app->doc.history().size(), steps + 2);
+  ASSERT_EQ(h.run("click_item objective_upright\nwait 1\n"), "");
+  EXPECT_FALSE(h.app->doc.scene()["objectives"].contains("upright"));
+  EXPECT_EQ(h.app->doc.history().size(), steps + 3);
+}
+
 // Pure L-BFGS's variant keys (soft_worm_crawl.json pins them): the Optimizer panel
 // shows them only once the method is lbfgs, picked in its combo; a drag writes
 // /optimizer/lbfgs_memory, the line-search combo /optimizer/lbfgs_line_search,
