@@ -266,15 +266,20 @@ double pbad_energy(const Model& m, const SimOptions& o, const State& s, const Pb
           e += spin_term(ws, o, k, p, pa.body_b, pa.body_a, pa.normal_force, pa.normal, mix, derivs);
         }
   }
-  // Actuator work and joint damping (dissipation potential) in joint space.
-  const bool joint_terms = !m.actuators.empty() || p.any_damping;
+  // Actuator work, joint damping (dissipation potential) and armature (the stencil's
+  // inertial term on the joint coordinates, c a (dq - target)^2 as c m |dx|^2 above) in
+  // joint space.
+  const bool joint_terms = !m.actuators.empty() || p.any_damping || p.any_armature;
   if (joint_terms) {
     actuator_forces(m, s, &ws.tau);
     ws.dq = qpos_difference(m, q, s.qpos);
     e -= ws.tau.dot(ws.dq);
     for (const Joint& j : m.joints)
-      for (int i = 0; i < joint_nv(j.type); ++i)
-        e += 0.5 * j.damping / o.dt * ws.dq[j.vadr + i] * ws.dq[j.vadr + i];
+      for (int i = 0; i < joint_nv(j.type); ++i) {
+        const int v = j.vadr + i;
+        e += 0.5 * j.damping / o.dt * ws.dq[v] * ws.dq[v];
+        if (p.any_armature) e += c * j.armature * (ws.dq[v] - p.armature_target[v]) * (ws.dq[v] - p.armature_target[v]);
+      }
   }
   if (p.any_limits) e += limit_terms(m, o, q, derivs ? &ws.limit_force : nullptr, derivs ? &ws.limit_h : nullptr);
   if (exact) {
@@ -288,7 +293,11 @@ double pbad_energy(const Model& m, const SimOptions& o, const State& s, const Pb
     if (joint_terms) {
       ws.grad -= ws.tau;
       for (const Joint& j : m.joints)
-        for (int i = 0; i < joint_nv(j.type); ++i) ws.grad[j.vadr + i] += j.damping / o.dt * ws.dq[j.vadr + i];
+        for (int i = 0; i < joint_nv(j.type); ++i) {
+          const int v = j.vadr + i;
+          ws.grad[v] += j.damping / o.dt * ws.dq[v];
+          if (p.any_armature) ws.grad[v] += 2 * c * j.armature * (ws.dq[v] - p.armature_target[v]);
+        }
     }
   }
   return e;

@@ -12,12 +12,14 @@ namespace pliant::articulated {
 namespace {
 
 // Joint-space diagonal of the LM matrix: damping lambda * diag(Gauss-Newton), the
-// joints' viscous damping (dissipation potential / dt) and active range penalties.
+// joints' viscous damping (dissipation potential / dt), their armature (2 c a, c the
+// stencil's weight / dt^2, as the bodies' 2 c M) and active range penalties.
 void lm_armature(const Model& m, const SimOptions& o, const PbadStep& p, double lambda, SimWorkspace& ws) {
   ws.arm = lambda * ws.diag;
-  if (p.any_damping)
+  if (p.any_damping || p.any_armature)
     for (const Joint& j : m.joints)
-      for (int i = 0; i < joint_nv(j.type); ++i) ws.arm[j.vadr + i] += j.damping / o.dt;
+      for (int i = 0; i < joint_nv(j.type); ++i)
+        ws.arm[j.vadr + i] += j.damping / o.dt + 2 * p.weight / (o.dt * o.dt) * j.armature;
   if (p.any_limits) ws.arm += ws.limit_h;
 }
 

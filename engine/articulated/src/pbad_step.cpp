@@ -118,6 +118,15 @@ void pbad_begin(const Model& m, const SimOptions& o, State& s, PbadStep& p, SimW
     }
   }
   p.weight = 0.5 * c[0];
+  // Armature: the same stencil on the joint coordinates, in the tangent space at q_i
+  // (exact for hinges and slides; for ball / free rotations the per-step rotation
+  // vectors are added as vectors, first order in the step's turn).
+  p.any_armature = false;
+  for (const Joint& j : m.joints) p.any_armature = p.any_armature || j.armature > 0;
+  if (p.any_armature) {
+    p.armature_target.setZero(m.nv);
+    for (int f = 1; f <= used; ++f) p.armature_target -= c[f + 1] / c[0] * qpos_difference(m, s.past[f - 1], s.qpos);
+  }
   p.prev_points.resize(ws.points.size());
   for (size_t i = 0; i < ws.points.size(); ++i)
     p.prev_points[i] = k0.xpos[ws.points[i].body] + k0.xmat[ws.points[i].body] * ws.points[i].local;

@@ -112,6 +112,10 @@ struct PbadStep {
   bool step_ready = false;  // ws.step/diag/rhs already hold the next LM solve
   double energy = 0, lambda = 1e-6, weight = 0.5;
   bool any_damping = false, any_limits = false;
+  // Joint armature (rotor inertia in joint space): the stencil's target displacement
+  // from q_i per dof, -(c_2 (q_{i-1} - q_i) + c_3 (q_{i-2} - q_i) + ...) / c_0.
+  bool any_armature = false;
+  VecX armature_target;
   bool any_mesh_features = false;  // a moving mesh and a static box or sphere (contact.h)
   std::vector<FeatureAnchor> feature_anchors;  // their contacts at q_i (friction)
   bool any_pairs = false;  // self_collision on or explicit pairs, and candidate geom pairs exist
