@@ -1,5 +1,6 @@
 // Joint-range penalties (limit_terms, shared by PBAD's energy and the explicit
-// forces): hinge/slide ranges, ball cones, and ball joints' swing cone and twist range.
+// forces): hinge/slide ranges and springs, ball cones, and ball joints' swing cone and
+// twist range.
 //
 // Ball joints' swing cone and twist range (a Pliant extension, scene "joint_limits").
 // Swing-twist split about the joint's axis a (body frame): swing angle
@@ -88,6 +89,13 @@ double limit_terms(const Model& m, const SimOptions& o, const VecX& q, VecX* for
       if (force) force->segment<3>(j.vadr) += g;
       if (hdiag) hdiag->segment<3>(j.vadr) += hessian_diagonal_bound(h);
     }
+    if (j.stiffness > 0 && (j.type == JointType::Hinge || j.type == JointType::Slide)) {
+      // The joint's spring (always on, two-sided): 1/2 k_s (q - springref)^2.
+      const double d = q[j.qadr] - j.springref;
+      e += 0.5 * j.stiffness * d * d;
+      if (force) (*force)[j.vadr] += j.stiffness * d;
+      if (hdiag) (*hdiag)[j.vadr] += j.stiffness;
+    }
     if (!j.limited) continue;
     if (j.type == JointType::Ball) {
       // Cone: rotation angle theta = |log q| <= range_max. With the local velocity
@@ -111,15 +119,15 @@ double limit_terms(const Model& m, const SimOptions& o, const VecX& q, VecX* for
     const double d = x > j.range_max ? x - j.range_max : x < j.range_min ? x - j.range_min : 0;
     if (d == 0) continue;
     e += 0.5 * k * d * d;
-    if (force) (*force)[j.vadr] = k * d;
-    if (hdiag) (*hdiag)[j.vadr] = k;
+    if (force) (*force)[j.vadr] += k * d;
+    if (hdiag) (*hdiag)[j.vadr] += k;
   }
   return e;
 }
 
 bool any_limits(const Model& m) {
   for (const Joint& j : m.joints)
-    if (j.limited || j.swing_max >= 0 || j.twist_limited) return true;
+    if (j.limited || j.swing_max >= 0 || j.twist_limited || j.stiffness > 0) return true;
   return false;
 }
 

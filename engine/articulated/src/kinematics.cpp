@@ -81,7 +81,7 @@ void kinematics(const Model& m, const VecX& qpos, Kinematics* k, bool poses_only
           // Anchor at the body origin (the common case): the rotation leaves x alone.
           const bool at_origin = j.pos.isZero(0);
           const Vec3 anchor = at_origin ? x : Vec3(x + r * j.pos);
-          const double half = 0.5 * qpos[j.qadr];
+          const double half = 0.5 * (qpos[j.qadr] - j.ref);
           const Vec3 sv = std::sin(half) * j.axis;
           if (!poses_only) k->cdof[j.vadr] = twist(r * j.axis, anchor);
           r = r * Quat(std::cos(half), sv.x(), sv.y(), sv.z());
@@ -90,7 +90,7 @@ void kinematics(const Model& m, const VecX& qpos, Kinematics* k, bool poses_only
         }
         case JointType::Slide: {
           const Vec3 axis = r * j.axis;
-          x += axis * qpos[j.qadr];
+          x += axis * (qpos[j.qadr] - j.ref);
           k->cdof[j.vadr] << Vec3::Zero(), axis;
           break;
         }

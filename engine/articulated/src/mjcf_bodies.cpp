@@ -138,7 +138,8 @@ void read_body(Ctx& c, const XmlElement& e, const std::string& path, int parent)
         check_attrs(c, ch, p, {"name"});
         j.type = JointType::Free;
       } else {
-        check_attrs(c, ch, p, {"name", "type", "axis", "pos", "damping", "armature", "range", "limited"});
+        check_attrs(c, ch, p, {"name", "type", "axis", "pos", "damping", "armature", "range", "limited", "ref",
+                               "stiffness", "springref"});
         const std::string type = ch.attr("type") ? *ch.attr("type") : "hinge";
         static const std::map<std::string, JointType> types = {{"hinge", JointType::Hinge},
                                                                {"slide", JointType::Slide},
@@ -153,6 +154,16 @@ void read_body(Ctx& c, const XmlElement& e, const std::string& path, int parent)
         j.pos = vec3(c, ch, p, "pos", Vec3::Zero());
         j.damping = number(c, ch, p, "damping", 0, 0);
         j.armature = number(c, ch, p, "armature", 0, 0);
+        // ref / springref are joint values: angles for hinges (<compiler angle>), metres for slides.
+        const double value_scale = j.type == JointType::Hinge ? c.angle_scale : 1.0;
+        j.ref = number(c, ch, p, "ref", 0, -1e300) * value_scale;
+        j.stiffness = number(c, ch, p, "stiffness", 0, 0);
+        j.springref = number(c, ch, p, "springref", 0, -1e300) * value_scale;
+        if (j.type == JointType::Ball || j.type == JointType::Free)
+          for (const char* key : {"ref", "stiffness", "springref"})
+            if (ch.attr(key) && number(c, ch, p, key, 0, -1e300) != 0)
+              throw InputError(c.file, p + "/@" + key,
+                               std::string("a nonzero ") + key + " is supported on hinge and slide joints only");
         const std::string limited = ch.attr("limited") ? *ch.attr("limited") : "auto";
         if (limited != "true" && limited != "false" && limited != "auto")
           throw InputError(c.file, p + "/@limited", "expected true, false or auto, got \"" + limited + "\"");

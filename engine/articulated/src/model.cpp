@@ -152,6 +152,7 @@ void model_finalize(Model& m, const std::vector<bool>& has_inertial) {
   m.qpos0 = VecX::Zero(m.nq);
   for (const Joint& j : m.joints) {
     if (j.type == JointType::Ball) m.qpos0[j.qadr] = 1;
+    if (j.type == JointType::Hinge || j.type == JointType::Slide) m.qpos0[j.qadr] = j.ref;
     if (j.type == JointType::Free) {
       m.qpos0.segment<3>(j.qadr) = m.bodies[j.body].pos;
       const Quat& q = m.bodies[j.body].quat;

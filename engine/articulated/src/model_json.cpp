@@ -151,6 +151,15 @@ Model model_from_json(JsonReader& r, const std::filesystem::path& base_dir) {
         jt.pos = vec3(j, "pos", Vec3::Zero());
         jt.damping = j.number("damping", 0, 0);
         jt.armature = j.number("armature", 0, 0);
+        // A spring 1/2 stiffness (q - springref)^2 and the model-pose value ref, as MJCF's
+        // (hinges and slides; radians or metres).
+        jt.stiffness = j.number("stiffness", 0, 0);
+        jt.springref = j.number("springref", 0, -1e300, 1e300);
+        jt.ref = j.number("ref", 0, -1e300, 1e300);
+        if (jt.type == JointType::Ball || jt.type == JointType::Free)
+          for (const char* key : {"stiffness", "springref", "ref"})
+            if (j.has(key) && j.number(key, 0, -1e300, 1e300) != 0)
+              j.fail(key, std::string("a nonzero ") + key + " is supported on hinge and slide joints only");
         if (j.has("range")) {
           if (jt.type == JointType::Free) j.fail("range", "free joints take no range");
           const VecX r = read_range(j);

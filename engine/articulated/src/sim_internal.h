@@ -17,8 +17,9 @@ inline Mat3 second_moment(const Mat3& inertia) {  // integral rho p p^T about th
 void actuator_forces(const Model& m, const State& s, VecX* tau);
 
 // Joint-range penalty 1/2 k (q - bound)^2 beyond each limited hinge/slide (and ball
-// cone / swing-twist limits): returns the energy; optionally its gradient and
-// (diagonal) Hessian in joint space (joint_limits.cpp).
+// cone / swing-twist limits) plus the hinge/slide springs 1/2 k_s (q - springref)^2:
+// returns the energy; optionally its gradient and (diagonal) Hessian in joint space
+// (joint_limits.cpp). any_limits: whether a model has any of these terms.
 double limit_terms(const Model& m, const SimOptions& o, const VecX& q, VecX* force, VecX* hdiag);
 bool any_limits(const Model& m);
 

@@ -166,14 +166,24 @@ TEST(Mjcf, UnsupportedPhysicsNamesTheElementAndHarmlessPartsAreIgnored) {
             std::string::npos);
   EXPECT_NE(error_of("<mujoco><option><flag gravity=\"disable\"/></option></mujoco>").find("/mujoco/option[0]/flag[0] | unsupported element <flag>"),
             std::string::npos);
-  EXPECT_NE(error_of("<mujoco><compiler coordinate=\"global\"/></mujoco>").find("/mujoco/compiler[0]/@coordinate"),
+  EXPECT_NE(error_of("<mujoco><compiler coordinate=\"polar\"/></mujoco>").find("/mujoco/compiler[0]/@coordinate | expected local or global"),
             std::string::npos);
   EXPECT_NE(error_of("<mujoco><compiler inertiafromgeom=\"false\"/></mujoco>").find("/mujoco/compiler[0]/@inertiafromgeom"),
             std::string::npos);
   EXPECT_NE(error_of("<mujoco><include file=\"x.xml\"/></mujoco>").find("/mujoco/include[0] | unsupported element"),
             std::string::npos);
-  EXPECT_NE(error_of("<mujoco><worldbody><body><joint stiffness=\"3\"/><geom size=\"0.1\"/></body></worldbody></mujoco>")
-                .find("joint[0]/@stiffness | unsupported attribute"),
+  // Springs and ref on hinges and slides (test_mujoco_reference.cpp); not on ball / free joints.
+  EXPECT_NE(error_of("<mujoco><worldbody><body><joint type=\"ball\" stiffness=\"3\"/><geom size=\"0.1\"/></body></worldbody></mujoco>")
+                .find("joint[0]/@stiffness | a nonzero stiffness is supported on hinge and slide joints only"),
+            std::string::npos);
+  EXPECT_NE(error_of("<mujoco><worldbody><body><joint type=\"free\" ref=\"1\"/><geom size=\"0.1\"/></body></worldbody></mujoco>")
+                .find("joint[0]/@ref | a nonzero ref"),
+            std::string::npos);
+  EXPECT_NE(error_of("<mujoco><worldbody><body><joint stiffness=\"-1\"/><geom size=\"0.1\"/></body></worldbody></mujoco>")
+                .find("joint[0]/@stiffness | must be >= 0"),
+            std::string::npos);
+  EXPECT_NE(error_of("<mujoco><worldbody><body><joint springref=\"x\"/><geom size=\"0.1\"/></body></worldbody></mujoco>")
+                .find("joint[0]/@springref"),
             std::string::npos);
   EXPECT_NE(error_of("<mujoco><worldbody><body><geom type=\"cylinder\" size=\"0.1 0.1\"/></body></worldbody></mujoco>")
                 .find("geom[0]/@type"),

@@ -61,6 +61,23 @@ TEST(ModelJson, ErrorsNameTheField) {
             "/bodies/0/joints/0/range");
   EXPECT_EQ(pointer_of({{"bodies", {{{"name", "a"}, {"joints", {{{"type", "free"}, {"range", {0, 1}}}}}}}}}),
             "/bodies/0/joints/0/range");
+  EXPECT_EQ(pointer_of({{"bodies", {{{"name", "a"}, {"joints", {{{"stiffness", -1}}}}}}}}), "/bodies/0/joints/0/stiffness");
+  EXPECT_EQ(pointer_of({{"bodies", {{{"name", "a"}, {"joints", {{{"type", "ball"}, {"stiffness", 2}}}}}}}}),
+            "/bodies/0/joints/0/stiffness");
+}
+
+// Joint springs and ref (as MJCF's): they reach the model, ref is the model-pose value
+// (qpos0) of a slide.
+TEST(ModelJson, JointSpringAndRef) {
+  const Model m = from_json({{"bodies",
+                              {{{"name", "a"},
+                                {"joints", {{{"type", "slide"}, {"axis", {0, 0, 1}}, {"stiffness", 40}, {"springref", 0.1},
+                                             {"ref", 0.3}}}},
+                                {"geoms", {{{"type", "sphere"}, {"size", {0.1}}}}}}}}});
+  EXPECT_EQ(m.joints[0].stiffness, 40);
+  EXPECT_EQ(m.joints[0].springref, 0.1);
+  EXPECT_EQ(m.joints[0].ref, 0.3);
+  EXPECT_EQ(m.qpos0[0], 0.3);
 }
 
 TEST(ModelJson, BodyContactFiltersAndExcludes) {

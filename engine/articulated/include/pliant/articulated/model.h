@@ -34,6 +34,12 @@ struct Joint {
   int qadr = 0, vadr = 0;
   double damping = 0;   // N m s / rad (viscous, explicit integrators and PBAD alike)
   double armature = 0;  // added rotor inertia (diagonal of M)
+  // Hinge / slide only. ref: the joint value at which the body has its model pose
+  // (MuJoCo's qpos0; the joint turns or slides by q - ref). A spring
+  // 1/2 stiffness (q - springref)^2 (N m/rad or N/m), in PBAD's energy and as a force
+  // in the explicit integrators, as MuJoCo's passive joint spring.
+  double ref = 0;
+  double stiffness = 0, springref = 0;
   // Joint range (hinge rad, slide m): a one-sided penalty 1/2 k (q - bound)^2 outside
   // it (k = ContactOptions::limit_stiffness), in PBAD's energy and as a force in the
   // explicit integrators. Ball joints: range_min = 0, range_max bounds the total
