@@ -39,9 +39,10 @@ Model model_from_mjcf(const std::string& text, const std::string& file, const st
         if (*a != "auto" && *a != "true") throw InputError(file, p + "/@inertiafromgeom", "expected auto or true");
         c.inertia_from_geom = *a == "true";
       }
-      if (e.attr("coordinate") && *e.attr("coordinate") != "local")
-        throw InputError(file, p + "/@coordinate",
-                         "only local coordinates are supported (coordinate=\"global\" changes every frame)");
+      if (const auto* a = e.attr("coordinate")) {
+        if (*a != "local" && *a != "global") throw InputError(file, p + "/@coordinate", "expected local or global");
+        c.global = *a == "global";
+      }
       if (const auto* a = e.attr("angle")) {
         if (*a != "degree" && *a != "radian") throw InputError(file, p + "/@angle", "expected degree or radian");
         c.angle_scale = *a == "radian" ? 1.0 : M_PI / 180;
@@ -61,6 +62,7 @@ Model model_from_mjcf(const std::string& text, const std::string& file, const st
     XmlElement& e = root.children[k];
     if (e.name == "worldbody" || e.name == "actuator" || e.name == "asset")
       apply_defaults(c, e, child_path("/mujoco", root, k), defaults, "main");
+    if (e.name == "worldbody" && c.global) global_to_local(c, e, child_path("/mujoco", root, k));
   }
   for (size_t k = 0; k < root.children.size(); ++k) {
     const XmlElement& e = root.children[k];

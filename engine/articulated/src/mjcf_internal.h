@@ -1,7 +1,8 @@
 // Internals shared by the MJCF reader's files: the reading context, the <default>
 // class table and the readers each file defines (mjcf_attrs.cpp: attribute values;
 // mjcf_defaults.cpp: <default> classes; mjcf_bodies.cpp: <body>/<geom>/<joint>;
-// mjcf_meshes.cpp: <asset> meshes; mjcf_contact.cpp: <contact>; mjcf.cpp: the document).
+// mjcf_meshes.cpp: <asset> meshes; mjcf_contact.cpp: <contact>; mjcf_global.cpp:
+// global coordinates; mjcf.cpp: the document).
 #pragma once
 #include <cmath>
 #include <filesystem>
@@ -26,6 +27,7 @@ struct Ctx {
   std::string eulerseq = "xyz";
   bool autolimits = false;  // MuJoCo 2.2.2's default
   bool inertia_from_geom = false;  // compiler inertiafromgeom="true": <inertial> ignored
+  bool global = false;             // compiler coordinate="global" (mjcf_global.cpp)
   std::filesystem::path mesh_dir;
   std::map<std::string, std::shared_ptr<const MeshShape>> meshes;  // <asset><mesh name=...>
 };
@@ -50,6 +52,9 @@ void read_default(const Ctx& c, const XmlElement& e, const std::string& path, co
                   bool top, Defaults* d);
 void apply_defaults(const Ctx& c, XmlElement& e, const std::string& path, const Defaults& d,
                     const std::string& cls);
+
+// coordinate="global": rewrites the worldbody's frames in local coordinates (mjcf_global.cpp).
+void global_to_local(const Ctx& c, XmlElement& worldbody, const std::string& path);
 
 // Elements (mjcf_bodies.cpp, mjcf_meshes.cpp, mjcf_contact.cpp).
 void read_geom(Ctx& c, const XmlElement& e, const std::string& path, int body);

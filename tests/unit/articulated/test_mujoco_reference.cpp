@@ -10,6 +10,7 @@
 
 #include "pliant/articulated/dynamics.h"
 #include "pliant/articulated/io.h"
+#include "pliant/articulated/sim.h"
 
 namespace pliant::articulated {
 namespace {
@@ -236,6 +237,89 @@ TEST(MujocoReference, AllOrientationFormsAndFromtoMatch) {
   ASSERT_EQ(m.actuators.size(), 2u);
   EXPECT_EQ(m.actuators[0].gear, 7);
   EXPECT_EQ(m.actuators[1].gear, 2);
+}
+
+// <compiler coordinate="global"> (gym's hopper and walker style): every frame in world
+// coordinates, bodies turned by euler / axisangle / xyaxes, geoms by fromto and quat,
+// joints with world anchors and axes, an inertial with diaginertia and one with
+// fullinertia in world axes. Compiles to MuJoCo 2.2.2's own local frames.
+TEST(MujocoReference, GlobalCoordinatesCompileAsMuJoCoCompilesThem) {
+  expect_same_poses_and_ranges(R"(<mujoco><compiler angle="degree" coordinate="global" inertiafromgeom="true"/>
+    <default><joint armature="1" damping="1" limited="true"/><geom condim="1" margin="0.001"/></default>
+    <worldbody><geom name="floor" type="plane" size="20 20 0.125" condim="3"/>
+      <body name="torso" pos="0 0 1.25">
+        <joint name="rootx" type="slide" axis="1 0 0" pos="0 0 0" limited="false" armature="0" damping="0"/>
+        <joint name="rootz" type="slide" axis="0 0 1" pos="0 0 0" limited="false" armature="0" damping="0"/>
+        <joint name="rooty" type="hinge" axis="0 1 0" pos="0 0 1.25" limited="false" armature="0" damping="0"/>
+        <geom name="torso_geom" type="capsule" fromto="0 0 1.45 0 0 1.05" size="0.05"/>
+        <body name="thigh" pos="0 0 1.05">
+          <joint name="thigh_joint" axis="0 -1 0" pos="0 0 1.05" range="-150 0"/>
+          <geom type="capsule" fromto="0 0 1.05 0 0 0.6" size="0.05"/>
+          <body name="leg" pos="0 0 0.35">
+            <joint name="leg_joint" axis="0 -1 0" pos="0 0 0.6" range="-150 0"/>
+            <geom type="capsule" fromto="0 0 0.6 0 0 0.1" size="0.04"/>
+            <body name="foot" pos="0.13 0 0.1">
+              <joint name="foot_joint" axis="0 -1 0" pos="0 0 0.1" range="-45 45"/>
+              <geom type="capsule" fromto="-0.13 0 0.1 0.26 0 0.1" size="0.06"/>
+            </body></body></body></body></worldbody>
+    <actuator><motor joint="thigh_joint" gear="200"/><motor joint="foot_joint" gear="100"/></actuator></mujoco>)");
+  expect_same_poses_and_ranges(R"(<mujoco><compiler angle="radian" coordinate="global"/>
+    <worldbody>
+      <body name="a" pos="0.1 -0.2 1" euler="0.3 -0.2 0.9"><freejoint/>
+        <geom type="box" size="0.05 0.04 0.03" pos="0.12 -0.2 1.01" quat="0.9 0.1 -0.3 0.2"/>
+        <geom type="sphere" size="0.03" pos="0.1 -0.1 1"/>
+        <body name="b" pos="0.3 0 1.1" axisangle="1 2 3 0.7">
+          <joint name="j1" axis="0.2 1 0.3" pos="0.3 0.01 1.1"/>
+          <joint name="j2" type="slide" axis="1 0 0.4" pos="0.3 0 1.1"/>
+          <geom type="capsule" fromto="0.3 0 1.1 0.5 0.1 0.9" size="0.02"/>
+          <geom type="box" fromto="0.3 0 1.1 0.4 0.05 1.0" size="0.01"/>
+          <geom type="sphere" size="0.01"/>
+          <inertial pos="0.35 0.02 1.05" mass="0.7" diaginertia="0.01 0.02 0.03" xyaxes="0 0 1 1 1 0"/>
+          <body name="c" pos="0.5 0.1 0.9" xyaxes="0 1 0 -1 0 0"><joint name="j3" type="ball" pos="0.5 0.1 0.9"/>
+            <geom type="sphere" size="0.04" pos="0.52 0.1 0.88"/>
+            <inertial pos="0.51 0.1 0.9" mass="0.4" fullinertia="0.004 0.005 0.006 0.0001 -0.0002 0.0003"/>
+          </body></body></body></worldbody></mujoco>)");
+}
+
+// Joint ref (qpos0: the value at the model pose), stiffness and springref (MuJoCo's
+// passive spring) on hinges and slides, in degrees: compiled qpos0, stiffness and
+// spring reference equal MuJoCo's, and the same 0.5 s under both engines' RK4 at
+// dt 1 ms ends at the same joint values (the spring's sign, units and reference).
+TEST(MujocoReference, JointRefAndSpringMatchMuJoCo) {
+  const std::string xml = R"(<mujoco><option timestep="0.001" integrator="RK4"/><worldbody>
+    <body pos="0 0 1"><joint name="s" type="slide" axis="0 0 1" ref="0.3" stiffness="50" springref="0.25" damping="0.5"/>
+      <geom type="box" size="0.1 0.1 0.1" mass="2"/>
+      <body pos="0.2 0 0"><joint name="h" type="hinge" axis="0 1 0" ref="20" stiffness="3" springref="-10"/>
+        <geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.02" mass="0.5"/>
+      </body></body></worldbody></mujoco>)";
+  expect_same_poses_and_ranges(xml);
+  const Model ours = model_from_mjcf(xml, "spring.xml");
+  mjModel* mj = load_mujoco(xml);
+  ASSERT_NE(mj, nullptr);
+  ASSERT_EQ(ours.nq, mj->nq);
+  for (int j = 0; j < mj->njnt; ++j) {
+    EXPECT_NEAR(ours.qpos0[ours.joints[j].qadr], mj->qpos0[mj->jnt_qposadr[j]], 1e-12) << "joint " << j;
+    EXPECT_NEAR(ours.joints[j].stiffness, mj->jnt_stiffness[j], 1e-12) << "joint " << j;
+    EXPECT_NEAR(ours.joints[j].springref, mj->qpos_spring[mj->jnt_qposadr[j]], 1e-12) << "joint " << j;
+  }
+  mjData* d = mj_makeData(mj);
+  mj_resetData(mj, d);
+  SimOptions o;
+  o.integrator = Integrator::Rk4;
+  o.dt = 0.001;
+  o.contact.enabled = false;
+  State s = state_init(ours);
+  SimWorkspace ws;
+  for (int i = 0; i < 500; ++i) {
+    mj_step(mj, d);
+    sim_step(ours, o, s, ws);
+  }
+  // The spring moved both joints away from their start (q0 = ref).
+  EXPECT_GT(std::abs(d->qpos[0] - 0.3), 0.01);
+  EXPECT_GT(std::abs(d->qpos[1] - 20 * M_PI / 180), 0.01);
+  for (int i = 0; i < mj->nq; ++i) EXPECT_NEAR(s.qpos[i], d->qpos[i], 1e-8) << "qpos " << i;
+  mj_deleteData(d);
+  mj_deleteModel(mj);
 }
 
 // Geom contact parameters (friction's sliding value, margin, condim, priority), set
