@@ -160,8 +160,8 @@ void read_body(Ctx& c, const XmlElement& e, const std::string& path, int parent)
         j.stiffness = number(c, ch, p, "stiffness", 0, 0);
         j.springref = number(c, ch, p, "springref", 0, -1e300) * value_scale;
         if (j.type == JointType::Ball || j.type == JointType::Free)
-          for (const char* key : {"ref", "stiffness", "springref"})
-            if (ch.attr(key) && number(c, ch, p, key, 0, -1e300) != 0)
+          for (const auto& [key, value] : {std::pair{"ref", j.ref}, {"stiffness", j.stiffness}, {"springref", j.springref}})
+            if (value != 0)
               throw InputError(c.file, p + "/@" + key,
                                std::string("a nonzero ") + key + " is supported on hinge and slide joints only");
         const std::string limited = ch.attr("limited") ? *ch.attr("limited") : "auto";

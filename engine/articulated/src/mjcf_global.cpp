@@ -51,17 +51,17 @@ void set_quat(XmlElement& e, const Quat& q) {
 // A geom, joint or inertial of the body whose world frame is (P, Q).
 void localise_child(const Ctx& c, XmlElement& e, const std::string& path, const Vec3& P, const Quat& Q) {
   const Quat Qi = Q.conjugate();
-  if (e.name == "geom" && e.attr("fromto") && e.attr("size")) {
+  if (e.name == "geom" && e.attr("fromto")) {
     // MuJoCo 2.2.2 builds a fromto frame in world axes (z from the second point to the
     // first, the shortest turn from +z) and then makes it local, which differs from the
     // frame of the local points by a turn about the geom's axis (a square box shows
     // it): so the geom becomes pos + quat + full size here.
     const auto f = numbers(c, e, path, "fromto", 6, 6);
     const Vec3 a(f[0], f[1], f[2]), b(f[3], f[4], f[5]);
-    auto size = numbers(c, e, path, "size", 1, 3);
     const double half = 0.5 * (b - a).norm();
     const std::string type = e.attr("type") ? *e.attr("type") : "sphere";
-    if (half > 0 && (type == "capsule" || type == "box")) {
+    if (half > 0 && e.attr("size") && (type == "capsule" || type == "box")) {
+      auto size = numbers(c, e, path, "size", 1, 3);
       set_vec(e, "pos", Qi * (0.5 * (a + b) - P));
       set_quat(e, Qi * quat_z_to(a - b));
       if (type == "capsule") size = {size[0], half};
@@ -70,7 +70,8 @@ void localise_child(const Ctx& c, XmlElement& e, const std::string& path, const 
       erase_attr(e, "fromto");
       return;
     }
-    // Anything else is refused by read_geom as in local coordinates; keep the points.
+    // Anything else (no size, zero length, another type) read_geom refuses as in local
+    // coordinates; keep the points.
     const Vec3 al = Qi * (a - P), bl = Qi * (b - P);
     const double v[6] = {al.x(), al.y(), al.z(), bl.x(), bl.y(), bl.z()};
     set_attr(e, "fromto", format_numbers(v, 6));

@@ -157,9 +157,8 @@ Model model_from_json(JsonReader& r, const std::filesystem::path& base_dir) {
         jt.springref = j.number("springref", 0, -1e300, 1e300);
         jt.ref = j.number("ref", 0, -1e300, 1e300);
         if (jt.type == JointType::Ball || jt.type == JointType::Free)
-          for (const char* key : {"stiffness", "springref", "ref"})
-            if (j.has(key) && j.number(key, 0, -1e300, 1e300) != 0)
-              j.fail(key, std::string("a nonzero ") + key + " is supported on hinge and slide joints only");
+          for (const auto& [key, value] : {std::pair{"stiffness", jt.stiffness}, {"springref", jt.springref}, {"ref", jt.ref}})
+            if (value != 0) j.fail(key, std::string("a nonzero ") + key + " is supported on hinge and slide joints only");
         if (j.has("range")) {
           if (jt.type == JointType::Free) j.fail("range", "free joints take no range");
           const VecX r = read_range(j);

@@ -3,18 +3,12 @@
 #include "pliant/articulated/io.h"
 #include "pliant/core/error.h"
 #include "mesh_fixture.h"
+#include "test_util.h"
 
 namespace pliant::articulated {
 namespace {
 
-std::string error_of(const std::string& xml) {
-  try {
-    model_from_mjcf(xml, "bad.xml");
-  } catch (const InputError& e) {
-    return e.pointer() + " | " + e.problem();
-  }
-  return "no error";
-}
+std::string error_of(const std::string& xml) { return test::mjcf_error(xml); }
 
 TEST(Mjcf, ChainCompiles) {
   const Model m = model_from_mjcf(chain_mjcf(4, 0.2, 0.02), "chain.xml");

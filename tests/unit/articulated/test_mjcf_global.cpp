@@ -4,7 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "pliant/articulated/io.h"
-#include "pliant/core/error.h"
+#include "test_util.h"
 
 namespace pliant::articulated {
 namespace {
@@ -70,14 +70,7 @@ TEST(MjcfGlobal, GymStyleHopperEqualsItsLocalTwin) {
 }
 
 TEST(MjcfGlobal, MalformedGlobalModelsNameTheElement) {
-  auto error_of = [](const std::string& xml) {
-    try {
-      model_from_mjcf(xml, "bad.xml");
-    } catch (const InputError& e) {
-      return e.pointer() + " | " + e.problem();
-    }
-    return std::string("no error");
-  };
+  const auto error_of = test::mjcf_error;
   const std::string head = "<mujoco><compiler coordinate=\"global\"/><worldbody><body pos=\"0 0 1\">";
   EXPECT_NE(error_of(head + "<geom type=\"capsule\" fromto=\"0 0 1 0 0 1\" size=\"0.1\"/></body></worldbody></mujoco>")
                 .find("body[0]/geom[0]/@fromto | zero length"),

@@ -3,8 +3,19 @@
 #include <string>
 
 #include "pliant/articulated/io.h"
+#include "pliant/core/error.h"
 
 namespace pliant::articulated::test {
+
+// "pointer | problem" of the InputError an MJCF text raises, or "no error".
+inline std::string mjcf_error(const std::string& xml) {
+  try {
+    model_from_mjcf(xml, "bad.xml");
+  } catch (const InputError& e) {
+    return e.pointer() + " | " + e.problem();
+  }
+  return "no error";
+}
 
 // A model exercising every joint type: free root, ball, hinge, slide.
 inline Model mixed_model() {
