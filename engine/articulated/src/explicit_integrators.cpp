@@ -1,6 +1,6 @@
 // Explicit baselines (sim.h): semi-implicit (symplectic) Euler and classic RK4 on
 // M qacc = tau - bias, with penalty contact (spring-damper normal, regularised Coulomb
-// or Ck friction), joint-range penalties and actuator forces.
+// or Ck friction), joint-range penalties, actuator forces and dry joint friction.
 #include <algorithm>
 #include <cmath>
 #include <vector>
@@ -82,18 +82,26 @@ void explicit_forces(const Model& m, const SimOptions& o, const State& s, const 
 }  // namespace
 
 void accel(const Model& m, const SimOptions& o, const State& s, const VecX& q, const VecX& v,
-           SimWorkspace& ws, VecX* a) {
+           SimWorkspace& ws, VecX* a, const VecX* extra_force) {
   kinematics(m, q, &ws.kin);
   ws.kin_at.resize(0);
   VecX tau;
   explicit_forces(m, o, s, ws.kin, q, v, ws, &tau, nullptr);
+  if (extra_force) tau += *extra_force;
   forward_dynamics(m, ws.kin, v, tau, a, &ws.tree);
 }
 
+// Semi-implicit Euler; with dry joint friction the velocity update is the projected one
+// (v_pred + M^-1 lambda: a joint that can stick ends the step at rest).
 void euler_step(const Model& m, const SimOptions& o, State& s, SimWorkspace& ws) {
   const double dt = o.dt;
   VecX a;
   accel(m, o, s, s.qpos, s.qvel, ws, &a);
+  if (any_frictionloss(m)) {
+    VecX af;
+    joint_friction_force(m, o, ws.kin, s.qvel + dt * a, &af);
+    a += af;
+  }
   s.qvel += dt * a;
   qpos_integrate(m, s.qpos, s.qvel, dt);
   s.time += dt;
@@ -101,28 +109,37 @@ void euler_step(const Model& m, const SimOptions& o, State& s, SimWorkspace& ws)
 }
 
 void rk4_advance(const Model& m, const SimOptions& o, const State& s, double h, VecX& q, VecX& v,
-                 SimWorkspace& ws) {
+                 SimWorkspace& ws, const VecX* extra_force) {
   VecX a1, a2, a3, a4, qs;
-  accel(m, o, s, q, v, ws, &a1);
+  accel(m, o, s, q, v, ws, &a1, extra_force);
   qs = q;
   qpos_integrate(m, qs, v, h / 2);
   const VecX v2 = v + h / 2 * a1;
-  accel(m, o, s, qs, v2, ws, &a2);
+  accel(m, o, s, qs, v2, ws, &a2, extra_force);
   qs = q;
   qpos_integrate(m, qs, v2, h / 2);
   const VecX v3 = v + h / 2 * a2;
-  accel(m, o, s, qs, v3, ws, &a3);
+  accel(m, o, s, qs, v3, ws, &a3, extra_force);
   qs = q;
   qpos_integrate(m, qs, v3, h);
   const VecX v4 = v + h * a3;
-  accel(m, o, s, qs, v4, ws, &a4);
+  accel(m, o, s, qs, v4, ws, &a4, extra_force);
   qpos_integrate(m, q, (v + 2 * v2 + 2 * v3 + v4) / 6, h);
   v += h / 6 * (a1 + 2 * a2 + 2 * a3 + a4);
 }
 
+// Classic RK4; dry joint friction enters as Euler's friction force of this step (from
+// the first stage's acceleration) held constant over the stages: a sticking joint stays
+// put, a sliding one decelerates at F / I, but the friction part is first order in dt.
 void rk4_step(const Model& m, const SimOptions& o, State& s, SimWorkspace& ws) {
   VecX q = s.qpos, v = s.qvel;  // accel reads s (actuators) while the stages run
-  rk4_advance(m, o, s, o.dt, q, v, ws);
+  VecX friction;
+  if (any_frictionloss(m)) {
+    VecX a, af;
+    accel(m, o, s, q, v, ws, &a);
+    friction = joint_friction_force(m, o, ws.kin, v + o.dt * a, &af);
+  }
+  rk4_advance(m, o, s, o.dt, q, v, ws, friction.size() ? &friction : nullptr);
   s.qpos = q;
   s.qvel = v;
   s.time += o.dt;

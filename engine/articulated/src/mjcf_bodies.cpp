@@ -138,8 +138,8 @@ void read_body(Ctx& c, const XmlElement& e, const std::string& path, int parent)
         check_attrs(c, ch, p, {"name"});
         j.type = JointType::Free;
       } else {
-        check_attrs(c, ch, p, {"name", "type", "axis", "pos", "damping", "armature", "range", "limited", "ref",
-                               "stiffness", "springref"});
+        check_attrs(c, ch, p, {"name", "type", "axis", "pos", "damping", "armature", "frictionloss", "range",
+                               "limited", "ref", "stiffness", "springref"});
         const std::string type = ch.attr("type") ? *ch.attr("type") : "hinge";
         static const std::map<std::string, JointType> types = {{"hinge", JointType::Hinge},
                                                                {"slide", JointType::Slide},
@@ -154,6 +154,7 @@ void read_body(Ctx& c, const XmlElement& e, const std::string& path, int parent)
         j.pos = vec3(c, ch, p, "pos", Vec3::Zero());
         j.damping = number(c, ch, p, "damping", 0, 0);
         j.armature = number(c, ch, p, "armature", 0, 0);
+        j.frictionloss = number(c, ch, p, "frictionloss", 0, 0);
         // ref / springref are joint values: angles for hinges (<compiler angle>), metres for slides.
         const double value_scale = j.type == JointType::Hinge ? c.angle_scale : 1.0;
         j.ref = number(c, ch, p, "ref", 0, -1e300) * value_scale;

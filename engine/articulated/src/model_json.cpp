@@ -151,6 +151,7 @@ Model model_from_json(JsonReader& r, const std::filesystem::path& base_dir) {
         jt.pos = vec3(j, "pos", Vec3::Zero());
         jt.damping = j.number("damping", 0, 0);
         jt.armature = j.number("armature", 0, 0);
+        jt.frictionloss = j.number("frictionloss", 0, 0);  // dry friction, N m or N per dof
         // A spring 1/2 stiffness (q - springref)^2 and the model-pose value ref, as MJCF's
         // (hinges and slides; radians or metres).
         jt.stiffness = j.number("stiffness", 0, 0);

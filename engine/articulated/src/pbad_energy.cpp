@@ -266,10 +266,10 @@ double pbad_energy(const Model& m, const SimOptions& o, const State& s, const Pb
           e += spin_term(ws, o, k, p, pa.body_b, pa.body_a, pa.normal_force, pa.normal, mix, derivs);
         }
   }
-  // Actuator work, joint damping (dissipation potential) and armature (the stencil's
-  // inertial term on the joint coordinates, c a (dq - target)^2 as c m |dx|^2 above) in
-  // joint space.
-  const bool joint_terms = !m.actuators.empty() || p.any_damping || p.any_armature;
+  // Actuator work, joint damping and dry friction (dissipation potentials: dt d v^2 / 2
+  // and dt F |v| with v = dq / dt) and armature (the stencil's inertial term on the
+  // joint coordinates, c a (dq - target)^2 as c m |dx|^2 above) in joint space.
+  const bool joint_terms = !m.actuators.empty() || p.any_damping || p.any_armature || p.any_frictionloss;
   if (joint_terms) {
     actuator_forces(m, s, &ws.tau);
     ws.dq = qpos_difference(m, q, s.qpos);
@@ -278,6 +278,10 @@ double pbad_energy(const Model& m, const SimOptions& o, const State& s, const Pb
       for (int i = 0; i < joint_nv(j.type); ++i) {
         const int v = j.vadr + i;
         e += 0.5 * j.damping / o.dt * ws.dq[v] * ws.dq[v];
+        if (j.frictionloss > 0) {
+          const double eps = frictionloss_eps(o, j, i);
+          e += j.frictionloss * (std::sqrt(ws.dq[v] * ws.dq[v] + eps * eps) - eps);
+        }
         if (p.any_armature) e += c * j.armature * (ws.dq[v] - p.armature_target[v]) * (ws.dq[v] - p.armature_target[v]);
       }
   }
@@ -296,6 +300,10 @@ double pbad_energy(const Model& m, const SimOptions& o, const State& s, const Pb
         for (int i = 0; i < joint_nv(j.type); ++i) {
           const int v = j.vadr + i;
           ws.grad[v] += j.damping / o.dt * ws.dq[v];
+          if (j.frictionloss > 0) {
+            const double eps = frictionloss_eps(o, j, i);
+            ws.grad[v] += j.frictionloss * ws.dq[v] / std::sqrt(ws.dq[v] * ws.dq[v] + eps * eps);
+          }
           if (p.any_armature) ws.grad[v] += 2 * c * j.armature * (ws.dq[v] - p.armature_target[v]);
         }
     }

@@ -13,13 +13,21 @@ namespace {
 
 // Joint-space diagonal of the LM matrix: damping lambda * diag(Gauss-Newton), the
 // joints' viscous damping (dissipation potential / dt), their armature (2 c a, c the
-// stencil's weight / dt^2, as the bodies' 2 c M) and active range penalties.
+// stencil's weight / dt^2, as the bodies' 2 c M), dry friction's iteratively
+// reweighted curvature F / sqrt(dq^2 + eps^2) (a majoriser of F |dq|, as sliding
+// friction's mu fn / r; ws.dq is at the current iterate) and active range penalties.
 void lm_armature(const Model& m, const SimOptions& o, const PbadStep& p, double lambda, SimWorkspace& ws) {
   ws.arm = lambda * ws.diag;
-  if (p.any_damping || p.any_armature)
+  if (p.any_damping || p.any_armature || p.any_frictionloss)
     for (const Joint& j : m.joints)
-      for (int i = 0; i < joint_nv(j.type); ++i)
-        ws.arm[j.vadr + i] += j.damping / o.dt + 2 * p.weight / (o.dt * o.dt) * j.armature;
+      for (int i = 0; i < joint_nv(j.type); ++i) {
+        const int v = j.vadr + i;
+        ws.arm[v] += j.damping / o.dt + 2 * p.weight / (o.dt * o.dt) * j.armature;
+        if (j.frictionloss > 0) {
+          const double eps = frictionloss_eps(o, j, i);
+          ws.arm[v] += j.frictionloss / std::sqrt(ws.dq[v] * ws.dq[v] + eps * eps);
+        }
+      }
   if (p.any_limits) ws.arm += ws.limit_h;
 }
 

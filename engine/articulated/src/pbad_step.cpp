@@ -18,17 +18,26 @@ namespace {
 // chain at dt 0.05). Without contact they come from RK4 run backwards in time with
 // substeps of at most dt/4 and 10 ms (2.5 ms gave the same drifts to 5 digits for
 // 10-100 links at dt 0.01-0.1 and cost 14% of a 10-link step at dt 0.04); with
-// contact (stiff penalty, friction that would run backwards) from the Taylor
-// expansion with the initial acceleration.
+// contact (stiff penalty, friction that would run backwards) or dry joint friction
+// from the Taylor expansion with the initial acceleration.
 void startup_past(const Model& m, const SimOptions& o, const State& s, SimWorkspace& ws, int frames,
                   std::vector<VecX>* past) {
   VecX a;
   accel(m, o, s, s.qpos, s.qvel, ws, &a);
-  if (!a.allFinite()) a.setZero();
   const double dt = o.dt;
+  // Dry joint friction would run backwards too (a joint held by it would fall in the
+  // past frames): Taylor with the friction-projected acceleration (zero where it sticks).
+  const bool friction = any_frictionloss(m);
+  if (friction && a.allFinite()) {
+    VecX af;
+    joint_friction_force(m, o, ws.kin, s.qvel + dt * a, &af);
+    a += af;
+  }
+  if (!a.allFinite()) a.setZero();
   past->assign(frames, s.qpos);
   for (int f = 1; f <= frames; ++f)
     qpos_integrate(m, (*past)[f - 1], -f * dt * s.qvel + 0.5 * f * f * dt * dt * a, 1.0);
+  if (friction) return;
   if (o.contact.enabled && (!ws.contacts.empty() || !ws.pair_contacts.empty())) return;  // accel() found contacts at q0
   const int sub = std::max(4, static_cast<int>(std::ceil(dt / 0.01)));
   const double h = -dt / sub;
@@ -140,7 +149,11 @@ void pbad_begin(const Model& m, const SimOptions& o, State& s, PbadStep& p, SimW
   }
   // Prediction: quadratic extrapolation q_i (+) (2 (q_i - q_{i-1}) - (q_{i-1} - q_{i-2})).
   p.any_damping = false;
-  for (const Joint& j : m.joints) p.any_damping = p.any_damping || j.damping > 0;
+  p.any_frictionloss = false;
+  for (const Joint& j : m.joints) {
+    p.any_damping = p.any_damping || j.damping > 0;
+    p.any_frictionloss = p.any_frictionloss || j.frictionloss > 0;
+  }
   p.any_limits = any_limits(m);
   bool moving_mesh = false, static_feature = false;
   for (const Geom& g : m.geoms) {

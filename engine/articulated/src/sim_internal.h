@@ -23,6 +23,15 @@ void actuator_forces(const Model& m, const State& s, VecX* tau);
 double limit_terms(const Model& m, const SimOptions& o, const VecX& q, VecX* force, VecX* hdiag);
 bool any_limits(const Model& m);
 
+// Regularisation of joint i-th dof's dry friction (Joint::frictionloss): F (sqrt(dq^2 +
+// eps^2) - eps) per step, eps the contact's slip_eps for linear dofs (slide, a free
+// joint's translation) and spin_eps for rotations, so it holds a joint as the contact
+// friction holds a point.
+inline double frictionloss_eps(const SimOptions& o, const Joint& j, int i) {
+  const bool linear = j.type == JointType::Slide || (j.type == JointType::Free && i < 3);
+  return linear ? o.contact.slip_eps : o.contact.spin_eps;
+}
+
 // Torsional / rolling friction (condim 4 / 6, spin_friction.cpp). Whether any geom or
 // explicit pair asks for it (the loops skip it otherwise).
 bool any_spin_friction(const Model& m);
@@ -54,14 +63,22 @@ bool lm_solve(const Model& m, const std::vector<Mat6>& blocks, const VecX& rhs, 
 
 // Joint accelerations of the explicit integrators at (q, v), with contact, limit and
 // actuator forces (explicit_integrators.cpp); PBAD's start-up frames use it too.
+// Dry joint friction in the explicit integrators (explicit_integrators.cpp): whether any
+// joint has frictionloss, and the constant generalized force over the next step that
+// stops the friction dofs of v_pred = v + dt a where the bound F dt allows and opposes
+// them with it where not (k complete at q); accel gets M^-1 of it.
+bool any_frictionloss(const Model& m);
+VecX joint_friction_force(const Model& m, const SimOptions& o, const Kinematics& k, const VecX& v_pred, VecX* accel);
+
+// extra_force: a generalized force added to tau (dry joint friction held over a step).
 void accel(const Model& m, const SimOptions& o, const State& s, const VecX& q, const VecX& v,
-           SimWorkspace& ws, VecX* a);
+           SimWorkspace& ws, VecX* a, const VecX* extra_force = nullptr);
 // One step of semi-implicit Euler / classic RK4 (explicit_integrators.cpp).
 void euler_step(const Model& m, const SimOptions& o, State& s, SimWorkspace& ws);
 void rk4_step(const Model& m, const SimOptions& o, State& s, SimWorkspace& ws);
 // One classic RK4 step of (q, v) by h, in place (h < 0 runs backwards: PBAD's
 // start-up frames). ws.contacts / ws.pair_contacts hold the last stage's contacts.
 void rk4_advance(const Model& m, const SimOptions& o, const State& s, double h, VecX& q, VecX& v,
-                 SimWorkspace& ws);
+                 SimWorkspace& ws, const VecX* extra_force = nullptr);
 
 }  // namespace pliant::articulated

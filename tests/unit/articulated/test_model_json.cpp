@@ -68,12 +68,13 @@ TEST(ModelJson, ErrorsNameTheField) {
 
 // Joint springs and ref (as MJCF's): they reach the model, ref is the model-pose value
 // (qpos0) of a slide.
-TEST(ModelJson, JointSpringAndRef) {
+TEST(ModelJson, JointSpringRefAndFriction) {
   const Model m = from_json({{"bodies",
                               {{{"name", "a"},
                                 {"joints", {{{"type", "slide"}, {"axis", {0, 0, 1}}, {"stiffness", 40}, {"springref", 0.1},
-                                             {"ref", 0.3}}}},
+                                             {"ref", 0.3}, {"frictionloss", 0.7}}}},
                                 {"geoms", {{{"type", "sphere"}, {"size", {0.1}}}}}}}}});
+  EXPECT_EQ(m.joints[0].frictionloss, 0.7);
   EXPECT_EQ(m.joints[0].stiffness, 40);
   EXPECT_EQ(m.joints[0].springref, 0.1);
   EXPECT_EQ(m.joints[0].ref, 0.3);

@@ -34,6 +34,11 @@ struct Joint {
   int qadr = 0, vadr = 0;
   double damping = 0;   // N m s / rad (viscous, explicit integrators and PBAD alike)
   double armature = 0;  // added rotor inertia (diagonal of M)
+  // Dry (Coulomb) joint friction, MuJoCo's frictionloss: a torque (N m) or force (N)
+  // of at most this size per dof opposing the joint's motion, holding it at rest below
+  // it. PBAD: the dissipation potential F |dq| per step (regularised); explicit
+  // integrators: a per-step friction impulse (explicit_integrators.cpp).
+  double frictionloss = 0;
   // Hinge / slide only. ref: the joint value at which the body has its model pose
   // (MuJoCo's qpos0; the joint turns or slides by q - ref). A spring
   // 1/2 stiffness (q - springref)^2 (N m/rad or N/m), in PBAD's energy and as a force

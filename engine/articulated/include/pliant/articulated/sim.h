@@ -111,7 +111,7 @@ struct PbadStep {
   VecX q_pred;          // predictor (quadratic extrapolation)
   bool step_ready = false;  // ws.step/diag/rhs already hold the next LM solve
   double energy = 0, lambda = 1e-6, weight = 0.5;
-  bool any_damping = false, any_limits = false;
+  bool any_damping = false, any_limits = false, any_frictionloss = false;
   // Joint armature (rotor inertia in joint space): the stencil's target displacement
   // from q_i per dof, -(c_2 (q_{i-1} - q_i) + c_3 (q_{i-2} - q_i) + ...) / c_0.
   bool any_armature = false;

@@ -1,0 +1,160 @@
+// Dry joint friction (Joint::frictionloss): joint_friction.cpp's impulse for the explicit
+// integrators, PBAD's F |dq| term (pbad_energy.cpp), and the MJCF attribute.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+#include "pliant/articulated/io.h"
+#include "pliant/articulated/sim.h"
+#include "sim_internal.h"
+#include "test_util.h"
+
+namespace pliant::articulated {
+namespace {
+
+constexpr Integrator kAll[] = {Integrator::Pbad3, Integrator::Pbad2, Integrator::Euler, Integrator::Rk4};
+
+// A rotor about the vertical (no gravity torque), I = 0.01 kg m^2, spun at w0 = 5 rad/s
+// with frictionloss F = 0.02 N m: it decelerates at F / I and stops after I w0 / F =
+// 2.5 s, having turned I w0^2 / (2 F) = 6.25 rad, then stays put.
+TEST(JointFriction, SpinDownStopsWhereTheAnalyticAnswerSays) {
+  const Model m = model_from_mjcf(R"(<mujoco><worldbody><body>
+      <joint axis="0 0 1" frictionloss="0.02"/>
+      <inertial pos="0 0 0" mass="1" diaginertia="0.01 0.01 0.01"/></body></worldbody></mujoco>)",
+                                  "rotor.xml");
+  ASSERT_EQ(m.joints[0].frictionloss, 0.02);
+  for (Integrator integ : kAll) {
+    SimOptions o;
+    o.integrator = integ;
+    o.dt = 0.01;
+    o.contact.enabled = false;
+    State s = state_init(m);
+    s.qvel[0] = 5;
+    SimWorkspace ws;
+    while (s.time < 1.25 - 1e-9) ASSERT_TRUE(sim_step(m, o, s, ws));
+    // Half way: w = w0 - F t / I = 2.5 rad/s, angle w0 t - F t^2 / (2 I) = 4.6875 rad.
+    EXPECT_NEAR(s.qpos[0], 4.6875, 0.01 * 4.6875) << integrator_name(integ);
+    while (s.time < 3.0 - 1e-9) ASSERT_TRUE(sim_step(m, o, s, ws));
+    EXPECT_NEAR(s.qpos[0], 6.25, 0.01 * 6.25) << integrator_name(integ);
+    const double stopped = s.qpos[0];
+    while (s.time < 4.0 - 1e-9) ASSERT_TRUE(sim_step(m, o, s, ws));
+    EXPECT_NEAR(s.qpos[0], stopped, 1e-6) << integrator_name(integ);  // at rest: no torque left
+  }
+}
+
+// A horizontal pendulum (1 kg at 0.5 m: gravity torque m g l = 4.905 N m about the
+// hinge, I = 0.25 kg m^2). Frictionloss 5.5 holds it; 4.0 lets it fall with the
+// angular acceleration (m g l - F) / I: 0.0181 rad after 0.1 s.
+Model horizontal_pendulum(double frictionloss) {
+  return model_from_mjcf("<mujoco><worldbody><body pos=\"0 0 1\"><joint axis=\"0 1 0\" frictionloss=\"" +
+                             std::to_string(frictionloss) +
+                             "\"/><inertial pos=\"0.5 0 0\" mass=\"1\" diaginertia=\"1e-6 1e-6 1e-6\"/>"
+                             "</body></worldbody></mujoco>",
+                         "pendulum.xml");
+}
+
+TEST(JointFriction, HoldsBelowTheBreakawayTorqueAndSlipsAboveIt) {
+  const Model held = horizontal_pendulum(5.5), slipping = horizontal_pendulum(4.0);
+  const double inertia = 0.25 + 1e-6, alpha = (9.81 * 0.5 - 4.0) / inertia;
+  for (Integrator integ : kAll) {
+    SimOptions o;
+    o.integrator = integ;
+    o.dt = 0.01;
+    o.contact.enabled = false;
+    State s = state_init(held);
+    SimWorkspace ws;
+    while (s.time < 2.0 - 1e-9) ASSERT_TRUE(sim_step(held, o, s, ws));
+    // Explicit integrators: exactly still. PBAD: the regularisation's creep, eps tau /
+    // sqrt(F^2 - tau^2) = 2e-7 rad per step (spin_eps 1e-7), 4e-5 rad in 200 steps.
+    EXPECT_LT(std::abs(s.qpos[0]), 1e-4) << integrator_name(integ);
+    // Without friction it would have swung through -pi/2 (hanging) by now.
+    o.dt = 0.001;
+    State t = state_init(slipping);
+    while (t.time < 0.1 - 1e-9) ASSERT_TRUE(sim_step(slipping, o, t, ws));
+    EXPECT_NEAR(std::abs(t.qpos[0]), 0.5 * alpha * 0.01, 0.02 * 0.5 * alpha * 0.01) << integrator_name(integ);
+  }
+}
+
+// The impulse on two coupled friction dofs (a link on two hinges) is the box-constrained
+// minimiser: a dof whose impulse is inside its bound ends the step at rest, one at the
+// bound keeps moving the way it went and the impulse opposes it.
+TEST(JointFriction, ImpulseStopsWhatItCanAndOpposesTheRest) {
+  Model m = model_from_mjcf(chain_mjcf(1), "chain.xml");
+  m.joints[0].frictionloss = 0.5;
+  m.joints[1].frictionloss = 0.005;
+  SimOptions o;
+  o.dt = 0.01;
+  Kinematics k;
+  VecX q(m.nq);
+  q << 0.4, -0.7;
+  kinematics(m, q, &k);
+  VecX v_pred(m.nv), a;
+  v_pred << 0.01, 3.0;  // the first can be stopped by 0.5 N m over 0.01 s; the second (0.005 N m) cannot
+  const VecX f = joint_friction_force(m, o, k, v_pred, &a);
+  const VecX v_after = v_pred + o.dt * a;
+  EXPECT_LT(std::abs(f[0]), 0.5 * (1 - 1e-9));
+  EXPECT_LT(std::abs(v_after[0]), 1e-9);
+  EXPECT_NEAR(f[1], -0.005, 1e-12);
+  EXPECT_GT(v_after[1], 0);
+  // a is M^-1 f.
+  EXPECT_LT((mass_matrix(m, k) * a - f).norm(), 1e-9);
+}
+
+// PBAD's friction term: the gradient matches central differences of the step energy
+// on every joint type (free, ball, hinge, slide; each dof moving, off the kink at 0).
+TEST(JointFriction, PbadEnergyGradientMatchesFiniteDifferences) {
+  Model m = test::mixed_model();
+  for (size_t j = 0; j < m.joints.size(); ++j) m.joints[j].frictionloss = 0.3 + 0.2 * j;
+  SimOptions o;
+  o.integrator = Integrator::Pbad3;
+  o.dt = 0.02;
+  o.contact.enabled = false;
+  State s = state_init(m);
+  for (int i = 0; i < m.nv; ++i) s.qvel[i] = 0.5 + 0.1 * i;
+  SimWorkspace ws;
+  PbadStep p;
+  pbad_begin(m, o, s, p, ws);
+  EXPECT_TRUE(p.any_frictionloss);
+  VecX q = p.q;
+  VecX dv(m.nv);
+  for (int i = 0; i < m.nv; ++i) dv[i] = 0.02 * std::sin(1.3 * i + 0.4);
+  qpos_integrate(m, q, dv, 1.0);
+  pbad_evaluate(m, o, s, p, q, ws);
+  const VecX grad = ws.grad;
+  for (int i = 0; i < m.nv; ++i) {
+    const double h = 1e-6;
+    VecX qp = q, qm = q, e = VecX::Unit(m.nv, i);
+    qpos_integrate(m, qp, e, h);
+    qpos_integrate(m, qm, e, -h);
+    const double fd = (pbad_energy(m, o, s, p, qp, ws, false) - pbad_energy(m, o, s, p, qm, ws, false)) / (2 * h);
+    EXPECT_NEAR(grad[i], fd, 1e-5 * (1 + std::abs(fd))) << "dof " << i;
+  }
+  // The friction part is F sign(dq) on each dof: removing it changes the gradient by that.
+  Model frictionless = m;
+  for (Joint& j : frictionless.joints) j.frictionloss = 0;
+  PbadStep p0;
+  pbad_begin(frictionless, o, s, p0, ws);
+  pbad_evaluate(frictionless, o, s, p0, q, ws);
+  const VecX dq = qpos_difference(m, q, s.qpos);
+  for (const Joint& j : m.joints)
+    for (int i = 0; i < joint_nv(j.type); ++i)
+      EXPECT_NEAR(grad[j.vadr + i] - ws.grad[j.vadr + i], j.frictionloss * (dq[j.vadr + i] > 0 ? 1 : -1), 1e-6);
+}
+
+TEST(JointFriction, MjcfReadsFrictionlossFromJointsAndDefaults) {
+  const Model m = model_from_mjcf(R"(<mujoco><default><joint frictionloss="0.4"/></default><worldbody>
+      <body><joint axis="0 0 1"/><geom type="sphere" size="0.1"/>
+        <body pos="0.3 0 0"><joint type="ball" frictionloss="1.5"/><geom type="sphere" size="0.1"/></body>
+      </body></worldbody></mujoco>)",
+                                  "f.xml");
+  EXPECT_EQ(m.joints[0].frictionloss, 0.4);
+  EXPECT_EQ(m.joints[1].frictionloss, 1.5);
+  EXPECT_EQ(test::mjcf_error(R"(<mujoco><worldbody><body><joint frictionloss="-1"/>
+      <geom type="sphere" size="0.1"/></body></worldbody></mujoco>)")
+                .substr(0, 48),
+            "/mujoco/worldbody[0]/body[0]/joint[0]/@frictionl");
+}
+
+}  // namespace
+}  // namespace pliant::articulated
