@@ -9,6 +9,32 @@
 namespace pliant::articulated {
 namespace {
 
+// Gradient of dry joint friction's F (sqrt(dq^2 + eps^2) - eps) per dof. On a ball or
+// free joint's rotation, dq = log(R_i^T R) and q moves by R exp(delta), so d dq / d delta
+// is the inverse right Jacobian of SO(3), Jr^-1(phi) = I + [phi]/2 + c [phi]^2, and the
+// gradient in delta is its transpose times the one in dq (c = 1/th^2 - (1 + cos th) /
+// (2 th sin th), 1/12 at th -> 0).
+void add_frictionloss_gradient(const Model& m, const SimOptions& o, const VecX& dq, VecX* grad) {
+  for (const Joint& j : m.joints) {
+    if (j.frictionloss <= 0) continue;
+    const int n = joint_nv(j.type);
+    VecX g(n);
+    for (int i = 0; i < n; ++i) {
+      const double eps = frictionloss_eps(o, j, i), d = dq[j.vadr + i];
+      g[i] = j.frictionloss * d / std::sqrt(d * d + eps * eps);
+    }
+    const int rot = j.type == JointType::Ball ? 0 : j.type == JointType::Free ? 3 : -1;
+    if (rot >= 0) {
+      const Vec3 phi = dq.segment<3>(j.vadr + rot);
+      const double th = phi.norm();
+      const double cf = th < 1e-4 ? 1.0 / 12 : 1 / (th * th) - (1 + std::cos(th)) / (2 * th * std::sin(th));
+      const Vec3 gr = g.segment<3>(rot);
+      g.segment<3>(rot) = gr - 0.5 * phi.cross(gr) + cf * phi.cross(phi.cross(gr));
+    }
+    grad->segment(j.vadr, n) += g;
+  }
+}
+
 // A point force f at x on body b: its wrench, and for the exact Hessian's geometric
 // term its moment x f^T and its sum.
 void add_point_force(SimWorkspace& ws, int b, const Vec3& x, const Vec3& f, bool exact) {
@@ -300,12 +326,9 @@ double pbad_energy(const Model& m, const SimOptions& o, const State& s, const Pb
         for (int i = 0; i < joint_nv(j.type); ++i) {
           const int v = j.vadr + i;
           ws.grad[v] += j.damping / o.dt * ws.dq[v];
-          if (j.frictionloss > 0) {
-            const double eps = frictionloss_eps(o, j, i);
-            ws.grad[v] += j.frictionloss * ws.dq[v] / std::sqrt(ws.dq[v] * ws.dq[v] + eps * eps);
-          }
           if (p.any_armature) ws.grad[v] += 2 * c * j.armature * (ws.dq[v] - p.armature_target[v]);
         }
+      if (p.any_frictionloss) add_frictionloss_gradient(m, o, ws.dq, &ws.grad);
     }
   }
   return e;
