@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 
 #include "pliant/articulated/articulated.h"
 #include "pliant/core/error.h"
@@ -26,12 +27,17 @@ ArticulatedScene articulated_compile(const Scene& scene) {
   ArticulatedScene a;
   if (!r.has("model")) r.fail("model", "an articulated scene needs a \"model\" (object or file path)");
   const nlohmann::json& mv = scene.doc.at("model");
+  MjcfOptions mjcf;
+  if (auto x = r.object("mjcf")) {
+    mjcf.ignore_solver_params = x->boolean("ignore_solver_params", false);
+    x->finish();
+  }
   if (mv.is_string()) {
     r.accept("model");
     const std::string rel = mv.get<std::string>();
     const auto path = scene.asset_path(rel);
     try {
-      a.model = model_load_file(path, rel);
+      a.model = model_load_file(path, rel, mjcf);
     } catch (const InputError& e) {
       // Name the scene's field and the model file's own location.
       throw InputError(scene.file, "/model",
@@ -41,6 +47,13 @@ ArticulatedScene articulated_compile(const Scene& scene) {
     auto mr = r.object("model");
     a.model = model_from_json(*mr, scene.asset_path("."));
     mr->finish();
+  }
+  if (!a.model.ignored_attributes.empty()) {
+    // Asked for by the scene, but the user should still see what had no effect.
+    std::string list;
+    for (const std::string& at : a.model.ignored_attributes) list += (list.empty() ? "" : ", ") + at;
+    std::fprintf(stderr, "%s: /mjcf/ignore_solver_params: %zu MJCF solver parameters without effect: %s\n",
+                 scene.file.c_str(), a.model.ignored_attributes.size(), list.c_str());
   }
   const Model& m = a.model;
   SimOptions& o = a.options;

@@ -17,10 +17,12 @@ namespace pliant::articulated {
 
 using namespace mjcf_internal;
 
-Model model_from_mjcf(const std::string& text, const std::string& file, const std::filesystem::path& base_dir) {
+Model model_from_mjcf(const std::string& text, const std::string& file, const std::filesystem::path& base_dir,
+                      const MjcfOptions& options) {
   XmlElement root = parse_xml(text, file);
   if (root.name != "mujoco") throw InputError(file, "/" + root.name, "root element must be <mujoco>");
   Ctx c(file);
+  c.ignore_solver_params = options.ignore_solver_params;
   // Compiler settings and default classes first: they apply wherever they appear.
   Defaults defaults;
   defaults["main"];
@@ -143,13 +145,13 @@ Model model_from_mjcf(const std::string& text, const std::string& file, const st
   return c.m;
 }
 
-Model model_load_file(const std::filesystem::path& path, const std::string& label) {
+Model model_load_file(const std::filesystem::path& path, const std::string& label, const MjcfOptions& options) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(label, "", "cannot read model file " + path.string());
   std::stringstream ss;
   ss << in.rdbuf();
   const std::string text = ss.str();
-  if (path.extension() == ".xml") return model_from_mjcf(text, label, path.parent_path());
+  if (path.extension() == ".xml") return model_from_mjcf(text, label, path.parent_path(), options);
   nlohmann::json doc;
   try {
     doc = nlohmann::json::parse(text, nullptr, true, true);

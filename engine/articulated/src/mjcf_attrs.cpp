@@ -17,10 +17,19 @@ std::string child_path(const std::string& parent, const XmlElement& parent_el, s
   return parent + "/" + c.name + "[" + std::to_string(n) + "]";
 }
 
-void check_attrs(const Ctx& c, const XmlElement& e, const std::string& path,
-                 const std::set<std::string>& allowed) {
+void check_attrs(Ctx& c, const XmlElement& e, const std::string& path, const std::set<std::string>& allowed) {
   for (const auto& [k, v] : e.attrs)
     if (!allowed.count(k)) {
+      if ((e.name == "geom" || e.name == "pair") && (k == "solref" || k == "solimp" || k == "solmix")) {
+        if (c.ignore_solver_params) {
+          c.m.ignored_attributes.push_back(path + "/@" + k);
+          continue;
+        }
+        throw InputError(c.file, path + "/@" + k,
+                         "MuJoCo's soft-constraint parameter has no counterpart in Pliant's penalty contact (the "
+                         "scene's contact.stiffness); to load the model with it, set \"mjcf\": "
+                         "{\"ignore_solver_params\": true} in the scene");
+      }
       std::vector<std::string> names(allowed.begin(), allowed.end());
       const std::string near = nearest_name(k, names);
       throw InputError(c.file, path + "/@" + k,

@@ -28,6 +28,7 @@ struct Ctx {
   bool autolimits = false;  // MuJoCo 2.2.2's default
   bool inertia_from_geom = false;  // compiler inertiafromgeom="true": <inertial> ignored
   bool global = false;             // compiler coordinate="global" (mjcf_global.cpp)
+  bool ignore_solver_params = false;  // MjcfOptions (io.h): record, not reject, geom/pair solref/solimp/solmix
   std::filesystem::path mesh_dir;
   std::map<std::string, std::shared_ptr<const MeshShape>> meshes;  // <asset><mesh name=...>
 };
@@ -37,8 +38,9 @@ using Defaults = std::map<std::string, std::map<std::string, std::vector<std::pa
 
 // Attribute values (mjcf_attrs.cpp). Paths name the element: /mujoco/worldbody/body[0].
 std::string child_path(const std::string& parent, const XmlElement& parent_el, size_t index);
-void check_attrs(const Ctx& c, const XmlElement& e, const std::string& path,
-                 const std::set<std::string>& allowed);
+// Throws on an attribute outside `allowed`; a geom's or pair's solver parameter is
+// recorded in c.m.ignored_attributes instead when c.ignore_solver_params.
+void check_attrs(Ctx& c, const XmlElement& e, const std::string& path, const std::set<std::string>& allowed);
 std::vector<double> numbers(const Ctx& c, const XmlElement& e, const std::string& path,
                             const std::string& key, size_t min_n, size_t max_n);
 Vec3 vec3(const Ctx& c, const XmlElement& e, const std::string& path, const std::string& key, Vec3 def);

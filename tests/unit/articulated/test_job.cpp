@@ -3,6 +3,9 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <string>
+
+#include <unistd.h>
 
 #include "pliant/articulated/articulated.h"
 #include "pliant/core/error.h"
@@ -289,6 +292,45 @@ TEST(Job, MeshStackScenePebblesRestOnTheSlabAndOnEachOther) {
   EXPECT_NEAR(k.xpos[4].z(), top + half, 3e-3);
   EXPECT_GT(a_b, 0);
   EXPECT_LT(run.s.qvel.head(12).lpNorm<Eigen::Infinity>(), 0.05);  // a and b at rest (c, dropped tilted, still rocks)
+}
+
+}  // namespace
+}  // namespace pliant::articulated
+
+namespace pliant::articulated {
+namespace {
+
+// A gym-style MJCF model whose default geom carries MuJoCo's solref / solimp: refused
+// with a message that names the attribute and the scene key that lets it load; with
+// "mjcf": {"ignore_solver_params": true} it compiles and lists what had no effect.
+TEST(Job, MjcfSolverParametersLoadOnlyWhenTheSceneSaysToIgnoreThem) {
+  const auto dir = std::filesystem::temp_directory_path() / ("pliant_solver_params_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const auto xml = dir / "hopper_like.xml";
+  std::FILE* f = std::fopen(xml.c_str(), "w");
+  ASSERT_NE(f, nullptr);
+  std::fputs(R"(<mujoco><default><geom solimp=".8 .8 .01" solref=".02 1"/></default><worldbody>
+    <geom type="plane" size="5 5 0.1"/><body pos="0 0 1"><joint type="slide" axis="0 0 1"/>
+    <geom type="sphere" size="0.1"/></body></worldbody></mujoco>)",
+             f);
+  std::fclose(f);
+  nlohmann::json j = {{"pliant", 1}, {"kind", "articulated"}, {"model", xml.string()}, {"duration_s", 0.1}};
+  std::string problem;
+  try {
+    articulated_compile(scene_of(j));
+  } catch (const InputError& e) {
+    problem = e.pointer() + " | " + e.problem();
+  }
+  EXPECT_NE(problem.find("/model | "), std::string::npos) << problem;
+  EXPECT_NE(problem.find("/mujoco/worldbody[0]/geom[0]/@solimp"), std::string::npos) << problem;
+  EXPECT_NE(problem.find("\"ignore_solver_params\": true"), std::string::npos) << problem;
+  j["mjcf"] = {{"ignore_solver_params", true}};
+  const ArticulatedScene a = articulated_compile(scene_of(j));
+  EXPECT_EQ(a.model.ignored_attributes.size(), 4u);  // both geoms, both attributes
+  EXPECT_EQ(a.model.ignored_attributes[0], "/mujoco/worldbody[0]/geom[0]/@solimp");
+  j["mjcf"] = {{"ignore_solver_param", true}};  // misspelt keys still exit 2
+  EXPECT_THROW(articulated_compile(scene_of(j)), InputError);
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

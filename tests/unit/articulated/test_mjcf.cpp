@@ -264,7 +264,7 @@ TEST(Mjcf, ContactPairsAreReadAndMalformedOnesNameThePair) {
   EXPECT_EQ(error_of(b + "<contact><pair geom1=\"ga\" geom2=\"gb\" friction=\"-1\"/></contact></mujoco>"),
             "/mujoco/contact[0]/pair[0]/@friction | must be >= 0");
   EXPECT_NE(error_of(b + "<contact><pair geom1=\"ga\" geom2=\"gb\" solref=\"0.02 1\"/></contact></mujoco>")
-                .find("/mujoco/contact[0]/pair[0]/@solref | unsupported attribute"),
+                .find("/mujoco/contact[0]/pair[0]/@solref | MuJoCo's soft-constraint parameter"),
             std::string::npos);
 }
 
@@ -305,6 +305,31 @@ TEST(Mjcf, MeshDefaultClassesApplyTheirScale) {
   EXPECT_EQ(by_class.bodies[1].mass, explicit_scale.bodies[1].mass);
   EXPECT_EQ(by_main.bodies[1].mass, explicit_scale.bodies[1].mass);
   EXPECT_EQ((by_class.bodies[1].inertia - explicit_scale.bodies[1].inertia).norm(), 0);
+}
+
+}  // namespace
+}  // namespace pliant::articulated
+
+namespace pliant::articulated {
+namespace {
+
+// MjcfOptions::ignore_solver_params: geom and pair solref / solimp / solmix are
+// recorded, not refused; anything else unsupported (geom gap) still exits 2.
+TEST(Mjcf, SolverParametersAreRecordedWhenAskedToIgnoreThem) {
+  const std::string xml = R"(<mujoco><worldbody><body><freejoint/>
+    <geom name="a" type="sphere" size="0.1" solmix="0.5"/></body>
+    <body pos="1 0 0"><freejoint/><geom name="b" type="sphere" size="0.1"/></body></worldbody>
+    <contact><pair geom1="a" geom2="b" solref="0.01 1"/></contact></mujoco>)";
+  EXPECT_EQ(test::mjcf_error(xml).substr(0, 52), "/mujoco/worldbody[0]/body[0]/geom[0]/@solmix | MuJoC");
+  MjcfOptions o;
+  o.ignore_solver_params = true;
+  const Model m = model_from_mjcf(xml, "pairs.xml", {}, o);
+  ASSERT_EQ(m.ignored_attributes.size(), 2u);
+  EXPECT_EQ(m.ignored_attributes[0], "/mujoco/worldbody[0]/body[0]/geom[0]/@solmix");
+  EXPECT_EQ(m.ignored_attributes[1], "/mujoco/contact[0]/pair[0]/@solref");
+  EXPECT_THROW(model_from_mjcf(R"(<mujoco><worldbody><geom type="plane" size="1 1 1" gap="0.1"/></worldbody></mujoco>)",
+                               "gap.xml", {}, o),
+               InputError);
 }
 
 }  // namespace

@@ -13,10 +13,18 @@
 
 namespace pliant::articulated {
 
+// How the MJCF reader treats what Pliant cannot honour. ignore_solver_params: geom and
+// contact-pair `solref`, `solimp`, `solmix` (MuJoCo's soft-constraint parameters, which
+// a penalty contact with the scene's stiffness has no use for) are recorded in
+// Model::ignored_attributes instead of exiting 2, so gym-style models load unchanged.
+struct MjcfOptions {
+  bool ignore_solver_params = false;
+};
+
 // Mesh files (<asset><mesh file=.../>) are read relative to base_dir (the MJCF
 // file's folder; compiler meshdir is appended).
 Model model_from_mjcf(const std::string& text, const std::string& file,
-                      const std::filesystem::path& base_dir = {});
+                      const std::filesystem::path& base_dir = {}, const MjcfOptions& options = {});
 // Mesh geoms' files ("type": "mesh", "file", "scale") are read relative to base_dir
 // (the model file's folder, or the scene's for an inline model).
 Model model_from_json(JsonReader& r, const std::filesystem::path& base_dir = {});
@@ -28,6 +36,6 @@ Model model_from_json(JsonReader& r, const std::filesystem::path& base_dir = {})
 std::shared_ptr<const MeshShape> mesh_load_file(const std::filesystem::path& file, const Vec3& scale);
 void geom_set_mesh(Geom& g, const std::shared_ptr<const MeshShape>& shape);
 // .xml -> MJCF, .json -> Pliant JSON model (the whole document is the model).
-Model model_load_file(const std::filesystem::path& path, const std::string& label);
+Model model_load_file(const std::filesystem::path& path, const std::string& label, const MjcfOptions& options = {});
 
 }  // namespace pliant::articulated

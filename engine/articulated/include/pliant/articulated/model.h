@@ -143,6 +143,9 @@ struct Model {
   Vec3 gravity{0, 0, -9.81};
   double timestep = 0.01;   // MJCF <option timestep>, default for scenes
   VecX qpos0;               // reference configuration
+  // MJCF attributes read and deliberately left without effect (MjcfOptions), as
+  // "path/@attribute" pointers, for the job's warning.
+  std::vector<std::string> ignored_attributes;
   std::vector<int> dof_body;  // body of each velocity dof
   // Body pairs that never touch each other (MJCF <contact><exclude body1 body2>,
   // JSON "exclude"), smaller index first.
