@@ -25,10 +25,7 @@ TEST(JointFriction, SpinDownStopsWhereTheAnalyticAnswerSays) {
                                   "rotor.xml");
   ASSERT_EQ(m.joints[0].frictionloss, 0.02);
   for (Integrator integ : kAll) {
-    SimOptions o;
-    o.integrator = integ;
-    o.dt = 0.01;
-    o.contact.enabled = false;
+    const SimOptions o = test::contact_free_options(integ, 0.01);
     State s = state_init(m);
     s.qvel[0] = 5;
     SimWorkspace ws;
@@ -60,10 +57,7 @@ TEST(JointFriction, HoldsBelowTheBreakawayTorqueAndSlipsAboveIt) {
   const Model held = horizontal_pendulum(5.5), slipping = horizontal_pendulum(4.0);
   const double inertia = 0.25 + 1e-6, alpha = (9.81 * 0.5 - 4.0) / inertia;
   for (Integrator integ : kAll) {
-    SimOptions o;
-    o.integrator = integ;
-    o.dt = 0.01;
-    o.contact.enabled = false;
+    SimOptions o = test::contact_free_options(integ, 0.01);
     State s = state_init(held);
     SimWorkspace ws;
     while (s.time < 2.0 - 1e-9) ASSERT_TRUE(sim_step(held, o, s, ws));
@@ -108,10 +102,7 @@ TEST(JointFriction, ImpulseStopsWhatItCanAndOpposesTheRest) {
 TEST(JointFriction, PbadEnergyGradientMatchesFiniteDifferences) {
   Model m = test::mixed_model();
   for (size_t j = 0; j < m.joints.size(); ++j) m.joints[j].frictionloss = 0.3 + 0.2 * j;
-  SimOptions o;
-  o.integrator = Integrator::Pbad3;
-  o.dt = 0.02;
-  o.contact.enabled = false;
+  const SimOptions o = test::contact_free_options(Integrator::Pbad3, 0.02);
   State s = state_init(m);
   for (int i = 0; i < m.nv; ++i) s.qvel[i] = 0.5 + 0.1 * i;
   SimWorkspace ws;

@@ -234,10 +234,7 @@ TEST(JointLimits, HingeSpringOscillatesWithTheAnalyticPeriod) {
   ASSERT_NEAR(m.qpos0[0], 0.1, 1e-15);
   const double period = 2 * M_PI * std::sqrt(0.0125 / 0.5);
   for (Integrator integ : {Integrator::Pbad3, Integrator::Rk4}) {
-    SimOptions o;
-    o.integrator = integ;
-    o.dt = 0.001;
-    o.contact.enabled = false;
+    const SimOptions o = test::contact_free_options(integ, 0.001);
     State s = state_init(m);
     SimWorkspace ws;
     const double e0 = state_energy(m, o, s, ws).total;

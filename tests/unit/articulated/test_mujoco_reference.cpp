@@ -11,6 +11,7 @@
 #include "pliant/articulated/dynamics.h"
 #include "pliant/articulated/io.h"
 #include "pliant/articulated/sim.h"
+#include "test_util.h"
 
 namespace pliant::articulated {
 namespace {
@@ -469,9 +470,7 @@ TEST(MujocoReference, JointFrictionlossSpinsDownAsInMuJoCo) {
   EXPECT_NEAR(t_stop, 2.5, 0.02 * 2.5);
   EXPECT_NEAR(angle, 6.25, 0.01 * 6.25);
   const Model ours = model_from_mjcf(xml, "rotor.xml");
-  SimOptions o;
-  o.dt = 0.001;
-  o.contact.enabled = false;
+  const SimOptions o = test::contact_free_options(Integrator::Pbad3, 0.001);
   State s = state_init(ours);
   s.qvel[0] = 5;
   SimWorkspace ws;

@@ -3,6 +3,7 @@
 #include <string>
 
 #include "pliant/articulated/io.h"
+#include "pliant/articulated/sim.h"
 #include "pliant/core/error.h"
 
 namespace pliant::articulated::test {
@@ -15,6 +16,15 @@ inline std::string mjcf_error(const std::string& xml) {
     return e.pointer() + " | " + e.problem();
   }
   return "no error";
+}
+
+// Options for a model that touches nothing: the integrator at dt, contact off.
+inline SimOptions contact_free_options(Integrator integrator, double dt) {
+  SimOptions o;
+  o.integrator = integrator;
+  o.dt = dt;
+  o.contact.enabled = false;
+  return o;
 }
 
 // A model exercising every joint type: free root, ball, hinge, slide.
