@@ -109,9 +109,10 @@ void euler_step(const Model& m, const SimOptions& o, State& s, SimWorkspace& ws)
 }
 
 void rk4_advance(const Model& m, const SimOptions& o, const State& s, double h, VecX& q, VecX& v,
-                 SimWorkspace& ws, const VecX* extra_force) {
+                 SimWorkspace& ws, const VecX* extra_force, const VecX* first_accel) {
   VecX a1, a2, a3, a4, qs;
-  accel(m, o, s, q, v, ws, &a1, extra_force);
+  if (first_accel) a1 = *first_accel;
+  else accel(m, o, s, q, v, ws, &a1, extra_force);
   qs = q;
   qpos_integrate(m, qs, v, h / 2);
   const VecX v2 = v + h / 2 * a1;
@@ -133,13 +134,15 @@ void rk4_advance(const Model& m, const SimOptions& o, const State& s, double h, 
 // put, a sliding one decelerates at F / I, but the friction part is first order in dt.
 void rk4_step(const Model& m, const SimOptions& o, State& s, SimWorkspace& ws) {
   VecX q = s.qpos, v = s.qvel;  // accel reads s (actuators) while the stages run
-  VecX friction;
   if (any_frictionloss(m)) {
     VecX a, af;
     accel(m, o, s, q, v, ws, &a);
-    friction = joint_friction_force(m, o, ws.kin, v + o.dt * a, &af);
+    const VecX friction = joint_friction_force(m, o, ws.kin, v + o.dt * a, &af);
+    a += af;  // the first stage with the friction force (accel is linear in it)
+    rk4_advance(m, o, s, o.dt, q, v, ws, &friction, &a);
+  } else {
+    rk4_advance(m, o, s, o.dt, q, v, ws);
   }
-  rk4_advance(m, o, s, o.dt, q, v, ws, friction.size() ? &friction : nullptr);
   s.qpos = q;
   s.qvel = v;
   s.time += o.dt;

@@ -27,11 +27,13 @@ bool any_frictionloss(const Model& m) {
 VecX joint_friction_force(const Model& m, const SimOptions& o, const Kinematics& k, const VecX& v_pred, VecX* accel) {
   std::vector<int> dof;
   std::vector<double> bound;
-  for (const Joint& j : m.joints)
-    for (int i = 0; i < joint_nv(j.type) && j.frictionloss > 0; ++i) {
+  for (const Joint& j : m.joints) {
+    if (j.frictionloss <= 0) continue;
+    for (int i = 0; i < joint_nv(j.type); ++i) {
       dof.push_back(j.vadr + i);
       bound.push_back(j.frictionloss * o.dt);
     }
+  }
   const int nf = static_cast<int>(dof.size());
   const Eigen::LLT<Eigen::MatrixXd> llt(mass_matrix(m, k));
   Eigen::MatrixXd sel = Eigen::MatrixXd::Zero(m.nv, nf);

@@ -149,11 +149,8 @@ void pbad_begin(const Model& m, const SimOptions& o, State& s, PbadStep& p, SimW
   }
   // Prediction: quadratic extrapolation q_i (+) (2 (q_i - q_{i-1}) - (q_{i-1} - q_{i-2})).
   p.any_damping = false;
-  p.any_frictionloss = false;
-  for (const Joint& j : m.joints) {
-    p.any_damping = p.any_damping || j.damping > 0;
-    p.any_frictionloss = p.any_frictionloss || j.frictionloss > 0;
-  }
+  for (const Joint& j : m.joints) p.any_damping = p.any_damping || j.damping > 0;
+  p.any_frictionloss = any_frictionloss(m);
   p.any_limits = any_limits(m);
   bool moving_mesh = false, static_feature = false;
   for (const Geom& g : m.geoms) {

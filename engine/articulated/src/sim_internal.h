@@ -61,15 +61,15 @@ double pbad_energy(const Model& m, const SimOptions& o, const State& s, const Pb
 // (pbad_solver.cpp).
 bool lm_solve(const Model& m, const std::vector<Mat6>& blocks, const VecX& rhs, VecX* x, SimWorkspace& ws);
 
-// Joint accelerations of the explicit integrators at (q, v), with contact, limit and
-// actuator forces (explicit_integrators.cpp); PBAD's start-up frames use it too.
-// Dry joint friction in the explicit integrators (explicit_integrators.cpp): whether any
-// joint has frictionloss, and the constant generalized force over the next step that
-// stops the friction dofs of v_pred = v + dt a where the bound F dt allows and opposes
-// them with it where not (k complete at q); accel gets M^-1 of it.
+// Dry joint friction in the explicit integrators and PBAD's start-up (joint_friction.cpp):
+// whether any joint has frictionloss, and the constant generalized force over the next
+// step that stops the friction dofs of v_pred = v + dt a where the bound F dt allows and
+// opposes them with it where not (k complete at q); accel gets M^-1 of it.
 bool any_frictionloss(const Model& m);
 VecX joint_friction_force(const Model& m, const SimOptions& o, const Kinematics& k, const VecX& v_pred, VecX* accel);
 
+// Joint accelerations of the explicit integrators at (q, v), with contact, limit and
+// actuator forces (explicit_integrators.cpp); PBAD's start-up frames use it too.
 // extra_force: a generalized force added to tau (dry joint friction held over a step).
 void accel(const Model& m, const SimOptions& o, const State& s, const VecX& q, const VecX& v,
            SimWorkspace& ws, VecX* a, const VecX* extra_force = nullptr);
@@ -78,7 +78,9 @@ void euler_step(const Model& m, const SimOptions& o, State& s, SimWorkspace& ws)
 void rk4_step(const Model& m, const SimOptions& o, State& s, SimWorkspace& ws);
 // One classic RK4 step of (q, v) by h, in place (h < 0 runs backwards: PBAD's
 // start-up frames). ws.contacts / ws.pair_contacts hold the last stage's contacts.
+// first_accel: the first stage's acceleration when the caller already has it (with
+// extra_force included).
 void rk4_advance(const Model& m, const SimOptions& o, const State& s, double h, VecX& q, VecX& v,
-                 SimWorkspace& ws, const VecX* extra_force = nullptr);
+                 SimWorkspace& ws, const VecX* extra_force = nullptr, const VecX* first_accel = nullptr);
 
 }  // namespace pliant::articulated

@@ -37,7 +37,7 @@ struct Joint {
   // Dry (Coulomb) joint friction, MuJoCo's frictionloss: a torque (N m) or force (N)
   // of at most this size per dof opposing the joint's motion, holding it at rest below
   // it. PBAD: the dissipation potential F |dq| per step (regularised); explicit
-  // integrators: a per-step friction impulse (explicit_integrators.cpp).
+  // integrators: a per-step friction impulse (joint_friction.cpp).
   double frictionloss = 0;
   // Hinge / slide only. ref: the joint value at which the body has its model pose
   // (MuJoCo's qpos0; the joint turns or slides by q - ref). A spring
