@@ -6,6 +6,7 @@
 #include <imgui.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <fstream>
 
@@ -138,6 +139,9 @@ const std::string& model_summary(App& app) {
                   int(m.bodies.size()) - 1, m.geoms.size(), m.nq, m.nv, m.actuators.size(), mass,
                   a.mpc ? a.steps + 1 : a.frames);
     st.summary = buf;
+    if (!m.ignored_attributes.empty())
+      st.summary += "; " + std::to_string(m.ignored_attributes.size()) +
+                    " MuJoCo solver parameters ignored (first: " + m.ignored_attributes.front() + ")";
   } catch (const std::exception& e) {
     st.summary = std::string("model: ") + e.what();
   }
@@ -148,6 +152,13 @@ const std::string& model_summary(App& app) {
 }
 
 bool has_key(const json& s, const char* k) { return s.is_object() && s.contains(k); }
+
+bool is_mjcf_model(const json& s) {
+  if (!has_key(s, "model") || !s["model"].is_string()) return false;
+  std::string ext = fs::path(s["model"].get<std::string>()).extension().string();
+  for (char& ch : ext) ch = char(std::tolower(static_cast<unsigned char>(ch)));
+  return ext == ".xml";
+}
 
 void tooltip(const char* text) {
   if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", text);
@@ -166,6 +177,11 @@ void draw_inspector(App& app) {
       json_text(doc, "model file", "/model");
       tooltip("MJCF (.xml) or Pliant JSON model (.json), relative to the scene's folder; "
               "dropping a model file on the window sets it");
+    }
+    if (is_mjcf_model(s)) {
+      json_bool(doc, "ignore MuJoCo solver params", "/mjcf/ignore_solver_params", false);
+      tooltip("geom / pair solref, solimp and solmix have no counterpart in Pliant's penalty contact "
+              "(contact stiffness below): off, such a model is refused; on, it loads and they are listed");
     }
     if (ImGui::SmallButton("Inline chain")) {
       doc.set("/model", json{{"chain", {{"links", 10}, {"link_length", 0.1}, {"radius", 0.01}}}});
@@ -479,7 +495,7 @@ bool articulated_on_drop(App& app, const std::string& path) {
   }
   json next = s;
   next["model"] = model.generic_string();
-  bool reset_initial = false;
+  bool reset_initial = false, ignored_params = false;
 #ifdef PLIANT_HAVE_ARTICULATED
   auto loads = [&](const json& scene, std::string* err) {
     try {
@@ -490,24 +506,49 @@ bool articulated_on_drop(App& app, const std::string& path) {
       return false;
     }
   };
-  std::string err;
-  if (!loads(next, &err)) {
-    // The old model's initial qpos/qvel rarely fit a new one: retry without them.
-    json bare = next;
-    bare.erase("initial");
-    std::string err2;
-    if (!next.contains("initial") || !loads(bare, &err2)) {
-      app.set_status("Model not loaded: " + err, true);
-      app.log.error(app.status());
-      return true;  // ours, but rejected: the document is unchanged
-    }
-    next = std::move(bare);
+  // The old model's initial qpos/qvel rarely fit a new one, and gym-style MJCF
+  // carries solref/solimp Pliant cannot honour: try without the initial state,
+  // then ignoring solver parameters (the checkbox shows it), in that order.
+  std::string err, unused;
+  bool loaded = loads(next, &err);
+  json bare = next;
+  bare.erase("initial");
+  if (!loaded && next.contains("initial") && loads(bare, &unused)) {
+    next = bare;
     reset_initial = true;
+    loaded = true;
+  }
+  const bool ignoring_before = s.contains("mjcf") && s["mjcf"].is_object() &&
+                               s["mjcf"].value("ignore_solver_params", false);
+  if (!loaded && ext == ".xml" && !ignoring_before) {
+    for (json* v : {&next, &bare}) {
+      json lenient = *v;
+      lenient["mjcf"]["ignore_solver_params"] = true;
+      if (loads(lenient, &unused)) {
+        reset_initial = v == &bare && next.contains("initial");
+        next = std::move(lenient);
+        ignored_params = true;
+        loaded = true;
+        break;
+      }
+    }
+  }
+  if (!loaded) {
+    app.set_status("Model not loaded: " + err, true);
+    app.log.error(app.status());
+    return true;  // ours, but rejected: the document is unchanged
   }
 #endif
   app.doc.edit("Set model " + p.filename().string(), next);
-  app.set_status("Model " + model.generic_string() + (reset_initial ? " (initial state reset to the model's)" : ""));
-  app.log.info(app.status());
+  app.set_status("Model " + model.generic_string() + (reset_initial ? " (initial state reset to the model's)" : "") +
+                 (ignored_params ? " ignoring its MuJoCo solver parameters (solref/solimp/solmix; untick "
+                                   "\"ignore MuJoCo solver params\" to refuse it)"
+                                 : ""));
+  if (ignored_params) {
+    app.log.warn(app.status());
+  } else {
+    app.log.info(app.status());
+  }
   return true;
 }
 
@@ -516,7 +557,7 @@ const KindPanels& articulated_panels() {
     KindPanels k;
     k.kind = "articulated";
     k.inspector = &draw_inspector;
-    k.typed_keys = {"name", "model", "integrator", "dt", "duration_s", "write_every", "contact", "solver", "mpc"};
+    k.typed_keys = {"name", "model", "mjcf", "integrator", "dt", "duration_s", "write_every", "contact", "solver", "mpc"};
     k.jobs = &draw_jobs;
     k.viewport_toolbar = &draw_toolbar;
     k.viewport_overlay = &draw_overlay;

@@ -360,4 +360,43 @@ TEST(EditorArticulated, DroppedModelFileBecomesTheModel) {
   EXPECT_FALSE(articulated_on_drop(*h.app, scene.string()));
 }
 
+// A gym-style MJCF (geom solref / solimp in its defaults) is refused by the engine
+// unless the scene sets mjcf.ignore_solver_params: a drop loads it with the key
+// set and says so, the inspector's checkbox shows and clears it (the model summary
+// then shows the engine's refusal), and one undo puts the old model back.
+TEST(EditorArticulated, DroppedGymStyleMjcfLoadsIgnoringItsSolverParameters) {
+  EditorHarness h("art_drop_solref");
+  fs::path scene = h.copy_scene("articulated_chain.json");
+  std::ofstream(h.dir / "gym_pendulum.xml")
+      << "<mujoco><default><geom solref=\"0.02 1\" solimp=\"0.9 0.95 0.001\"/></default>"
+         "<worldbody><body name=\"b\" pos=\"0 0 1\"><joint name=\"h\" type=\"hinge\" axis=\"0 1 0\"/>"
+         "<geom type=\"capsule\" fromto=\"0 0 0 0 0 -0.5\" size=\"0.05\"/></body></worldbody></mujoco>";
+  h.start(scene, /*gl=*/false, 1280, 1600);
+  ASSERT_EQ(h.run("wait 1\n"), "");
+  EXPECT_EQ(h.app->marks.find("/mjcf/ignore_solver_params"), nullptr);  // inline chain: no MJCF switch
+  const json before = h.app->doc.scene()["model"];
+  const size_t steps = h.app->doc.history().size();
+  ASSERT_TRUE(articulated_on_drop(*h.app, (h.dir / "gym_pendulum.xml").string()));
+  EXPECT_FALSE(h.app->status_is_error());
+  EXPECT_NE(h.app->status().find("ignoring its MuJoCo solver parameters"), std::string::npos) << h.app->status();
+  EXPECT_EQ(h.app->doc.scene()["model"], "gym_pendulum.xml");
+  EXPECT_EQ(h.app->doc.scene()["mjcf"]["ignore_solver_params"], true);
+  EXPECT_EQ(h.app->scene_error(), "");
+  EXPECT_EQ(h.app->doc.history().size(), steps + 1);
+  ASSERT_EQ(h.run("wait 2\n"), "");
+  ASSERT_NE(h.app->marks.find("/mjcf/ignore_solver_params"), nullptr);
+  EXPECT_NE(h.app->kind_ui.get<ArticulatedUiState>("articulated").summary.find("2 MuJoCo solver parameters ignored"), std::string::npos)
+      << h.app->kind_ui.get<ArticulatedUiState>("articulated").summary;
+  // Unticked, the engine refuses the model again, naming the attribute and the key.
+  ASSERT_EQ(h.run("click_item /mjcf/ignore_solver_params\nwait 2\n"), "");
+  EXPECT_EQ(h.app->doc.scene()["mjcf"]["ignore_solver_params"], false);
+  const std::string& refused = h.app->kind_ui.get<ArticulatedUiState>("articulated").summary;
+  EXPECT_NE(refused.find("solref"), std::string::npos) << refused;
+  EXPECT_NE(refused.find("ignore_solver_params"), std::string::npos) << refused;
+  h.app->cmd_undo();
+  h.app->cmd_undo();
+  EXPECT_EQ(h.app->doc.scene()["model"], before);
+  EXPECT_FALSE(h.app->doc.scene().contains("mjcf"));
+}
+
 }  // namespace pliant::editor::test
