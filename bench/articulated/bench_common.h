@@ -74,5 +74,7 @@ void pile_case(bool quick);
 void mesh_mesh_case(bool quick);
 void mesh_terrain_case(bool quick);
 void mesh_features_case(bool quick);
+// Joint frictionloss (bench_friction.cpp): rotor spin-down and a friction-held pendulum against MuJoCo.
+void joint_friction_case(bool quick);
 
 }  // namespace art_bench

@@ -202,6 +202,11 @@ void pbad_begin(const Model& m, const SimOptions& o, State& s, PbadStep& p, SimW
   if (pbad_energy(m, o, s, p, s.qpos, ws, false, &k0) < p.energy) {
     p.q = s.qpos;
     p.energy = pbad_energy(m, o, s, p, p.q, ws, true);
+  } else {
+    // The check left q_i's joint motion (zero) in ws.dq, where lm_armature reads the
+    // iterate's: frictionloss's weight F / |dq| became F / eps (2e5 for F = 0.02), every
+    // Newton step ~1e-8 rad, and the step ended at the predictor after one iteration.
+    ws.dq = qpos_difference(m, p.q, s.qpos);
   }
 }
 

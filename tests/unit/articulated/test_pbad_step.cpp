@@ -1,11 +1,13 @@
 // PBAD's begin/finish (pbad_step.cpp): the body-point velocity and the predictor
-// check, in the whip and in isolation.
+// check, in the whip and in isolation; the stencil's rotational damping law.
 #include <gtest/gtest.h>
 
 #include <cmath>
 
+#include "pliant/articulated/io.h"
 #include "pliant/articulated/sim.h"
 #include "sim_fixture.h"
+#include "test_util.h"
 
 namespace pliant::articulated {
 namespace {
@@ -64,6 +66,41 @@ TEST(Sim, StepStartsFromTheLastFrameWhenThePredictorIsWorse) {
   Kinematics k;
   kinematics(m, s.qpos, &k);
   EXPECT_GT(k.xmat[1].col(2).dot(k0.xmat[1].col(2)), 0.9);
+}
+
+// A free rotor (no force, no friction) should spin at w0 forever, but PBAD's inertial
+// term extrapolates the body's orientation matrix linearly (target A = 2 R_i - R_{i-1}
+// for pbad2, (5 R_i - 4 R_{i-1} + R_{i-2}) / 2 for pbad3) and the step's rotation is
+// the nearest one to A, which turns by less than the last step: per step the turn
+// delta = w h loses delta^3 (pbad2, atan(sin d / (2 - cos d)) = d - d^3 + ...) or
+// delta^5 (pbad3, twice its one-step error d^5 / 2 through the stencil's parasitic
+// root 1/2). So dw/dt = -h w^3 and -h^3 w^5:
+// w(t) = w0 (1 + 2 h t w0^2)^(-1/2) and w0 (1 + 4 h^3 t w0^4)^(-1/4).
+TEST(Sim, FreeRotorLosesSpeedAsTheStencilsDampingLawSays) {
+  const Model m = model_from_mjcf(R"(<mujoco><worldbody><body><joint axis="0 0 1"/>
+      <inertial pos="0 0 0" mass="1" diaginertia="0.01 0.01 0.01"/></body></worldbody></mujoco>)",
+                                  "rotor.xml");
+  const double w0 = 5, h = 0.01, t = 3;
+  for (Integrator integ : {Integrator::Pbad2, Integrator::Pbad3, Integrator::Euler}) {
+    const SimOptions o = test::contact_free_options(integ, h);
+    State s = state_init(m);
+    s.qvel[0] = w0;
+    SimWorkspace ws;
+    double before = 0;
+    while (s.time < t - 1e-9) {
+      before = s.qpos[0];
+      ASSERT_TRUE(sim_step(m, o, s, ws));
+    }
+    const double ratio = (s.qpos[0] - before) / h / w0;  // the last step's turn over w0 h
+    if (integ == Integrator::Pbad2) {
+      EXPECT_NEAR(ratio, std::pow(1 + 2 * h * t * w0 * w0, -0.5), 1e-3);  // 0.6325: a third of the speed gone
+    } else if (integ == Integrator::Pbad3) {
+      const double loss = 1 - std::pow(1 + 4 * h * h * h * t * std::pow(w0, 4), -0.25);  // 0.19%
+      EXPECT_NEAR(1 - ratio, loss, 0.05 * loss);
+    } else {
+      EXPECT_NEAR(ratio, 1, 1e-12);  // no force: the explicit step keeps w exactly
+    }
+  }
 }
 
 }  // namespace
