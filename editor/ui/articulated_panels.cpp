@@ -194,7 +194,8 @@ void draw_inspector(App& app) {
   }
   if (ImGui::CollapsingHeader("Simulation", ImGuiTreeNodeFlags_DefaultOpen)) {
     json_choice(doc, "integrator", "/integrator", "pbad3", articulated_integrators());
-    tooltip("pbad2/pbad3: position-based collocation of 2nd/3rd order (implicit, one LM solve per step); "
+    tooltip("pbad2/pbad3: position-based collocation of 2nd/3rd order (implicit, one LM solve per step; "
+            "pbad2 slows spinning bodies, dw/dt = -dt w^3, pbad3 by -dt^3 w^5); "
             "pbad4: 5-frame stencil, least damping on smooth motion (unstable in whips); "
             "euler: semi-implicit Euler; rk4: Runge-Kutta 4");
     json_double(doc, "dt", "/dt", 0.01, 0.0005f, 1e-6, 1.0, "%.4g");

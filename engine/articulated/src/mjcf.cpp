@@ -82,7 +82,10 @@ Model model_from_mjcf(const std::string& text, const std::string& file, const st
     if (e.name == "compiler" || e.name == "default") {
       continue;  // read above
     } else if (e.name == "option") {
-      check_attrs(c, e, p, {"timestep", "gravity", "integrator", "iterations", "solver"});
+      // Solver numerics (iterations, tolerances, the Jacobian's storage) do not change
+      // the model: accepted without effect, as MuJoCo's own results barely depend on them.
+      check_attrs(c, e, p, {"timestep", "gravity", "integrator", "iterations", "solver", "tolerance", "jacobian",
+                            "mpr_iterations", "mpr_tolerance", "apirate"});
       if (!e.children.empty())  // <flag> can switch contact, gravity, limits... off
         throw InputError(file, child_path(p, e, 0),
                          "unsupported element <" + e.children[0].name + "> in <option> (it changes the dynamics)");

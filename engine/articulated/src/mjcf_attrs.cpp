@@ -17,18 +17,36 @@ std::string child_path(const std::string& parent, const XmlElement& parent_el, s
   return parent + "/" + c.name + "[" + std::to_string(n) + "]";
 }
 
+namespace {
+
+// MuJoCo constraint-solver settings with no counterpart in Pliant's penalties: what
+// Pliant uses instead, or nullptr when (element, attribute) is not one of them.
+const char* solver_param_counterpart(const std::string& element, const std::string& attr) {
+  if ((element == "geom" || element == "pair") && (attr == "solref" || attr == "solimp" || attr == "solmix"))
+    return "Pliant's penalty contact (the scene's contact.stiffness)";
+  if (element == "joint" && (attr == "solreflimit" || attr == "solimplimit"))
+    return "Pliant's joint-limit penalty (its own stiffness)";
+  if (element == "joint" && (attr == "solreffriction" || attr == "solimpfriction"))
+    return "Pliant's dry joint friction (frictionloss, regularised by contact.spin_eps / slip_eps)";
+  if (element == "option" && (attr == "impratio" || attr == "cone" || attr == "noslip_iterations" ||
+                              attr == "noslip_tolerance"))
+    return "Pliant's friction (the scene's contact.friction and mu)";
+  return nullptr;
+}
+
+}  // namespace
+
 void check_attrs(Ctx& c, const XmlElement& e, const std::string& path, const std::set<std::string>& allowed) {
   for (const auto& [k, v] : e.attrs)
     if (!allowed.count(k)) {
-      if ((e.name == "geom" || e.name == "pair") && (k == "solref" || k == "solimp" || k == "solmix")) {
+      if (const char* instead = solver_param_counterpart(e.name, k)) {
         if (c.ignore_solver_params) {
           c.m.ignored_attributes.push_back(path + "/@" + k);
           continue;
         }
         throw InputError(c.file, path + "/@" + k,
-                         "MuJoCo's soft-constraint parameter has no counterpart in Pliant's penalty contact (the "
-                         "scene's contact.stiffness); to load the model with it, set \"mjcf\": "
-                         "{\"ignore_solver_params\": true} in the scene");
+                         std::string("MuJoCo's constraint-solver parameter has no counterpart in ") + instead +
+                             "; to load the model with it, set \"mjcf\": {\"ignore_solver_params\": true} in the scene");
       }
       std::vector<std::string> names(allowed.begin(), allowed.end());
       const std::string near = nearest_name(k, names);

@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "pliant/articulated/io.h"
 #include "pliant/core/error.h"
 #include "mesh_fixture.h"
@@ -264,7 +266,7 @@ TEST(Mjcf, ContactPairsAreReadAndMalformedOnesNameThePair) {
   EXPECT_EQ(error_of(b + "<contact><pair geom1=\"ga\" geom2=\"gb\" friction=\"-1\"/></contact></mujoco>"),
             "/mujoco/contact[0]/pair[0]/@friction | must be >= 0");
   EXPECT_NE(error_of(b + "<contact><pair geom1=\"ga\" geom2=\"gb\" solref=\"0.02 1\"/></contact></mujoco>")
-                .find("/mujoco/contact[0]/pair[0]/@solref | MuJoCo's soft-constraint parameter"),
+                .find("/mujoco/contact[0]/pair[0]/@solref | MuJoCo's constraint-solver parameter"),
             std::string::npos);
 }
 
@@ -330,6 +332,35 @@ TEST(Mjcf, SolverParametersAreRecordedWhenAskedToIgnoreThem) {
   EXPECT_THROW(model_from_mjcf(R"(<mujoco><worldbody><geom type="plane" size="1 1 1" gap="0.1"/></worldbody></mujoco>)",
                                "gap.xml", {}, o),
                InputError);
+}
+
+// The same for joints' limit / friction constraint parameters (also from a default
+// class) and option's friction-cone settings; option's pure solver numerics
+// (tolerance, jacobian, mpr_*) load without the switch, as iterations and solver do.
+TEST(Mjcf, JointAndOptionSolverParametersFollowTheSameSwitch) {
+  const std::string xml = R"(<mujoco><option timestep="0.01" tolerance="1e-10" jacobian="dense" impratio="10" cone="elliptic"/>
+    <default><joint solreflimit="0.02 1" solimpfriction="0.9 0.95 0.001"/></default>
+    <worldbody><body><joint name="h" axis="0 1 0" range="-1 1" limited="true" frictionloss="0.1"
+      solreffriction="0.01 1"/><geom type="capsule" fromto="0 0 0 0 0 -0.5" size="0.05"/></body></worldbody></mujoco>)";
+  const std::string refused = test::mjcf_error(xml);
+  EXPECT_EQ(refused.substr(0, 36), "/mujoco/option[0]/@impratio | MuJoCo") << refused;
+  EXPECT_NE(refused.find("ignore_solver_params"), std::string::npos) << refused;
+  MjcfOptions o;
+  o.ignore_solver_params = true;
+  const Model m = model_from_mjcf(xml, "joint.xml", {}, o);
+  ASSERT_EQ(m.ignored_attributes.size(), 5u);
+  EXPECT_EQ(m.ignored_attributes[0], "/mujoco/option[0]/@impratio");  // in the file's order
+  EXPECT_EQ(m.ignored_attributes[1], "/mujoco/option[0]/@cone");
+  const std::string joint = "/mujoco/worldbody[0]/body[0]/joint[0]/@";
+  std::vector<std::string> rest(m.ignored_attributes.begin() + 2, m.ignored_attributes.end());
+  std::sort(rest.begin(), rest.end());
+  EXPECT_EQ(rest, (std::vector<std::string>{joint + "solimpfriction", joint + "solreffriction", joint + "solreflimit"}));
+  EXPECT_EQ(m.joints[0].frictionloss, 0.1);  // the rest of the joint is read as before
+  EXPECT_EQ(m.timestep, 0.01);
+  // Without the cone-related settings, the solver numerics alone need no switch.
+  EXPECT_NO_THROW(model_from_mjcf(R"(<mujoco><option tolerance="1e-10" jacobian="sparse" mpr_iterations="50"/>
+    <worldbody><body><joint axis="0 1 0"/><geom type="sphere" size="0.1"/></body></worldbody></mujoco>)",
+                                  "numerics.xml"));
 }
 
 }  // namespace

@@ -13,10 +13,11 @@
 
 namespace pliant::articulated {
 
-// How the MJCF reader treats what Pliant cannot honour. ignore_solver_params: geom and
-// contact-pair `solref`, `solimp`, `solmix` (MuJoCo's soft-constraint parameters, which
-// a penalty contact with the scene's stiffness has no use for) are recorded in
-// Model::ignored_attributes instead of exiting 2, so gym-style models load unchanged.
+// How the MJCF reader treats what Pliant cannot honour. ignore_solver_params: MuJoCo's
+// constraint-solver parameters, which Pliant's penalties have no use for (geom and
+// contact-pair `solref`, `solimp`, `solmix`; joint `solreflimit`, `solimplimit`,
+// `solreffriction`, `solimpfriction`; option `impratio`, `cone`, `noslip_*`), are
+// recorded in Model::ignored_attributes instead of exiting 2, so gym-style models load.
 struct MjcfOptions {
   bool ignore_solver_params = false;
 };
