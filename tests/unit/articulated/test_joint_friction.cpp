@@ -134,6 +134,29 @@ TEST(JointFriction, HoldsBelowTheBreakawayTorqueAndSlipsAboveIt) {
   }
 }
 
+// Coupled friction dofs in motion: a 3-link chain of two-hinge joints, each hinge with
+// frictionloss 0.02 N m, released horizontally with a sideways spin; friction stops it
+// 0.08 rad short of hanging straight down (root angle pi/2) and holds it there. PBAD3
+// and RK4 at dt 1 ms (different friction formulations: the regularised potential in
+// LM vs the box-constrained impulse) end at the same pose within 2e-3 rad, at rest.
+TEST(JointFriction, ChainComesToRestWhereRk4LeavesIt) {
+  Model m = model_from_mjcf(chain_mjcf(3), "chain.xml");
+  for (Joint& j : m.joints) j.frictionloss = 0.02;
+  VecX rest[2];
+  int k = 0;
+  for (Integrator integ : {Integrator::Pbad3, Integrator::Rk4}) {
+    const SimOptions o = test::contact_free_options(integ, 0.001);
+    State s = state_init(m);
+    s.qvel[1] = 0.5;
+    SimWorkspace ws;
+    while (s.time < 4.0 - 1e-9) ASSERT_TRUE(sim_step(m, o, s, ws));
+    EXPECT_LT(s.qvel.norm(), 1e-3) << integrator_name(integ);
+    EXPECT_GT(s.qpos[0] - M_PI / 2, 0.05) << integrator_name(integ);  // held short of hanging
+    rest[k++] = s.qpos;
+  }
+  EXPECT_LT((rest[0] - rest[1]).lpNorm<Eigen::Infinity>(), 2e-3) << rest[0].transpose() << " vs " << rest[1].transpose();
+}
+
 // The impulse on two coupled friction dofs (a link on two hinges) is the box-constrained
 // minimiser: a dof whose impulse is inside its bound ends the step at rest, one at the
 // bound keeps moving the way it went and the impulse opposes it.
