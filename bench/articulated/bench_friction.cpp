@@ -91,7 +91,8 @@ Run run_mujoco(mjModel* mm, int integ, double dt, double w0, double duration) {
 
 void joint_friction_case(bool quick) {
   const std::vector<double> dts = quick ? std::vector<double>{0.01} : std::vector<double>{0.001, 0.01, 0.05};
-  const std::vector<Integrator> ours = {Integrator::Pbad2, Integrator::Pbad3, Integrator::Euler, Integrator::Rk4};
+  const std::vector<Integrator> ours = {Integrator::Pbad2, Integrator::Pbad3, Integrator::Pbad4, Integrator::Euler,
+                                       Integrator::Rk4};
   const Model rotor = model_from_mjcf(kRotorXml, "rotor.xml"), hold = model_from_mjcf(kHoldXml, "hold.xml"),
               free_rotor = model_from_mjcf(kFreeRotorXml, "free_rotor.xml");
   auto spin_row = [&](const std::string& method, double dt, const Run& r) {
