@@ -70,6 +70,35 @@ TEST_F(ArticulatedCli, ShortHopperMpcRuns) {
   EXPECT_EQ(TakeReader(take).frame_count(), 11u);
 }
 
+// A gym-style MJCF (default geom solref / solimp): `pliant validate` refuses it naming
+// the attribute and the scene key; with "mjcf": {"ignore_solver_params": true}
+// `validate --json` lists what is ignored and `pliant run` prints the list once on stderr and puts it in
+// the metrics.
+TEST_F(ArticulatedCli, GymStyleMjcfRunsWhenTheSceneIgnoresItsSolverParameters) {
+  write_text("gym.xml", R"(<mujoco><default><geom solref=".02 1" solimp=".9 .95 .001"/></default><worldbody>
+      <geom type="plane" size="5 5 0.1"/><body pos="0 0 0.5"><freejoint/><geom type="sphere" size="0.1"/></body>
+      </worldbody></mujoco>)");
+  nlohmann::json scene = {{"pliant", 1}, {"kind", "articulated"}, {"model", "gym.xml"}, {"duration_s", 0.05}};
+  const ProcessResult refused = pliant({"validate", write_scene("s.json", scene).string()});
+  EXPECT_EQ(refused.exit_code, 2);
+  EXPECT_TRUE(contains(refused.err, "@solref")) << refused.err;
+  EXPECT_TRUE(contains(refused.err, "ignore_solver_params")) << refused.err;
+  scene["mjcf"] = {{"ignore_solver_params", true}};
+  const fs::path file = write_scene("s.json", scene);
+  const ProcessResult valid = pliant({"validate", file.string(), "--json"});
+  ASSERT_EQ(valid.exit_code, 0) << valid.err;
+  EXPECT_EQ(nlohmann::json::parse(valid.out)["ignored_mjcf_attributes"].size(), 4u) << valid.out;
+  const ProcessResult r = pliant({"run", file.string(), "--take", (dir_ / "take").string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string line = "/mjcf/ignore_solver_params: 4 MJCF solver parameters without effect";
+  const size_t at = r.err.find(line);
+  ASSERT_NE(at, std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find(line, at + 1), std::string::npos) << "printed more than once:\n" << r.err;
+  const auto events = parse_json_lines(r.out);
+  ASSERT_EQ(events.back()["event"], "done");
+  EXPECT_EQ(events.back()["metrics"]["ignored_mjcf_attributes"].size(), 4u);
+}
+
 TEST_F(ArticulatedCli, MalformedMjcfExitsTwoNamingTheElement) {
   const ProcessResult r =
       validate_mjcf("<mujoco><worldbody><body><geom type=\"capsule\" size=\"-1\"/></body></worldbody></mujoco>");
