@@ -1,4 +1,7 @@
 // `pliant validate`, `--help`, `--version` and input errors of `run`.
+#include <fstream>
+#include <iterator>
+
 #include "cli_fixture.h"
 #include "pliant/core/version.h"
 
@@ -25,6 +28,26 @@ TEST_F(Validate, JsonOutput) {
   EXPECT_EQ(j["dim"], 2);
   EXPECT_EQ(j["resolution"], nlohmann::json({32, 24}));
   EXPECT_EQ(j["frames"], 30);
+}
+
+// Every shipped scene (assets/scenes/*.json) compiles with its kind's compiler, so an
+// engine change that breaks one fails here rather than on a user's first run, and each
+// is listed in assets/scenes/README.md. About 3 s in all.
+TEST_F(Validate, EveryShippedSceneValidatesAndIsListed) {
+  const fs::path dir = kRepo / "assets" / "scenes";
+  std::ifstream readme_in(dir / "README.md");
+  const std::string readme((std::istreambuf_iterator<char>(readme_in)), std::istreambuf_iterator<char>());
+  int scenes = 0;
+  for (const auto& e : fs::directory_iterator(dir)) {
+    if (e.path().extension() != ".json") continue;
+    ++scenes;
+    const std::string name = e.path().filename().string();
+    const ProcessResult r = pliant({"validate", "--json", e.path().string()});
+    EXPECT_EQ(r.exit_code, 0) << name << ": " << r.out << r.err;
+    if (r.exit_code == 0) EXPECT_EQ(nlohmann::json::parse(r.out)["ok"], true) << name;
+    EXPECT_NE(readme.find("`" + name + "`"), std::string::npos) << name << " is not in assets/scenes/README.md";
+  }
+  EXPECT_GE(scenes, 30);
 }
 
 TEST_F(Validate, BadValueNamesFileAndPointer) {
