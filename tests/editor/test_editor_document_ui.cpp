@@ -246,4 +246,26 @@ TEST(EditorUi, ScriptErrorsNameTheLineAndItem) {
   EXPECT_NE(err.find("key.txt:1: key: unknown key"), std::string::npos) << err;
 }
 
+// Every shipped scene opens in the editor (EGL, its kind's inspector, viewport and
+// timeline drawn for a few frames) with no scene error and no error in the status
+// line, and opening it changes nothing on disk.
+TEST(EditorUi, EveryShippedSceneOpensWithoutAnError) {
+  EditorHarness h("all_scenes");
+  const fs::path scenes = fs::absolute(test_data("../../assets/scenes")).lexically_normal();
+  h.start(scenes / "plume_2d.json", /*gl=*/true);
+  int opened = 0;
+  for (const auto& e : fs::directory_iterator(scenes)) {
+    if (e.path().extension() != ".json") continue;
+    const auto before = fs::last_write_time(e.path());
+    ASSERT_TRUE(h.app->cmd_open(e.path())) << e.path();
+    ASSERT_EQ(h.run("wait 3\n"), "") << e.path();
+    EXPECT_EQ(h.app->scene_error(), "") << e.path();
+    EXPECT_FALSE(h.app->status_is_error()) << e.path() << ": " << h.app->status();
+    EXPECT_FALSE(h.app->doc.dirty()) << e.path();
+    EXPECT_EQ(fs::last_write_time(e.path()), before) << e.path();
+    ++opened;
+  }
+  EXPECT_GE(opened, 30);
+}
+
 }  // namespace pliant::editor::test
