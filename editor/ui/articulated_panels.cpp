@@ -180,8 +180,10 @@ void draw_inspector(App& app) {
     }
     if (is_mjcf_model(s)) {
       json_bool(doc, "ignore MuJoCo solver params", "/mjcf/ignore_solver_params", false);
-      tooltip("geom / pair solref, solimp and solmix have no counterpart in Pliant's penalty contact "
-              "(contact stiffness below): off, such a model is refused; on, it loads and they are listed");
+      tooltip("MuJoCo's constraint-solver parameters (geom / pair solref, solimp, solmix; joint solref / "
+              "solimp of limits and friction; option impratio, cone) have no counterpart in Pliant's "
+              "penalties (contact stiffness below): off, such a model is refused; on, it loads and they "
+              "are listed");
     }
     if (ImGui::SmallButton("Inline chain")) {
       doc.set("/model", json{{"chain", {{"links", 10}, {"link_length", 0.1}, {"radius", 0.01}}}});
@@ -542,8 +544,8 @@ bool articulated_on_drop(App& app, const std::string& path) {
 #endif
   app.doc.edit("Set model " + p.filename().string(), next);
   app.set_status("Model " + model.generic_string() + (reset_initial ? " (initial state reset to the model's)" : "") +
-                 (ignored_params ? " ignoring its MuJoCo solver parameters (solref/solimp/solmix; untick "
-                                   "\"ignore MuJoCo solver params\" to refuse it)"
+                 (ignored_params ? " ignoring its MuJoCo solver parameters (solref, solimp and the like; "
+                                   "untick \"ignore MuJoCo solver params\" to refuse it)"
                                  : ""));
   if (ignored_params) {
     app.log.warn(app.status());
