@@ -76,9 +76,10 @@ TEST(SoftFishSwimSlow, ShippedFishSwimsForwardUpright) {
 }
 
 // The larger character (> 1000 vertices, assets/characters/creature.obj) walks
-// in its shipped scene: 1.04 m in 5 s (0.21 m/s for a 0.2 m/s target), upright (final
-// tilt 5 degrees), but 17 degrees off +x (0.31 m sideways: the scene has no turn /
-// steady term; engine/soft/README.md). About 1.5 CPU s in Release; slow, not under ASan.
+// in its shipped scene: 1.18 m in 5 s (0.2 m/s target), upright (final tilt 8 degrees),
+// 3 degrees off +x with the spider's turn and steady terms (17 degrees without them,
+// before 2026-12-03; engine/soft/README.md). About 3 CPU s in Release; slow, not under
+// ASan.
 TEST(SoftCreatureWalkSlow, ShippedCreatureWalksForward) {
   std::ifstream obj(std::string(PLIANT_ASSETS_DIR) + "/characters/creature.obj");
   int vertices = 0;
@@ -88,7 +89,7 @@ TEST(SoftCreatureWalkSlow, ShippedCreatureWalksForward) {
   const auto d = m["displacement_m"].get<std::vector<double>>();
   ASSERT_EQ(d.size(), 3u);
   EXPECT_GE(d[0], 0.5 * 0.2 * 5);  // >= half the 0.2 m/s target over 150 frames of 1/30 s
-  EXPECT_LT(std::abs(d[2]), 0.5 * d[0]);  // within 27 degrees of +x (measured 17)
+  EXPECT_LT(std::abs(d[2]), 0.18 * d[0]);  // within 10 degrees of +x (measured 3.1)
   EXPECT_LT(std::abs(d[1]), 0.05);         // walks on the ground
   EXPECT_LT(m["final_tilt_deg"].get<double>(), 30);
   EXPECT_LT(m["objective_final"].get<double>(), 0.1 * m["objective_initial"].get<double>());
