@@ -67,7 +67,7 @@ struct PanelVisibility {
 
 // The path-entry popup that stands in for native file dialogs.
 struct FileDialog {
-  enum class Mode { None, Open, SaveAs, OpenTake, ExportPng, ExportMp4, ExportVdb, ExportParticles, ExportObj, ImportImage } mode = Mode::None;
+  enum class Mode { None, Open, SaveAs, OpenTake, ExportPng, ExportMp4, ExportVdb, ExportParticles, ExportObj, ExportCsv, ImportImage } mode = Mode::None;
   bool open_requested = false;
   char path[1024] = {};
   std::string error;

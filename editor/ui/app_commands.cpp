@@ -157,6 +157,7 @@ void App::open_file_dialog(FileDialog::Mode mode) {
     if (mode == FileDialog::Mode::ExportVdb) init = take.dir().string() + "-vdb";
     if (mode == FileDialog::Mode::ExportParticles) init = take.dir().string() + "-particles";
     if (mode == FileDialog::Mode::ExportObj) init = take.dir().string() + "-obj";
+    if (mode == FileDialog::Mode::ExportCsv) init = take.dir().string() + "-csv";
   }
   std::snprintf(file_dialog.path, sizeof file_dialog.path, "%s", init.c_str());
 }

@@ -81,7 +81,7 @@ bool App::cmd_export(const std::string& format, const fs::path& out) {
   }
   if (format == "png") {
     if (!rendered) plugin_export("png", out);
-  } else if (format == "vdb" || format == "particles" || format == "obj") {
+  } else if (format == "vdb" || format == "particles" || format == "obj" || format == "csv") {
     plugin_export(format, out);
   } else if (format == "mp4") {
     const std::string ffmpeg = find_ffmpeg();
@@ -93,7 +93,7 @@ bool App::cmd_export(const std::string& format, const fs::path& out) {
                     "scale=-2:'max(512,trunc(ih/2)*2)':flags=neighbor", "-pix_fmt", "yuv420p",
                     (out / "take.mp4").string()});
   } else {
-    return refuse("unknown format '" + format + "' (png, mp4, vdb, particles, obj)");
+    return refuse("unknown format '" + format + "' (png, mp4, vdb, particles, obj, csv)");
   }
   if (export_run) export_run->wait();
   export_run = std::make_unique<ExportRun>(std::move(cmds), out);

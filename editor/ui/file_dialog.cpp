@@ -28,6 +28,7 @@ void draw_file_dialog(App& app) {
                      : d.mode == M::ExportVdb   ? "Export OpenVDB density (3D) to folder"
                      : d.mode == M::ExportParticles ? "Export particle positions (PLY per frame) to folder"
                      : d.mode == M::ExportObj   ? "Export surface meshes (OBJ per frame) to folder"
+                     : d.mode == M::ExportCsv   ? "Export energy and body poses (frames.csv) to folder"
                      : d.mode == M::ImportImage ? "Import image as a new keyframe at the current frame"
                                                 : "Open take folder";
   ImGui::TextUnformatted(what);
@@ -50,6 +51,7 @@ void draw_file_dialog(App& app) {
     else if (d.mode == M::ExportVdb) done = app.cmd_export("vdb", d.path);
     else if (d.mode == M::ExportParticles) done = app.cmd_export("particles", d.path);
     else if (d.mode == M::ExportObj) done = app.cmd_export("obj", d.path);
+    else if (d.mode == M::ExportCsv) done = app.cmd_export("csv", d.path);
     else if (d.mode == M::ImportImage) done = import_image_keyframe(app, d.path, true);
     else done = app.cmd_open_take(d.path);
     if (done) {

@@ -125,9 +125,9 @@ Script parse_script(const std::string& text, const std::string& file_label,
       need_num(0, n);
     if (c.op == "drag_item" || c.op == "drag_item_at" || c.op == "click_item_at") need_num(1, n);
     if (c.op == "wait_export") need_num(0, n);
-    static const std::set<std::string> kFormats = {"png", "mp4", "vdb", "particles", "obj"};
+    static const std::set<std::string> kFormats = {"png", "mp4", "vdb", "particles", "obj", "csv"};
     if (c.op == "export" && !kFormats.count(c.args[0]))
-      fail("export: unknown format '" + c.args[0] + "' (png, mp4, vdb, particles or obj)");
+      fail("export: unknown format '" + c.args[0] + "' (png, mp4, vdb, particles, obj or csv)");
     if (c.op == "click") {
       int first = 0;
       if (n == 1 || n == 3) {

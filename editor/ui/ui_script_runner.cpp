@@ -286,6 +286,7 @@ bool ScriptRunner::run_command(App& app, const ScriptCommand& c) {
                            : a[0] == "mp4"       ? FileDialog::Mode::ExportMp4
                            : a[0] == "particles" ? FileDialog::Mode::ExportParticles
                            : a[0] == "obj"       ? FileDialog::Mode::ExportObj
+                           : a[0] == "csv"       ? FileDialog::Mode::ExportCsv
                                                  : FileDialog::Mode::ExportVdb);
       std::snprintf(app.file_dialog.path, sizeof app.file_dialog.path, "%s", resolve(a[1]).c_str());
       return false;

@@ -7,9 +7,11 @@
 // click on a body selects it and the inspector shows its joint and contacts.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdlib>
 #include <fstream>
+#include <sstream>
 #include <thread>
 
 #include "editor_harness.h"
@@ -105,6 +107,28 @@ TEST(EditorArticulated, SimulateChainAndContactFrameMatchesGolden) {
   EXPECT_GT(arrow_pixels(with), 10);
   EXPECT_EQ(arrow_pixels(without), 0);
   articulated_draw_options() = ArticulatedDrawOptions{};
+
+  // File > Export Table (CSV): one row per frame, the take's energies in its columns.
+  const fs::path plugin = fs::path(PLIANT_BIN).parent_path() / "plugins" / "libcsv_table.so";
+  if (!fs::exists(plugin)) GTEST_SKIP() << "csv_table plugin not built: " << plugin;
+  ASSERT_EQ(h.run("export csv $TMP/table\nwait_export 60\nwait 2\nexpect \"Export done\"\n"), "");
+  std::ifstream csv(h.dir / "table" / "frames.csv");
+  std::string header, line, cell;
+  ASSERT_TRUE(std::getline(csv, header));
+  std::vector<std::string> names;
+  for (std::stringstream hs(header); std::getline(hs, cell, ',');) names.push_back(cell);
+  const size_t total = std::find(names.begin(), names.end(), "energy[2]") - names.begin();
+  ASSERT_LT(total, names.size()) << header;
+  TakeReader take(h.app->take.dir());
+  size_t rows = 0;
+  while (std::getline(csv, line)) {
+    std::vector<std::string> cells;
+    for (std::stringstream ls(line); std::getline(ls, cell, ',');) cells.push_back(cell);
+    ASSERT_GT(cells.size(), total) << line;
+    EXPECT_FLOAT_EQ(std::stof(cells[total]), take.read_frame_at(rows).find("energy")->data[2]) << line;
+    ++rows;
+  }
+  EXPECT_EQ(rows, take.frame_count());
 }
 
 // Mesh geoms are drawn as their triangles (they were boxes of the geom's unused

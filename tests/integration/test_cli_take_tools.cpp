@@ -94,6 +94,55 @@ TEST_F(TakeTools, ExportPngWritesOnePngPerFrame) {
   EXPECT_EQ(mismatches, 0);
 }
 
+// `pliant export --format csv` on a hand-written take: small fixed-shape fields become
+// columns (flattened slowest index first), a field whose shape changes between frames
+// and one over 256 values are left out and named in a warning, a frame missing a field
+// leaves its cells empty, and the values are the take's.
+TEST_F(TakeTools, ExportCsvTabulatesEveryFramesSmallFields) {
+  const fs::path take_dir = dir_ / "synthetic";
+  Manifest m;
+  m.kind = "articulated";
+  TakeWriter w = TakeWriter::create(take_dir, m);
+  for (int i = 0; i < 5; ++i) {
+    Record r;
+    r.index = i;
+    r.time_s = 0.25 * i;
+    r.fields.push_back({"energy", {3}, {float(i), 2.5f, float(i) + 2.5f}});
+    r.fields.push_back({"pose", {2, 2}, {1.f * i, 2.f, 3.f, -0.125f * i}});
+    r.fields.push_back({"contacts", {uint32_t(i % 2), 6}, std::vector<float>(6 * (i % 2), 1.f)});
+    r.fields.push_back({"image", {300}, std::vector<float>(300, 0.5f)});
+    if (i != 3) r.fields.push_back({"speed", {}, {0.5f * i}});
+    w.append(r);
+  }
+  w.finish("done");
+
+  const fs::path out = dir_ / "csv";
+  const ProcessResult r = pliant({"export", take_dir.string(), "--format", "csv", "--out", out.string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "csv: left out contacts [0x6], then [1x6] in frame 1")) << r.out;
+  EXPECT_TRUE(contains(r.out, "image [300] in frame 0: over 256 values")) << r.out;
+  std::ifstream in(out / "frames.csv");
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  ASSERT_EQ(lines.size(), 6u);
+  EXPECT_EQ(lines[0], "frame,time_s,energy[0],energy[1],energy[2],pose[0][0],pose[0][1],pose[1][0],pose[1][1],speed");
+  EXPECT_EQ(lines[1], "0,0,0,2.5,2.5,0,2,3,0,0");  // -0.125 * 0 is written as 0, not -0
+  EXPECT_EQ(lines[3], "2,0.5,2,2.5,4.5,2,2,3,-0.25,1");
+  EXPECT_EQ(lines[4], "3,0.75,3,2.5,5.5,3,2,3,-0.375,");  // frame 3 has no speed
+  EXPECT_FALSE(fs::exists(out / "frames.csv.tmp"));
+}
+
+// A take of nothing but large fields (a smoke take's density and velocity) has nothing
+// to tabulate: the export fails naming the fields and writes no table.
+TEST_F(TakeTools, ExportCsvOfOnlyLargeFieldsFailsNamingThem) {
+  const fs::path take_dir = make_take(20, 20, 2);
+  const fs::path out = dir_ / "csv";
+  const ProcessResult r = pliant({"export", take_dir.string(), "--format", "csv", "--out", out.string()});
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_TRUE(contains(r.err, "density [20x20] in frame 0: over 256 values")) << r.err;
+  EXPECT_FALSE(fs::exists(out / "frames.csv"));
+}
+
 TEST_F(TakeTools, ExportUnknownFormatListsAvailable) {
   const fs::path take_dir = make_take(8, 8, 2);
   const ProcessResult r =
