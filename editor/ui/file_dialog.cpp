@@ -28,7 +28,7 @@ void draw_file_dialog(App& app) {
                      : d.mode == M::ExportVdb   ? "Export OpenVDB density (3D) to folder"
                      : d.mode == M::ExportParticles ? "Export particle positions (PLY per frame) to folder"
                      : d.mode == M::ExportObj   ? "Export surface meshes (OBJ per frame) to folder"
-                     : d.mode == M::ExportCsv   ? "Export energy and body poses (frames.csv) to folder"
+                     : d.mode == M::ExportCsv   ? "Export every frame's small fields (frames.csv) to folder"
                      : d.mode == M::ImportImage ? "Import image as a new keyframe at the current frame"
                                                 : "Open take folder";
   ImGui::TextUnformatted(what);

@@ -44,7 +44,9 @@ void draw_menu_bar(App& app) {
     if (kind == "soft" && ImGui::MenuItem("Export OBJ Sequence...", nullptr, false, has_frames))
       app.open_file_dialog(FileDialog::Mode::ExportObj);
     ui_mark("Export OBJ");
-    if (kind == "articulated" && ImGui::MenuItem("Export Table (CSV: energy, poses)...", nullptr, false, has_frames))
+    // Small per-frame fields: articulated energy and poses, soft com, liquid poses and fractions.
+    const bool has_table = kind == "articulated" || kind == "soft" || kind == "liquid";
+    if (has_table && ImGui::MenuItem("Export Table (CSV)...", nullptr, false, has_frames))
       app.open_file_dialog(FileDialog::Mode::ExportCsv);
     ui_mark("Export CSV");
     ImGui::Separator();
