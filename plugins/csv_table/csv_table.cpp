@@ -14,7 +14,6 @@
 #include <filesystem>
 #include <map>
 #include <string>
-#include <system_error>
 #include <vector>
 
 #include "pliant/plugin.h"
@@ -86,12 +85,7 @@ int csv_begin(void*, const char* out_dir, const char*, uint32_t frame_count, cha
   g_export = CsvExport{};
   g_export.out_dir = out_dir;
   g_export.rows.reserve(frame_count);
-  std::error_code ec;
-  std::filesystem::create_directories(g_export.out_dir, ec);
-  if (ec || !std::filesystem::is_directory(g_export.out_dir))
-    return fail(err, err_size, "cannot create directory %s: %s", out_dir,
-                ec ? ec.message().c_str() : "a file of that name exists");
-  return 0;
+  return pliant_plugin::create_output_dir(out_dir, err, err_size);
 }
 
 int csv_frame(void*, const PliantFrame* frame, char*, size_t) {

@@ -16,7 +16,6 @@
 #include <cstdio>
 #include <filesystem>
 #include <string>
-#include <system_error>
 
 #include "pliant/plugin.h"
 #include "pliant/plugin_support.h"
@@ -35,12 +34,7 @@ std::filesystem::path g_out_dir;
 int vdb_begin(void*, const char* out_dir, const char*, uint32_t, char* err, size_t err_size) {
   openvdb::initialize();
   g_out_dir = out_dir;
-  std::error_code ec;
-  std::filesystem::create_directories(g_out_dir, ec);
-  if (ec || !std::filesystem::is_directory(g_out_dir))
-    return fail(err, err_size, "cannot create directory %s: %s", out_dir,
-                ec ? ec.message().c_str() : "a file of that name exists");
-  return 0;
+  return pliant_plugin::create_output_dir(out_dir, err, err_size);
 }
 
 int vdb_frame(void*, const PliantFrame* frame, char* err, size_t err_size) {

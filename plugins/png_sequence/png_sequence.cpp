@@ -21,7 +21,6 @@
 #include <cstring>
 #include <filesystem>
 #include <string>
-#include <system_error>
 #include <vector>
 
 #include "pliant/plugin.h"
@@ -44,13 +43,7 @@ PngExport g_export;
 
 int png_begin(void*, const char* out_dir, const char*, uint32_t, char* err, size_t err_size) {
   g_export.out_dir = out_dir;
-  std::error_code ec;
-  std::filesystem::create_directories(g_export.out_dir, ec);
-  if (ec || !std::filesystem::is_directory(g_export.out_dir)) {
-    return fail(err, err_size, "cannot create directory %s: %s", out_dir,
-                ec ? ec.message().c_str() : "a file of that name exists");
-  }
-  return 0;
+  return pliant_plugin::create_output_dir(out_dir, err, err_size);
 }
 
 // stb calls this with chunks of the encoded file; errors are remembered.

@@ -8,6 +8,7 @@
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
+#include <system_error>
 
 #include "pliant/plugin.h"
 
@@ -43,6 +44,16 @@ inline int fail(char* err, size_t err_size, const char* fmt, ...) {
     va_end(args);
   }
   return 1;
+}
+
+/* Creates the exporter's output folder (and parents); 0, or 1 with the reason in err. */
+inline int create_output_dir(const char* out_dir, char* err, size_t err_size) {
+  std::error_code ec;
+  std::filesystem::create_directories(out_dir, ec);
+  if (ec || !std::filesystem::is_directory(out_dir))
+    return fail(err, err_size, "cannot create directory %s: %s", out_dir,
+                ec ? ec.message().c_str() : "a file of that name exists");
+  return 0;
 }
 
 /* The frame's field called name, or null. */
