@@ -23,8 +23,14 @@ void draw_menu_bar(App& app) {
     ImGui::Separator();
     if (ImGui::MenuItem("Open Take...")) app.open_file_dialog(FileDialog::Mode::OpenTake);
     ImGui::Separator();
-    if (ImGui::MenuItem("Import Image as Keyframe...")) app.open_file_dialog(FileDialog::Mode::ImportImage);
-    ui_mark("Import Image");
+    // Kind-specific items appear only where they apply (a smoke keyframe image, a
+    // liquid's particles, a soft body's meshes, the small per-frame fields).
+    const std::string kind = scene_kind(app);
+    const bool smoke = kind == "smoke" || kind.empty();
+    if (smoke) {
+      if (ImGui::MenuItem("Import Image as Keyframe...")) app.open_file_dialog(FileDialog::Mode::ImportImage);
+      ui_mark("Import Image");
+    }
     const bool has_frames = app.take.frame_count() > 0;
     if (ImGui::MenuItem("Export PNG Sequence...", nullptr, false, has_frames))
       app.open_file_dialog(FileDialog::Mode::ExportPng);
@@ -34,21 +40,26 @@ void draw_menu_bar(App& app) {
     ui_mark("Export MP4");
     if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled) && find_ffmpeg().empty())
       ImGui::SetTooltip("needs ffmpeg (apt-get install ffmpeg)");
-    if (ImGui::MenuItem("Export OpenVDB (3D)...", nullptr, false, has_frames))
-      app.open_file_dialog(FileDialog::Mode::ExportVdb);
-    ui_mark("Export VDB");
-    const std::string kind = scene_kind(app);
-    if (kind == "liquid" && ImGui::MenuItem("Export Particles (PLY per frame)...", nullptr, false, has_frames))
-      app.open_file_dialog(FileDialog::Mode::ExportParticles);
-    ui_mark("Export Particles");
-    if (kind == "soft" && ImGui::MenuItem("Export OBJ Sequence...", nullptr, false, has_frames))
-      app.open_file_dialog(FileDialog::Mode::ExportObj);
-    ui_mark("Export OBJ");
-    // Small per-frame fields: articulated energy and poses, soft com, liquid poses and fractions.
-    const bool has_table = kind == "articulated" || kind == "soft" || kind == "liquid";
-    if (has_table && ImGui::MenuItem("Export Table (CSV)...", nullptr, false, has_frames))
-      app.open_file_dialog(FileDialog::Mode::ExportCsv);
-    ui_mark("Export CSV");
+    if (smoke) {
+      if (ImGui::MenuItem("Export OpenVDB (3D)...", nullptr, false, has_frames))
+        app.open_file_dialog(FileDialog::Mode::ExportVdb);
+      ui_mark("Export VDB");
+    }
+    if (kind == "liquid") {
+      if (ImGui::MenuItem("Export Particles (PLY per frame)...", nullptr, false, has_frames))
+        app.open_file_dialog(FileDialog::Mode::ExportParticles);
+      ui_mark("Export Particles");
+    }
+    if (kind == "soft") {
+      if (ImGui::MenuItem("Export OBJ Sequence...", nullptr, false, has_frames))
+        app.open_file_dialog(FileDialog::Mode::ExportObj);
+      ui_mark("Export OBJ");
+    }
+    if (kind == "articulated" || kind == "soft" || kind == "liquid") {
+      if (ImGui::MenuItem("Export Table (CSV)...", nullptr, false, has_frames))
+        app.open_file_dialog(FileDialog::Mode::ExportCsv);
+      ui_mark("Export CSV");
+    }
     ImGui::Separator();
     if (ImGui::MenuItem("Quit")) app.request_quit();
     ImGui::EndMenu();

@@ -268,4 +268,28 @@ TEST(EditorUi, EveryShippedSceneOpensWithoutAnError) {
   EXPECT_GE(opened, 30);
 }
 
+// The File menu offers the imports and exports of the open scene's kind only: a
+// smoke scene its keyframe image and OpenVDB, a liquid its particles, a soft body its
+// OBJ sequence, and the CSV table (small per-frame fields) every kind but smoke.
+TEST(EditorUi, FileMenuOffersTheImportsAndExportsOfTheScenesKind) {
+  EditorHarness h("file_menu");
+  const fs::path scenes = fs::absolute(test_data("../../assets/scenes")).lexically_normal();
+  h.start(scenes / "plume_2d.json", /*gl=*/true);
+  const std::vector<std::string> items = {"Import Image", "Export VDB", "Export Particles", "Export OBJ",
+                                          "Export CSV"};
+  const std::vector<std::pair<std::string, std::vector<bool>>> cases = {
+      {"plume_2d.json", {true, true, false, false, false}},
+      {"liquid_pour_2d.json", {false, false, true, false, true}},
+      {"soft_ball_roll.json", {false, false, false, true, true}},
+      {"chain_swing.json", {false, false, false, false, true}}};
+  for (const auto& [scene, shown] : cases) {
+    ASSERT_TRUE(h.app->cmd_open(scenes / scene)) << scene;
+    ASSERT_EQ(h.run("wait 2\nclick_item File\nwait 3\n"), "") << scene;
+    ASSERT_NE(h.app->marks.find("Export PNG"), nullptr) << scene << ": the File menu is not open";
+    for (size_t i = 0; i < items.size(); ++i)
+      EXPECT_EQ(h.app->marks.find(items[i]) != nullptr, shown[i]) << scene << ": " << items[i];
+    ASSERT_EQ(h.run("click_item File\nwait 2\n"), "") << scene;  // closes it
+  }
+}
+
 }  // namespace pliant::editor::test
