@@ -75,10 +75,12 @@ SoftVec3 pin_offset(App& app, int frame, int vertex, size_t nverts) {
 
 bool soft_character_view(App& app) {
   SoftUi& ui = soft_ui(app);
-  if (!ui.character_mode) return false;
-  if (ImGui::Button("Result")) ui.character_mode = false;
-  ui_mark("soft_result");
-  ImGui::SameLine();
+  if (!soft_character_shown(app)) return false;
+  if (!app.take.dir().empty()) {  // with no take there is no result to go back to
+    if (ImGui::Button("Result")) ui.character_mode = false;
+    ui_mark("soft_result");
+    ImGui::SameLine();
+  }
   ImGui::Checkbox("lattice", &ui.show_lattice);
   ui_mark("soft_lattice");
   ImGui::SameLine();
@@ -217,6 +219,7 @@ bool soft_character_view(App& app) {
       if (!ui.mesh.init(&err) || !ui.lines.init(&err)) {
         app.log.error("character view: " + err);
         ui.character_mode = false;
+        ui.gl_failed = true;
         return true;
       }
       ui.gl_ready = true;

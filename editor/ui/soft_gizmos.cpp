@@ -35,7 +35,7 @@ nlohmann::json at(const nlohmann::json& j, const std::string& pointer) {
 std::vector<float> rest_vertices(App& app, const SoftSceneInfo& info) {
   SoftUi& ui = soft_ui(app);
   std::vector<float> out;
-  if (ui.character_mode) {
+  if (soft_character_shown(app)) {
 #ifdef PLIANT_HAVE_SOFT
     if (!ui.preview.model) return out;
     const auto& rest = ui.preview.model->character.surface.vertices;

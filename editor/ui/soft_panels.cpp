@@ -33,6 +33,11 @@ SoftUi::~SoftUi() = default;  // GL names are freed with the context (GLVND no-o
 
 SoftUi& soft_ui(App& app) { return app.kind_ui.get<SoftUi>("soft"); }
 
+bool soft_character_shown(App& app) {
+  const SoftUi& ui = soft_ui(app);
+  return !ui.gl_failed && (ui.character_mode || app.take.dir().empty());
+}
+
 namespace {
 
 bool has_object(const json& s, const char* a, const char* b = nullptr) {
@@ -359,9 +364,13 @@ void draw_soft_timeline(App& app) {
 
 void draw_soft_toolbar(App& app) {
   SoftUi& ui = soft_ui(app);
-  ImGui::Checkbox("Character", &ui.character_mode);
+  const bool no_take = app.take.dir().empty();
+  bool shown = soft_character_shown(app);
+  if (ImGui::Checkbox("Character", &shown)) ui.character_mode = no_take || shown;
   ui_mark("soft_character");
-  if (ImGui::IsItemHovered()) ImGui::SetTooltip("lattice, mode sliders, vertex pins and objective gizmos");
+  if (ImGui::IsItemHovered())
+    ImGui::SetTooltip(no_take ? "lattice, mode sliders, vertex pins and objective gizmos (shown until a take exists)"
+                              : "lattice, mode sliders, vertex pins and objective gizmos");
 }
 
 void draw_soft_overlay(App& app, float x, float y, int w, int h) {

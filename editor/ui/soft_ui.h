@@ -103,6 +103,7 @@ struct SoftUi : KindUiState {
   std::string last_pick;  // "vertex 12 pinned at frame 5" (shown in the mode's toolbar)
   // Character-mode drawing (own framebuffer; the Renderer shows takes).
   bool gl_ready = false;
+  bool gl_failed = false;  // the view's drawers failed to initialise: not shown again
   OffscreenTarget target;
   MeshDrawer mesh;
   LineDrawer lines;
@@ -146,6 +147,10 @@ SoftUi& soft_ui(App& app);
 
 // Compiles the preview body when the document's character changed (cheap when not).
 const SoftPreviewModel& soft_preview_model(App& app);
+
+// The Character view is shown: chosen with the toolbar's checkbox, or no take yet
+// (there is no result to show, and an empty viewport tells an animator nothing).
+bool soft_character_shown(App& app);
 
 // The Character edit mode (viewport_editor): true when it drew the viewport.
 bool soft_character_view(App& app);

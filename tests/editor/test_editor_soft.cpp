@@ -294,9 +294,13 @@ TEST(EditorSoft, LivePlaybackReplaysTheTakeAndTakesAPushAndADrag) {
 TEST(EditorSoft, ModeSliderDeformsPreviewAndPinsAndGizmosAreOneUndoStep) {
   EditorHarness h("soft_character");
   h.start(spider_scene(h), /*gl=*/true, 1280, 720);
-  ASSERT_EQ(h.run("wait 2\nclick_item soft_character\nwait 1\n"), "");
+  // No take yet: the Character view shows by itself (the mode flag stays off, so the
+  // result view returns once a take exists).
+  ASSERT_EQ(h.run("wait 2\nwait 1\n"), "");
   SoftUi& ui = soft_ui(*h.app);
-  ASSERT_TRUE(ui.character_mode);
+  EXPECT_FALSE(ui.character_mode);
+  ASSERT_NE(h.app->marks.find("soft_lattice"), nullptr);  // the view's toolbar
+  EXPECT_EQ(h.app->marks.find("soft_result"), nullptr);  // nothing to go back to
   ASSERT_TRUE(wait_body(h));
   ASSERT_EQ(h.run("wait 2\n"), "");
   ASSERT_TRUE(ui.preview.model) << ui.preview.error;
@@ -399,8 +403,8 @@ TEST(EditorSoft, CharacterBodyCompilesOffTheUiThread) {
   EditorHarness h("soft_async");
   h.start(spider_scene(h), /*gl=*/true, 960, 540);
   SoftUi& ui = soft_ui(*h.app);
-  ASSERT_EQ(h.run("wait 1\nclick_item soft_character\n"), "");
-  ASSERT_TRUE(ui.character_mode);
+  ASSERT_EQ(h.run("wait 1\n"), "");  // no take: the Character view is shown
+  ASSERT_NE(h.app->marks.find("soft_lattice"), nullptr);  // the view's toolbar
   ASSERT_TRUE(wait_body(h));
   ASSERT_TRUE(ui.preview.model) << ui.preview.error;
   // Frames were drawn while the worker compiled (the compile takes 0.2 s or
