@@ -32,7 +32,6 @@ namespace {
 
 ArticulatedUiState& ui_state(App& app) { return app.kind_ui.get<ArticulatedUiState>("articulated"); }
 
-#ifdef PLIANT_HAVE_ARTICULATED
 Scene make_scene(const json& doc, const fs::path& dir) {
   Scene s;
   s.file = "scene";
@@ -41,6 +40,8 @@ Scene make_scene(const json& doc, const fs::path& dir) {
   s.doc = doc;
   return s;
 }
+
+#ifdef PLIANT_HAVE_ARTICULATED
 
 // A mesh geom's triangles as float / uint32 arrays (render/ does not see engine types).
 std::shared_ptr<const ArticulatedMesh> mesh_view(const articulated::MeshShape& shape) {
@@ -130,7 +131,7 @@ const std::string& model_summary(App& app) {
 #ifdef PLIANT_HAVE_ARTICULATED
   try {
     const articulated::ArticulatedScene a =
-        articulated::articulated_compile(make_scene(app.doc.scene(), document_folder(app)));
+        articulated::articulated_compile(articulated_document_scene(app));
     const articulated::Model& m = a.model;
     double mass = 0;
     for (const auto& b : m.bodies) mass += b.mass;
@@ -431,6 +432,9 @@ void draw_overlay(App& app, float x, float y, int w, int h) {
   }
   if (!info.model_error.empty())
     dl->AddText(ImVec2(x + 10, y + 44), IM_COL32(255, 110, 90, 255), ("model: " + info.model_error).c_str());
+  if (app.take.dir().empty())
+    dl->AddText(ImVec2(x + 10, y + h - 24), IM_COL32(255, 210, 120, 255),
+                "initial state (no take yet): Simulate or Run (F5)");
 }
 
 void draw_timeline(App& app) {
@@ -462,6 +466,8 @@ void draw_timeline(App& app) {
 }
 
 }  // namespace
+
+Scene articulated_document_scene(const App& app) { return make_scene(app.doc.scene(), document_folder(app)); }
 
 bool articulated_scene_geometry(const json& scene, const fs::path& dir, ArticulatedGeometry* out,
                                 std::string* err) {
@@ -563,6 +569,7 @@ const KindPanels& articulated_panels() {
     k.typed_keys = {"name", "model", "mjcf", "integrator", "dt", "duration_s", "write_every", "contact", "solver", "mpc"};
     k.jobs = &draw_jobs;
     k.viewport_toolbar = &draw_toolbar;
+    k.viewport_frame = &articulated_initial_frame;
     k.viewport_overlay = &draw_overlay;
     k.timeline = &draw_timeline;
     k.on_drop = &articulated_on_drop;

@@ -19,6 +19,7 @@ class JobProcess;
 }  // namespace pliant::editor
 namespace pliant {
 class TakeReader;
+struct Scene;
 }
 namespace pliant::editor {
 
@@ -52,6 +53,11 @@ struct ArticulatedUiState : KindUiState {
   int selected_body = 0;
   std::string selected_name;
   std::shared_ptr<ArticulatedSelection> selection;  // what the inspector shows
+  // The initial-state view (no take yet): the document and revision it was built
+  // for and the viewport upload count after it (another upload means redraw it).
+  uint64_t initial_doc = 0, initial_revision = ~uint64_t(0);
+  uint64_t initial_uploads = ~uint64_t(0);
+  bool initial_ok = false;
 };
 
 // Integrators "Compare integrators" can run, in the order of compare_pick.
@@ -76,6 +82,14 @@ bool articulated_simulate(App& app);
 struct ArticulatedGeometry;
 bool articulated_scene_geometry(const nlohmann::json& scene, const std::filesystem::path& dir,
                                 ArticulatedGeometry* out, std::string* err);
+
+// The document as the engine compiles it: its JSON, model paths relative to the
+// scene file's folder (the working folder for an unsaved document).
+Scene articulated_document_scene(const App& app);
+
+// The kind's viewport_frame hook (articulated_initial_view.cpp): with no take shown,
+// uploads the model at its initial state; true while it shows that frame.
+bool articulated_initial_frame(App& app);
 
 // A dropped model file (.xml MJCF, or a .json that is a model, not a scene) on
 // an articulated document becomes its "model" (path relative to the scene's

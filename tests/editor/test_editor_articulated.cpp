@@ -423,4 +423,59 @@ TEST(EditorArticulated, DroppedGymStyleMjcfLoadsIgnoringItsSolverParameters) {
   EXPECT_FALSE(h.app->doc.scene().contains("mjcf"));
 }
 
+#ifdef PLIANT_HAVE_ARTICULATED
+// With no take the viewport shows the model at its initial state (the record a run
+// writes as frame 0, energies the engine's); an edit of the initial pose redraws it;
+// Simulate's take replaces it.
+TEST(EditorArticulated, SceneWithNoTakeShowsItsInitialState) {
+  EditorHarness h("art_initial");
+  fs::path scene = h.copy_scene("articulated_chain.json");
+  h.start(scene, /*gl=*/true, 960, 540);
+  ASSERT_EQ(h.run("wait 2\nscreenshot $TMP/initial.png viewport\n"), "");
+  EXPECT_TRUE(h.app->take.dir().empty());
+  ASSERT_TRUE(h.app->renderer.has_frame());
+  EXPECT_EQ(h.app->renderer.drawer_name(), "articulated");
+  const ArticulatedFrameInfo& info = articulated_last_frame_info();
+  EXPECT_EQ(info.model_error, "");
+  EXPECT_EQ(info.bodies, 3);
+  Scene sc;
+  sc.file = "scene";
+  sc.dir = scene.parent_path();
+  sc.kind = "articulated";
+  sc.doc = h.app->doc.scene();
+  const articulated::ArticulatedScene a = articulated::articulated_compile(sc);
+  articulated::SimWorkspace ws;
+  const articulated::Energy e = articulated::state_energy(a.model, a.options, a.initial, ws);
+  EXPECT_GT(e.kinetic, 1e-3);  // qvel 1.5 rad/s about link1's z hinge
+  EXPECT_NEAR(info.energy[0], e.kinetic, 1e-5);
+  EXPECT_NEAR(info.energy[1], e.potential, 1e-5);
+  const float potential0 = info.energy[1];
+
+  // Raise the chain (first hinge -0.5 rad about y): the drawn pose and its
+  // potential energy follow.
+  json doc = h.app->doc.scene();
+  doc["initial"]["qpos"] = {-0.5, 0, 0, 0};
+  h.app->doc.edit("tilt", doc);
+  ASSERT_EQ(h.run("wait 2\nscreenshot $TMP/tilted.png viewport\n"), "");
+  EXPECT_GT(info.energy[1], potential0 + 1e-3);
+  std::string err;
+  const Image before = read_png((h.dir / "initial.png").string(), &err);
+  const Image after = read_png((h.dir / "tilted.png").string(), &err);
+  ASSERT_FALSE(before.empty() || after.empty()) << err;
+  ASSERT_EQ(before.width, after.width);
+  int changed = 0;
+  for (int y = 0; y < before.height; ++y)
+    for (int x = 0; x < before.width; ++x)
+      changed += std::abs(int(before.pixel(x, y)[0]) - int(after.pixel(x, y)[0])) > 30;
+  EXPECT_GT(changed, 100);
+
+  // A finished Simulate shows its take instead.
+  ASSERT_EQ(h.run("click_item Simulate\nwait_job 60\nexpect \": done\"\nwait_frames 61 10\nset_frame 30\nwait 3\n"), "");
+  EXPECT_FALSE(h.app->take.dir().empty());
+  EXPECT_EQ(h.app->take.frame, 30);
+  TakeReader take(h.app->take.dir());
+  EXPECT_NEAR(info.energy[2], take.read_frame_at(30).find("energy")->data[2], 1e-5);
+}
+#endif
+
 }  // namespace pliant::editor::test
