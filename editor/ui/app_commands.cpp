@@ -4,6 +4,7 @@
 #include <cstring>
 
 #include "doc/doc_commands.h"
+#include "doc/smoke_keyframes.h"
 #include "pliant/core/scene.h"
 #include "ui/app.h"
 #include "ui/hotkeys.h"
@@ -29,6 +30,8 @@ bool App::cmd_open(const fs::path& path) {
   }
   recent.add(path);
   take.close();
+  // A keyframe scene opens on its keyframes (there is no result yet to show).
+  viewport.show_canvas = has_control(doc.scene());
   set_status("Opened " + path.string());
   log.info(status_);
   return true;
@@ -64,6 +67,7 @@ bool App::cmd_open_take(const fs::path& dir) {
   }
   take.open(dir);
   doc.take_dir = dir;
+  viewport.show_canvas = false;  // the take is what was asked for
   set_status("Opened take " + dir.string());
   log.info(status_);
   return true;
@@ -124,6 +128,7 @@ bool App::cmd_run(const fs::path& take_dir, bool resume) {
   job_seen_state.push_back(JobState::Starting);
   take.open(spec.take);
   doc.take_dir = spec.take;
+  viewport.show_canvas = false;  // watch the run (the Keyframes button goes back)
   return true;
 }
 

@@ -292,4 +292,29 @@ TEST(EditorUi, FileMenuOffersTheImportsAndExportsOfTheScenesKind) {
   }
 }
 
+// A keyframe scene opens on its keyframes (no result to show yet), a plain one on
+// the result; running the scene switches to the result to watch the run.
+TEST(EditorUi, KeyframeSceneOpensOnItsKeyframesAndARunShowsTheResult) {
+  EditorHarness h("open_keyframes");
+  h.start(h.copy_scene("small_plume.json"), /*gl=*/true);
+  EXPECT_FALSE(h.app->viewport.show_canvas);
+  // The canvas test scene with one keyframe (a square at frame 20), 2 ADMM iterations.
+  json scene = json::parse(std::ifstream(h.copy_scene("keyframe_32.json")));
+  scene["control"]["max_iterations"] = 2;
+  scene["control"]["keyframes"] = json::array(
+      {{{"frame", 20}, {"target", {{"type", "square"}, {"center", {0.6, 0.6}}, {"half_size", {0.13, 0.13}}}}}});
+  const fs::path path = h.dir / "one_key.json";
+  std::ofstream(path) << scene.dump(2);
+  ASSERT_TRUE(h.app->cmd_open(path));
+  ASSERT_EQ(h.run("wait 2\n"), "");
+  EXPECT_TRUE(h.app->viewport.show_canvas);
+  ASSERT_NE(h.app->marks.find("keyframe_canvas"), nullptr);
+  ASSERT_EQ(h.run("key F5\nwait 2\n"), "");
+  EXPECT_FALSE(h.app->viewport.show_canvas) << h.app->status();
+  ASSERT_EQ(h.run("wait_job 60\nclick_item view_keyframes\nwait 2\n"), "");  // and back, by hand
+  EXPECT_TRUE(h.app->viewport.show_canvas);
+  ASSERT_TRUE(h.app->cmd_open(h.copy_scene("small_plume.json")));
+  EXPECT_FALSE(h.app->viewport.show_canvas);
+}
+
 }  // namespace pliant::editor::test
