@@ -2,7 +2,7 @@
 // kind's viewport_frame hook): compiled from the document once per revision and drawn
 // through the take's own drawer from the record a run writes as frame 0
 // (articulated_frame_record), so bodies, contacts and the energy readout are what
-// Simulate's first frame will show. Before, the viewport stayed empty until a run.
+// Simulate's first frame will show. The compile is the one the model summary uses.
 #include "pliant/core/scene.h"
 #include "pliant/core/take.h"
 #include "render/articulated_drawer.h"
@@ -29,20 +29,20 @@ bool articulated_initial_frame(App& app) {
   st.initial_doc = app.doc.id();
   st.initial_revision = app.doc.revision();
   st.initial_ok = false;
-  try {
-    const Scene scene = articulated_document_scene(app);
-    const articulated::ArticulatedScene a = articulated::articulated_compile(scene);
-    articulated::SimWorkspace ws;
-    const Record rec = articulated::articulated_frame_record(a.model, a.options, a.initial, 0, ws);
-    articulated_drawer_set_scene_dir(scene.dir);
-    if (!same_doc) app.renderer.reset_framing();
-    app.renderer.set_frame(rec, &app.doc.scene());
-    if (!same_doc) app.viewport.camera.reset();
-    st.initial_ok = true;
-  } catch (const std::exception&) {
-    // The inspector shows the compile error; the viewport falls back to "No take yet".
-    if (app.renderer.has_frame()) app.renderer.clear_frame();
+  if (const auto a = articulated_document_compiled(app, nullptr)) {
+    try {
+      articulated::SimWorkspace ws;
+      const Record rec = articulated::articulated_frame_record(a->model, a->options, a->initial, 0, ws);
+      articulated_drawer_set_scene_dir(articulated_document_scene(app).dir);
+      if (!same_doc) app.renderer.reset_framing();
+      app.renderer.set_frame(rec, &app.doc.scene());
+      if (!same_doc) app.viewport.camera.reset();
+      st.initial_ok = true;
+    } catch (const std::exception&) {
+    }
   }
+  // A compile error (the inspector shows it): "No take yet" here.
+  if (!st.initial_ok && app.renderer.has_frame()) app.renderer.clear_frame();
   st.initial_uploads = ++app.viewport.uploads;
   return st.initial_ok;
 #endif

@@ -129,9 +129,10 @@ const std::string& model_summary(App& app) {
   st.summary_doc = app.doc.id();
   st.summary_revision = app.doc.revision();
 #ifdef PLIANT_HAVE_ARTICULATED
-  try {
-    const articulated::ArticulatedScene a =
-        articulated::articulated_compile(articulated_document_scene(app));
+  std::string err;
+  const auto compiled = articulated_document_compiled(app, &err);
+  if (compiled) {
+    const articulated::ArticulatedScene& a = *compiled;
     const articulated::Model& m = a.model;
     double mass = 0;
     for (const auto& b : m.bodies) mass += b.mass;
@@ -143,8 +144,8 @@ const std::string& model_summary(App& app) {
     if (!m.ignored_attributes.empty())
       st.summary += "; " + std::to_string(m.ignored_attributes.size()) +
                     " MuJoCo solver parameters ignored (first: " + m.ignored_attributes.front() + ")";
-  } catch (const std::exception& e) {
-    st.summary = std::string("model: ") + e.what();
+  } else {
+    st.summary = "model: " + err;
   }
 #else
   st.summary = "this editor was built without the articulated engine";
@@ -468,6 +469,26 @@ void draw_timeline(App& app) {
 }  // namespace
 
 Scene articulated_document_scene(const App& app) { return make_scene(app.doc.scene(), document_folder(app)); }
+
+#ifdef PLIANT_HAVE_ARTICULATED
+std::shared_ptr<const articulated::ArticulatedScene> articulated_document_compiled(App& app, std::string* err) {
+  ArticulatedUiState& st = ui_state(app);
+  if (st.compiled_doc != app.doc.id() || st.compiled_revision != app.doc.revision()) {
+    st.compiled_doc = app.doc.id();
+    st.compiled_revision = app.doc.revision();
+    st.compiled.reset();
+    st.compile_error.clear();
+    try {
+      st.compiled = std::make_shared<const articulated::ArticulatedScene>(
+          articulated::articulated_compile(articulated_document_scene(app)));
+    } catch (const std::exception& e) {
+      st.compile_error = e.what();
+    }
+  }
+  if (err) *err = st.compile_error;
+  return st.compiled;
+}
+#endif
 
 bool articulated_scene_geometry(const json& scene, const fs::path& dir, ArticulatedGeometry* out,
                                 std::string* err) {

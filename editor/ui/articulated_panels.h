@@ -21,6 +21,9 @@ namespace pliant {
 class TakeReader;
 struct Scene;
 }
+namespace pliant::articulated {
+struct ArticulatedScene;
+}
 namespace pliant::editor {
 
 // One run of "Compare integrators": its job, take and the energy read so far.
@@ -53,6 +56,10 @@ struct ArticulatedUiState : KindUiState {
   int selected_body = 0;
   std::string selected_name;
   std::shared_ptr<ArticulatedSelection> selection;  // what the inspector shows
+  // The document compiled by the engine (articulated_document_compiled), per revision.
+  uint64_t compiled_doc = 0, compiled_revision = ~uint64_t(0);
+  std::shared_ptr<const articulated::ArticulatedScene> compiled;  // null on a compile error
+  std::string compile_error;
   // The initial-state view (no take yet): the document and revision it was built
   // for and the viewport upload count after it (another upload means redraw it).
   uint64_t initial_doc = 0, initial_revision = ~uint64_t(0);
@@ -86,6 +93,11 @@ bool articulated_scene_geometry(const nlohmann::json& scene, const std::filesyst
 // The document as the engine compiles it: its JSON, model paths relative to the
 // scene file's folder (the working folder for an unsaved document).
 Scene articulated_document_scene(const App& app);
+
+// The document compiled by the engine once per revision, shared by the model
+// summary and the initial-state view; null with the message in *err on a compile
+// error. Only in builds with the articulated engine.
+std::shared_ptr<const articulated::ArticulatedScene> articulated_document_compiled(App& app, std::string* err);
 
 // The kind's viewport_frame hook (articulated_initial_view.cpp): with no take shown,
 // uploads the model at its initial state; true while it shows that frame.
