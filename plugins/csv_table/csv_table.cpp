@@ -14,6 +14,7 @@
 #include <filesystem>
 #include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "pliant/plugin.h"
@@ -50,6 +51,12 @@ CsvExport g_export;
 // The host's log function, copied at load (the PliantHost struct is only lent for that call).
 void (*g_log)(const char* level, const char* message) = nullptr;
 
+size_t value_count(const std::vector<uint32_t>& shape) {
+  size_t n = 1;
+  for (uint32_t d : shape) n *= d;
+  return n;
+}
+
 std::string shape_text(const std::vector<uint32_t>& shape) {
   std::string s = "[";
   for (size_t i = 0; i < shape.size(); ++i) {
@@ -61,8 +68,7 @@ std::string shape_text(const std::vector<uint32_t>& shape) {
 
 // The column names of one field, flattened slowest index first.
 void append_names(const std::string& name, const std::vector<uint32_t>& shape, std::vector<std::string>& out) {
-  size_t n = 1;
-  for (uint32_t d : shape) n *= d;
+  const size_t n = value_count(shape);
   if (n == 1 && shape.size() <= 1) {
     out.push_back(name);
     return;
@@ -93,8 +99,7 @@ int csv_frame(void*, const PliantFrame* frame, char*, size_t) {
   for (uint32_t f = 0; f < frame->field_count; ++f) {
     const PliantField& field = frame->fields[f];
     const std::vector<uint32_t> shape(field.shape, field.shape + field.ndim);
-    size_t n = 1;
-    for (uint32_t d : shape) n *= d;
+    const size_t n = value_count(shape);
     auto [it, inserted] = g_export.columns.try_emplace(field.name, Column{shape, true, ""});
     if (inserted) g_export.order.push_back(field.name);
     Column& c = it->second;
@@ -115,20 +120,18 @@ int csv_frame(void*, const PliantFrame* frame, char*, size_t) {
 }
 
 int csv_end(void*, char* err, size_t err_size) {
-  std::vector<std::string> fields, names, left_out;
+  std::vector<std::pair<std::string, size_t>> fields;  // kept fields and their value counts
+  std::vector<std::string> names;
+  std::string skipped;
   for (const std::string& f : g_export.order) {
     const Column& c = g_export.columns[f];
     if (c.kept) {
-      fields.push_back(f);
+      fields.emplace_back(f, value_count(c.shape));
       append_names(f, c.shape, names);
     } else {
-      left_out.push_back(f + " " + c.why);
+      if (!skipped.empty()) skipped += "; ";
+      skipped += f + " " + c.why;
     }
-  }
-  std::string skipped;
-  for (const std::string& s : left_out) {
-    if (!skipped.empty()) skipped += "; ";
-    skipped += s;
   }
   if (fields.empty() && !g_export.rows.empty())
     return fail(err, err_size, "no field of at most %zu values with one shape in every frame to tabulate (%s)",
@@ -144,10 +147,8 @@ int csv_end(void*, char* err, size_t err_size) {
         ok = ok && std::fputc('\n', file) != EOF;
         for (const Row& r : g_export.rows) {
           ok = ok && std::fprintf(file, "%d,%.9g", int(r.index), r.time_s) > 0;
-          for (const std::string& f : fields) {
+          for (const auto& [f, n] : fields) {
             const auto v = r.values.find(f);
-            size_t n = 1;
-            for (uint32_t d : g_export.columns[f].shape) n *= d;
             for (size_t k = 0; k < n; ++k)
               ok = ok && (v == r.values.end() ? std::fputc(',', file) != EOF
                                               : std::fprintf(file, ",%.9g", double(v->second[k]) + 0.0) > 0);
