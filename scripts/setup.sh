@@ -8,7 +8,7 @@ ENGINE_PKGS=(build-essential cmake ninja-build pkg-config git
   libeigen3-dev libsuitesparse-dev nlohmann-json3-dev libcli11-dev libstb-dev
   libgtest-dev libgmock-dev libbenchmark-dev libomp-dev
   clang libclang-rt-14-dev fonts-dejavu-core liblbfgspp-dev libassimp-dev
-  libmujoco-dev libopenvdb-dev libompl-dev ffmpeg)
+  libmujoco-dev libmujoco-samples libopenvdb-dev libompl-dev ffmpeg)
 EDITOR_PKGS=(libimgui-dev libglfw3-dev libegl-dev libegl1-mesa-dev libgl-dev
   libgl1-mesa-dri libgles-dev xvfb xauth)
 

@@ -26,8 +26,8 @@ mjModel* load_mujoco(const std::string& xml) {
   return m;
 }
 
-void expect_same_mass_properties(const std::string& xml) {
-  const Model ours = model_from_mjcf(xml, "model.xml");
+void expect_same_mass_properties(const std::string& xml, const MjcfOptions& options = {}) {
+  const Model ours = model_from_mjcf(xml, "model.xml", {}, options);
   mjModel* mj = load_mujoco(xml);
   ASSERT_NE(mj, nullptr);
   ASSERT_EQ(mj->nbody, static_cast<int>(ours.bodies.size()));
@@ -97,9 +97,9 @@ TEST(MujocoReference, MassMatrixMatches) {
 // <default> classes (nested, class=, childclass=), euler (both eulerseq cases) and
 // axisangle in degrees, and joint ranges compile as MuJoCo compiles them: same masses,
 // same body poses at a configuration, same ranges.
-void expect_same_poses_and_ranges(const std::string& xml) {
-  expect_same_mass_properties(xml);
-  const Model ours = model_from_mjcf(xml, "model.xml");
+void expect_same_poses_and_ranges(const std::string& xml, const MjcfOptions& options = {}) {
+  expect_same_mass_properties(xml, options);
+  const Model ours = model_from_mjcf(xml, "model.xml", {}, options);
   mjModel* mj = load_mujoco(xml);
   ASSERT_NE(mj, nullptr);
   mjData* d = mj_makeData(mj);
@@ -161,6 +161,7 @@ void expect_same_poses_and_ranges(const std::string& xml) {
   for (int j = 0; j < mj->njnt; ++j) {
     EXPECT_EQ(ours.joints[j].limited, mj->jnt_limited[j] != 0) << "joint " << j;
     EXPECT_NEAR(ours.joints[j].damping, mj->dof_damping[mj->jnt_dofadr[j]], 1e-12) << "joint " << j;
+    EXPECT_NEAR(ours.joints[j].stiffness, mj->jnt_stiffness[j], 1e-12) << "joint " << j;
     if (ours.joints[j].limited) {
       EXPECT_NEAR(ours.joints[j].range_min, mj->jnt_range[2 * j], 1e-12);
       EXPECT_NEAR(ours.joints[j].range_max, mj->jnt_range[2 * j + 1], 1e-12);
@@ -244,6 +245,33 @@ TEST(MujocoReference, AllOrientationFormsAndFromtoMatch) {
 // coordinates, bodies turned by euler / axisangle / xyaxes, geoms by fromto and quat,
 // joints with world anchors and axes, an inertial with diaginertia and one with
 // fullinertia in world axes. Compiles to MuJoCo 2.2.2's own local frames.
+// MuJoCo's own example models as Debian's libmujoco-samples ships them: the humanoid
+// (a free joint and 21 hinges, up to three per body, nested default classes with
+// childclass, fromto capsules, cameras and lights, motors) and 22 of them in one file
+// (352 bodies). Their geom solref/solimp and joint solimplimit have no meaning in
+// Pliant's penalty contact, so they load with ignore_solver_params, and must be named
+// without it; everything else compiles as MuJoCo compiles it.
+TEST(MujocoReference, MuJoCosShippedHumanoidsCompileAsMuJoCoCompilesThem) {
+  for (const std::string rel : {"humanoid/humanoid.xml", "humanoid/22_humanoids.xml"}) {
+    const std::filesystem::path path = std::filesystem::path(PLIANT_MUJOCO_MODEL_DIR) / rel;
+    ASSERT_TRUE(std::filesystem::exists(path)) << path << " is missing: scripts/setup.sh installs libmujoco-samples";
+    std::ifstream in(path);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    MjcfOptions options;
+    options.ignore_solver_params = true;
+    expect_same_poses_and_ranges(ss.str(), options);
+    const Model ours = model_from_mjcf(ss.str(), rel, {}, options);
+    EXPECT_GE(ours.ignored_attributes.size(), 3u) << rel;
+    try {
+      model_from_mjcf(ss.str(), rel);
+      ADD_FAILURE() << rel << " loaded with its solref without ignore_solver_params";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("ignore_solver_params"), std::string::npos) << e.what();
+    }
+  }
+}
+
 TEST(MujocoReference, GlobalCoordinatesCompileAsMuJoCoCompilesThem) {
   expect_same_poses_and_ranges(R"(<mujoco><compiler angle="degree" coordinate="global" inertiafromgeom="true"/>
     <default><joint armature="1" damping="1" limited="true"/><geom condim="1" margin="0.001"/></default>
