@@ -88,6 +88,9 @@ void box_box(const Placed& a, const Placed& b, double margin, std::vector<PairCo
 // Pairs with a mesh (contact_pair_meshes.cpp).
 void mesh_against(const Placed& mesh, const MeshCollider& mc, const Placed& s, double margin,
                   std::vector<PairContact>* out);
+// PairBroadphase's candidate pairs at k, ascending (contact_broadphase.cpp).
+void broadphase_candidates(const Model& m, const Kinematics& k, const std::vector<GeomPair>& pairs,
+                           PairBroadphase& bp);
 void mesh_mesh(const Placed& a, const MeshCollider& ma, const Placed& b, const MeshCollider& mb, double margin,
                std::vector<PairContact>* out);
 

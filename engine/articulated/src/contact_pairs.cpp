@@ -100,15 +100,15 @@ std::vector<GeomPair> contact_geom_pairs(const Model& m) {
   return out;
 }
 
-void find_pair_contacts(const Model& m, const Kinematics& k, const std::vector<GeomPair>& pairs,
-                        std::vector<PairContact>* out, bool self_collision) {
-  out->clear();
-  for (const GeomPair& pr : pairs) {
-    if (!self_collision && !pr.explicit_pair && !pr.world_sides) continue;
+namespace {
+
+// One pair's contacts (appended), after its bounding-sphere test.
+void pair_contacts(const Model& m, const Kinematics& k, const GeomPair& pr, std::vector<PairContact>* out) {
+  {
     const Geom &g0 = m.geoms[pr.a], &g1 = m.geoms[pr.b];
     Placed a{&g0, k.xpos[g0.body] + k.xmat[g0.body] * g0.pos, Mat3()};
     Placed b{&g1, k.xpos[g1.body] + k.xmat[g1.body] * g1.pos, Mat3()};
-    if ((a.c - b.c).squaredNorm() >= pr.reach * pr.reach) continue;  // bounding spheres apart
+    if ((a.c - b.c).squaredNorm() >= pr.reach * pr.reach) return;  // bounding spheres apart
     a.r = k.xmat[g0.body] * g0.quat.toRotationMatrix();
     b.r = k.xmat[g1.body] * g1.quat.toRotationMatrix();
     const size_t first = out->size();
@@ -141,6 +141,24 @@ void find_pair_contacts(const Model& m, const Kinematics& k, const std::vector<G
       }
     }
     for (size_t i = first; i < out->size(); ++i) (*out)[i].mix = pr.mix;
+  }
+}
+
+}  // namespace
+
+void find_pair_contacts(const Model& m, const Kinematics& k, const std::vector<GeomPair>& pairs,
+                        std::vector<PairContact>* out, bool self_collision, PairBroadphase* broadphase) {
+  out->clear();
+  size_t begin = 0;
+  if (self_collision && broadphase) {
+    broadphase_candidates(m, k, pairs, *broadphase);
+    for (int p : broadphase->candidates) pair_contacts(m, k, pairs[p], out);
+    begin = broadphase->filtered;
+  }
+  for (size_t p = begin; p < pairs.size(); ++p) {
+    const GeomPair& pr = pairs[p];
+    if (!self_collision && !pr.explicit_pair && !pr.world_sides) continue;
+    pair_contacts(m, k, pr, out);
   }
 }
 

@@ -22,7 +22,7 @@ void explicit_forces(const Model& m, const SimOptions& o, const State& s, const 
   ws.pair_contacts.clear();
   if (!o.contact.enabled) return;
   if (!ws.points.empty() && !ws.obstacles.empty()) find_contacts(m, k, ws.points, ws.obstacles, ws.obstacle_trees, ws.mesh_trees, &ws.contacts);
-  if (pair_contact_on(m, o.contact)) find_pair_contacts(m, k, ws.pairs, &ws.pair_contacts, o.contact.self_collision);
+  if (pair_contact_on(m, o.contact)) find_pair_contacts(m, k, ws.pairs, &ws.pair_contacts, o.contact.self_collision, &ws.broadphase);
   if (ws.contacts.empty() && ws.pair_contacts.empty()) return;
   const int nb = static_cast<int>(m.bodies.size());
   std::vector<Vec6> v(nb), w(nb, Vec6::Zero());

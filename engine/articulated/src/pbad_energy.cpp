@@ -247,7 +247,7 @@ double pbad_energy(const Model& m, const SimOptions& o, const State& s, const Pb
     // blocks cannot express (dropping the a-b block cost 19 LM iterations per step in
     // the pile scene), so its Gauss-Newton matrix goes to the solver as rank-1 terms
     // (ws.pair_terms, added by Woodbury's identity); the gradient is exact.
-    find_pair_contacts(m, k, ws.pairs, &ws.pair_contacts, o.contact.self_collision);
+    find_pair_contacts(m, k, ws.pairs, &ws.pair_contacts, o.contact.self_collision, &ws.broadphase);
     const double kk = o.contact.stiffness;
     for (const PairContact& c : ws.pair_contacts) {
       e += 0.5 * kk * c.depth * c.depth;

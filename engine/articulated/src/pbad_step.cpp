@@ -172,7 +172,7 @@ void pbad_begin(const Model& m, const SimOptions& o, State& s, PbadStep& p, SimW
   p.any_pairs = pair_contact_on(m, o.contact) && !ws.pairs.empty();
   p.pair_anchors.clear();
   if (p.any_pairs && o.contact.friction != FrictionModel::None) {
-    find_pair_contacts(m, k0, ws.pairs, &ws.pair_contacts, o.contact.self_collision);
+    find_pair_contacts(m, k0, ws.pairs, &ws.pair_contacts, o.contact.self_collision, &ws.broadphase);
     for (const PairContact& c : ws.pair_contacts)
       if (!c.mix.frictionless)  // condim 1: no friction anchor
         p.pair_anchors.push_back({c.body_a, c.body_b, k0.xmat[c.body_a].transpose() * (c.point - k0.xpos[c.body_a]),

@@ -55,6 +55,7 @@ void sim_prepare(const Model& m, SimWorkspace& ws) {
   ws.obstacle_trees = obstacle_trees(m, ws.obstacles);
   ws.mesh_trees = moving_mesh_trees(m);
   ws.pairs = contact_geom_pairs(m);
+  ws.broadphase = pair_broadphase(m, ws.pairs);
   ws.geom_mix = geom_contact_params_set(m);
   ws.cached_for = &m;
 }
@@ -106,7 +107,7 @@ Energy state_energy(const Model& m, const SimOptions& o, const State& s, SimWork
     find_contacts(m, ws.kin, ws.points, ws.obstacles, ws.obstacle_trees, ws.mesh_trees, &ws.contacts);
     for (const Contact& c : ws.contacts) e.potential += 0.5 * o.contact.stiffness * c.depth * c.depth;
     if (pair_contact_on(m, o.contact)) {
-      find_pair_contacts(m, ws.kin, ws.pairs, &ws.pair_contacts, o.contact.self_collision);
+      find_pair_contacts(m, ws.kin, ws.pairs, &ws.pair_contacts, o.contact.self_collision, &ws.broadphase);
       for (const PairContact& c : ws.pair_contacts) e.potential += 0.5 * o.contact.stiffness * c.depth * c.depth;
     }
   }

@@ -18,6 +18,7 @@
 #include <algorithm>
 #include <array>
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "pliant/articulated/dynamics.h"
@@ -201,9 +202,9 @@ std::vector<MeshBvh> moving_mesh_trees(const Model& m);
 // two different moving bodies that are not parent and child, not excluded
 // (Model::contact_exclude) and pass MuJoCo's contype/conaffinity bitmask rule, then
 // the model's explicit pairs (Model::contact_pairs), which skip every filter and
-// replace a filtered duplicate. Per step each pair is culled by bounding spheres
-// (reach = sum of the radii + margin): O(G^2) pairs, fine for the tens of geoms of a
-// pile or a walker.
+// replace a filtered duplicate. Each call culls a pair by bounding spheres (reach =
+// sum of the radii + margin); with a PairBroadphase only the filtered pairs whose
+// spheres' intervals overlap on one axis get that test (22 humanoids: 88k pairs).
 // A moving mesh geom's collision data, built once per model, shared by its pairs.
 struct MeshCollider {
   std::vector<Vec3> samples;  // mesh_contact_samples (geom frame)
@@ -272,7 +273,27 @@ struct PairContact {
 // Active contacts of the pairs at kinematics k (out is cleared; no allocation once
 // its capacity suffices). self_collision false: explicit pairs only. Depth = the
 // pair's margin minus the distance.
+// Sweep and prune for the filtered pairs (pairs[0, filtered), grouped by geom a with
+// b ascending, as contact_geom_pairs lists them): per call, each geom's bounding
+// interval on the axis along which the geoms' centres spread most, sorted; only pairs
+// whose intervals overlap are tested, in list order, so the contacts found and their
+// order are exactly the brute-force scan's. Built once per model (pair_broadphase);
+// the rest is per-call scratch (no allocation once sized).
+struct PairBroadphase {
+  int filtered = 0;
+  std::vector<int> geoms;      // geoms of the filtered pairs
+  std::vector<double> radius;  // per entry of geoms: bounding radius + the largest filtered margin
+  std::vector<int> slot;       // per model geom: its entry in geoms, -1 if none
+  std::vector<int> first;      // per model geom + 1: its pairs as a, [first[g], first[g + 1])
+  std::vector<Vec3> centre;
+  std::vector<std::pair<double, int>> lo;  // interval start, entry
+  std::vector<double> hi;
+  std::vector<int> candidates;
+};
+PairBroadphase pair_broadphase(const Model& m, const std::vector<GeomPair>& pairs);
+
 void find_pair_contacts(const Model& m, const Kinematics& k, const std::vector<GeomPair>& pairs,
-                        std::vector<PairContact>* out, bool self_collision = true);
+                        std::vector<PairContact>* out, bool self_collision = true,
+                        PairBroadphase* broadphase = nullptr);
 
 }  // namespace pliant::articulated

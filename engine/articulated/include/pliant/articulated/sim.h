@@ -166,6 +166,7 @@ struct SimWorkspace {
   std::vector<Contact> feature_contacts;  // obstacle corners against moving meshes (PBAD energy)
   std::vector<ContactPoint> points;  // cached from the model on first use
   std::vector<GeomPair> pairs;       // body-body candidates (contact_geom_pairs), cached
+  PairBroadphase broadphase;         // over pairs (pair_broadphase), cached with them
   std::vector<PairContact> pair_contacts;
   std::vector<PairTerm> pair_terms;  // at the last evaluation with derivatives
   std::vector<WrenchTerm> wrench_terms;  // lm_solve's (pair_terms, merged per body pair)
