@@ -49,7 +49,7 @@ int main(int argc, char** argv) {
     else if (!std::strcmp(argv[i], "--methods") && i + 1 < argc) only_methods = argv[++i], filtered = true;
     else {
       std::fprintf(stderr, "usage: bench_articulated [--quick] [--out FILE] [--links 10,40] [--dt 0.02,0.05] "
-                           "[--case chain_swing|chain_tilt|pile|mesh_mesh|mesh_terrain|mesh_features|joint_friction|batched] [--methods pbad3,pbad4,mujoco] [--chains-only]\n");
+                           "[--case chain_swing|chain_tilt|pile|mesh_mesh|mesh_terrain|mesh_features|joint_friction|humanoid|batched] [--methods pbad3,pbad4,mujoco] [--chains-only]\n");
       return 2;
     }
   }
@@ -60,8 +60,9 @@ int main(int argc, char** argv) {
     return 0;
   }
   if (only_case == "pile" || only_case == "mesh_mesh" || only_case == "mesh_terrain" || only_case == "mesh_features" ||
-      only_case == "joint_friction") {
+      only_case == "joint_friction" || only_case == "humanoid") {
     (only_case == "pile"        ? pile_case
+     : only_case == "humanoid" ? humanoid_case
      : only_case == "joint_friction" ? joint_friction_case
      : only_case == "mesh_mesh" ? mesh_mesh_case
      : only_case == "mesh_terrain" ? mesh_terrain_case
@@ -85,6 +86,7 @@ int main(int argc, char** argv) {
     mesh_terrain_case(quick);
     mesh_features_case(quick);
     joint_friction_case(quick);
+    humanoid_case(quick);
   }
   if (filtered && !explicit_out) return 0;
   std::filesystem::create_directories(std::filesystem::path(out).parent_path());

@@ -76,5 +76,7 @@ void mesh_terrain_case(bool quick);
 void mesh_features_case(bool quick);
 // Joint frictionloss (bench_friction.cpp): rotor spin-down and a friction-held pendulum against MuJoCo.
 void joint_friction_case(bool quick);
+// MuJoCo's own humanoid.xml / 22_humanoids.xml falling limp (bench_humanoid.cpp).
+void humanoid_case(bool quick);
 
 }  // namespace art_bench
