@@ -67,6 +67,9 @@ TEST_F(ArticulatedCli, ShortHopperMpcRuns) {
   EXPECT_TRUE(events.back()["metrics"].contains("distance_m"));
   EXPECT_TRUE(events.back()["metrics"].contains("airborne_fraction"));
   EXPECT_TRUE(events.back()["metrics"].contains("body1_max_tilt_rad"));
+  // The motors do work: the energy's net change, not an integrator's drift.
+  EXPECT_TRUE(events.back()["metrics"]["energy_change"].is_number());
+  EXPECT_FALSE(events.back()["metrics"].contains("energy_drift"));
   EXPECT_EQ(TakeReader(take).frame_count(), 11u);
 }
 
