@@ -76,6 +76,9 @@ const std::vector<std::string>& articulated_integrators();
 bool articulated_compare_integrators(App& app, const std::vector<std::string>& integrators);
 // Reads new frames' energy of every comparison run (called each UI frame by the jobs panel).
 void articulated_poll_compare(App& app);
+// The comparison's total energy over time on one scale, with a legend (drift %, job
+// state) whose entries open that run's take (articulated_energy_plot.cpp).
+void articulated_draw_energy_plot(App& app);
 
 // Simulate: `pliant run` on the document like Run (F5), except that a relative
 // model path is made absolute first when the scene has to be copied beside the
