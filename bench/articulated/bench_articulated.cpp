@@ -10,6 +10,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -19,7 +20,7 @@
 using namespace art_bench;
 
 int main(int argc, char** argv) {
-  bool quick = false, chains_only = false, filtered = false;
+  bool quick = false, chains_only = false, filtered = false, merge = false;
   std::string out = std::string(PLIANT_RESULTS_DIR) + "/articulated.json";
   std::vector<int> only_links;
   std::vector<double> only_dts;
@@ -41,6 +42,7 @@ int main(int argc, char** argv) {
     if (!std::strcmp(argv[i], "--quick")) quick = true;
     else if (!std::strcmp(argv[i], "--chains-only")) chains_only = filtered = true;
     else if (!std::strcmp(argv[i], "--out") && i + 1 < argc) out = argv[++i], explicit_out = true;
+    else if (!std::strcmp(argv[i], "--merge")) merge = explicit_out = true;
     else if (!std::strcmp(argv[i], "--links") && i + 1 < argc) {
       for (double l : parse_list(argv[++i])) only_links.push_back(static_cast<int>(l));
       filtered = true;
@@ -49,14 +51,32 @@ int main(int argc, char** argv) {
     else if (!std::strcmp(argv[i], "--methods") && i + 1 < argc) only_methods = argv[++i], filtered = true;
     else {
       std::fprintf(stderr, "usage: bench_articulated [--quick] [--out FILE] [--links 10,40] [--dt 0.02,0.05] "
-                           "[--case chain_swing|chain_tilt|pile|mesh_mesh|mesh_terrain|mesh_features|joint_friction|humanoid|batched] [--methods pbad3,pbad4,mujoco] [--chains-only]\n");
+                           "[--merge] [--case chain_swing|chain_tilt|pile|mesh_mesh|mesh_terrain|mesh_features|joint_friction|humanoid|batched] [--methods pbad3,pbad4,mujoco] [--chains-only]\n");
       return 2;
     }
   }
   g_machine = pliant::bench::machine_description();
+  // --merge: rows of the cases run now replace those cases' rows in the results file;
+  // every other row stays (one case re-measured without re-running the rest).
+  const auto write_results = [&] {
+    nlohmann::json rows = g_results;
+    if (merge) {
+      std::ifstream in(out);
+      const nlohmann::json old = in ? nlohmann::json::parse(in) : nlohmann::json::array();
+      std::set<std::string> fresh;
+      for (const auto& r : g_results) fresh.insert(r.value("case", ""));
+      rows = nlohmann::json::array();
+      for (const auto& r : old)
+        if (!fresh.count(r.value("case", ""))) rows.push_back(r);
+      for (const auto& r : g_results) rows.push_back(r);
+    }
+    std::filesystem::create_directories(std::filesystem::path(out).parent_path());
+    std::ofstream(out) << rows.dump(1) << "\n";
+    std::fprintf(stderr, "wrote %s (%zu rows)\n", out.c_str(), rows.size());
+  };
   if (only_case == "batched") {
     batched_case(quick);
-    if (explicit_out) std::ofstream(out) << g_results.dump(1) << "\n";
+    if (explicit_out) write_results();
     return 0;
   }
   if (only_case == "pile" || only_case == "mesh_mesh" || only_case == "mesh_terrain" || only_case == "mesh_features" ||
@@ -67,7 +87,7 @@ int main(int argc, char** argv) {
      : only_case == "mesh_mesh" ? mesh_mesh_case
      : only_case == "mesh_terrain" ? mesh_terrain_case
                                    : mesh_features_case)(quick);
-    if (explicit_out) std::ofstream(out) << g_results.dump(1) << "\n";
+    if (explicit_out) write_results();
     return 0;
   }
   const double duration = quick ? 2.0 : 10.0;
@@ -89,8 +109,6 @@ int main(int argc, char** argv) {
     humanoid_case(quick);
   }
   if (filtered && !explicit_out) return 0;
-  std::filesystem::create_directories(std::filesystem::path(out).parent_path());
-  std::ofstream(out) << g_results.dump(1) << "\n";
-  std::fprintf(stderr, "wrote %s\n", out.c_str());
+  write_results();
   return 0;
 }
