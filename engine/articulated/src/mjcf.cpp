@@ -23,6 +23,7 @@ Model model_from_mjcf(const std::string& text, const std::string& file, const st
   if (root.name != "mujoco") throw InputError(file, "/" + root.name, "root element must be <mujoco>");
   Ctx c(file);
   c.ignore_solver_params = options.ignore_solver_params;
+  expand_includes(c, root, base_dir);
   // Compiler settings and default classes first: they apply wherever they appear.
   Defaults defaults;
   defaults["main"];
@@ -131,7 +132,7 @@ Model model_from_mjcf(const std::string& text, const std::string& file, const st
       continue;
     } else if (e.name == "contact") {
       contact_elements.push_back(k);  // after the bodies: exclude names them
-    } else if (e.name == "tendon" || e.name == "equality" || e.name == "include" ||
+    } else if (e.name == "tendon" || e.name == "equality" ||
                e.name == "custom" || e.name == "extension") {
       throw InputError(file, p, "unsupported element <" + e.name + "> in <mujoco>: it changes the model or its dynamics, and "
                                 "Pliant does not support it (remove it, or model it with joints and motors)");

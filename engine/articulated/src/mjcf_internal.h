@@ -33,6 +33,10 @@ struct Ctx {
   std::map<std::string, std::shared_ptr<const MeshShape>> meshes;  // <asset><mesh name=...>
 };
 
+// Replaces every <include file> below root by the included file's elements
+// (mjcf_include.cpp); files relative to base_dir.
+void expand_includes(Ctx& c, XmlElement& root, const std::filesystem::path& base_dir);
+
 // <default> classes: class name -> element name -> attributes (inherited ones merged).
 using Defaults = std::map<std::string, std::map<std::string, std::vector<std::pair<std::string, std::string>>>>;
 

@@ -272,6 +272,34 @@ TEST(MujocoReference, MuJoCosShippedHumanoidsCompileAsMuJoCoCompilesThem) {
   }
 }
 
+// <include> (nested, named from the main file's folder): the expanded model compiles
+// as MuJoCo compiles the same files.
+TEST(MujocoReference, IncludedFilesCompileAsMuJoCoCompilesThem) {
+  const auto dir = std::filesystem::temp_directory_path() / ("pliant_mj_include_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir / "parts");
+  std::ofstream(dir / "parts/leg.xml") << R"(<mujoco><body name="shin" pos="0 0 -0.3"><joint axis="1 0 0"/>
+    <geom type="capsule" fromto="0 0 0 0 0.05 -0.3" size="0.03"/><include file="parts/foot.xml"/></body></mujoco>)";
+  std::ofstream(dir / "parts/foot.xml") << R"(<mujoco><body name="foot" pos="0 0.05 -0.3"><joint axis="0 1 0"/>
+    <geom type="box" size="0.08 0.03 0.02" pos="0.04 0 0"/></body></mujoco>)";
+  std::ofstream(dir / "parts/defaults.xml") << R"(<mujoco><default><geom density="900"/></default></mujoco>)";
+  std::ofstream(dir / "main.xml") << R"(<mujoco><include file="parts/defaults.xml"/><worldbody>
+    <body name="thigh" pos="0 0 1"><freejoint/><geom type="capsule" fromto="0 0 0 0 0 -0.3" size="0.05"/>
+    <include file="parts/leg.xml"/></body></worldbody></mujoco>)";
+  const Model ours = model_load_file(dir / "main.xml", "main.xml");
+  char err[1000] = "";
+  mjModel* mj = mj_loadXML((dir / "main.xml").c_str(), nullptr, err, sizeof(err));
+  ASSERT_NE(mj, nullptr) << err;
+  ASSERT_EQ(mj->nbody, static_cast<int>(ours.bodies.size()));
+  ASSERT_EQ(mj->nv, ours.nv);
+  for (int b = 1; b < mj->nbody; ++b) {
+    EXPECT_NEAR(ours.bodies[b].mass, mj->body_mass[b], 1e-9 * mj->body_mass[b]) << b;
+    EXPECT_EQ(ours.bodies[b].parent, mj->body_parentid[b]) << b;
+    for (int a = 0; a < 3; ++a) EXPECT_NEAR(ours.bodies[b].pos[a], mj->body_pos[3 * b + a], 1e-12) << b;
+  }
+  mj_deleteModel(mj);
+  std::filesystem::remove_all(dir);
+}
+
 TEST(MujocoReference, GlobalCoordinatesCompileAsMuJoCoCompilesThem) {
   expect_same_poses_and_ranges(R"(<mujoco><compiler angle="degree" coordinate="global" inertiafromgeom="true"/>
     <default><joint armature="1" damping="1" limited="true"/><geom condim="1" margin="0.001"/></default>
