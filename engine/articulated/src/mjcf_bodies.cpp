@@ -47,15 +47,20 @@ void read_geom(Ctx& c, const XmlElement& e, const std::string& path, int body) {
   g.body = body;
   if (const auto* n = e.attr("name")) g.name = *n;
   const std::string type = e.attr("type") ? *e.attr("type") : "sphere";
+  // Cylinders and ellipsoids: read as their exact shape, then tessellated (below).
   static const std::map<std::string, GeomType> types = {{"plane", GeomType::Plane},
                                                         {"sphere", GeomType::Sphere},
                                                         {"capsule", GeomType::Capsule},
+                                                        {"cylinder", GeomType::Capsule},
                                                         {"box", GeomType::Box},
+                                                        {"ellipsoid", GeomType::Box},
                                                         {"mesh", GeomType::Mesh}};
   if (!types.count(type))
     throw InputError(c.file, path + "/@type", "unsupported geom type \"" + type +
-                                                  "\" (supported: plane, sphere, capsule, box, mesh)");
+                                                  "\" (supported: plane, sphere, capsule, cylinder, box, ellipsoid, mesh)");
   g.type = types.at(type);
+  if (type == "cylinder") g.tessellates = Geom::Tessellated::Cylinder;
+  if (type == "ellipsoid") g.tessellates = Geom::Tessellated::Ellipsoid;
   g.pos = vec3(c, e, path, "pos", Vec3::Zero());
   g.quat = quat(c, e, path);
   g.density = number(c, e, path, "density", 1000, 0);
@@ -90,8 +95,8 @@ void read_geom(Ctx& c, const XmlElement& e, const std::string& path, int body) {
     }
   }
   if (e.attr("fromto")) {
-    if (g.type != GeomType::Capsule && g.type != GeomType::Box)
-      throw InputError(c.file, path + "/@fromto", "fromto is supported for capsules and boxes only");
+    if ((g.type != GeomType::Capsule && g.type != GeomType::Box) || g.tessellates == Geom::Tessellated::Ellipsoid)
+      throw InputError(c.file, path + "/@fromto", "fromto is supported for capsules, cylinders and boxes only");
     const auto f = numbers(c, e, path, "fromto", 6, 6);
     const Vec3 a(f[0], f[1], f[2]), b(f[3], f[4], f[5]);
     if ((b - a).norm() < 1e-12) throw InputError(c.file, path + "/@fromto", "zero length");
@@ -106,6 +111,10 @@ void read_geom(Ctx& c, const XmlElement& e, const std::string& path, int body) {
       g.size[1] = 0.5 * (b - a).norm();
     }
   }
+  if (g.tessellates == Geom::Tessellated::Cylinder)
+    g.mesh = std::make_shared<const MeshShape>(cylinder_mesh(g.size[0], g.size[1]));
+  if (g.tessellates == Geom::Tessellated::Ellipsoid) g.mesh = std::make_shared<const MeshShape>(ellipsoid_mesh(g.size));
+  if (g.tessellates != Geom::Tessellated::None) g.type = GeomType::Mesh;
   // Integers as in MuJoCo: obstacles touch a geom whose contype or conaffinity is
   // nonzero; body-body pairs use the bitmask rule (contact_geom_pairs).
   const double contype = number(c, e, path, "contype", 1, 0), conaff = number(c, e, path, "conaffinity", 1, 0);

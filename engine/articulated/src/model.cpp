@@ -62,6 +62,18 @@ void geom_mass_properties(const Geom& g, double* mass, Mat3* inertia) {
     }
     case GeomType::Box: volume = 8 * g.size[0] * g.size[1] * g.size[2]; break;
     case GeomType::Mesh: {
+      if (g.tessellates != Geom::Tessellated::None) {  // the exact shape, not its tessellation
+        const Vec3& s = g.size;
+        const bool cyl = g.tessellates == Geom::Tessellated::Cylinder;
+        volume = cyl ? M_PI * s[0] * s[0] * 2 * s[1] : 4.0 / 3.0 * M_PI * s[0] * s[1] * s[2];
+        const double m = g.mass >= 0 ? g.mass : g.density * volume;
+        const double h = 2 * s[1];
+        diag = cyl ? Vec3(m * (3 * s[0] * s[0] + h * h) / 12, m * (3 * s[0] * s[0] + h * h) / 12, m * s[0] * s[0] / 2)
+                   : Vec3(s[1] * s[1] + s[2] * s[2], s[0] * s[0] + s[2] * s[2], s[0] * s[0] + s[1] * s[1]) * (m / 5);
+        *mass = m;
+        *inertia = diag.asDiagonal();
+        return;
+      }
       // Re-centred at load: the tetrahedra from the origin give volume and second
       // moment; inertia = tr(C) I - C per unit density.
       Mat3 c;

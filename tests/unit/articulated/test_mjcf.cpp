@@ -181,9 +181,9 @@ TEST(Mjcf, UnsupportedPhysicsNamesTheElementAndHarmlessPartsAreIgnored) {
   EXPECT_NE(error_of("<mujoco><worldbody><body><joint springref=\"x\"/><geom size=\"0.1\"/></body></worldbody></mujoco>")
                 .find("joint[0]/@springref"),
             std::string::npos);
-  EXPECT_NE(error_of("<mujoco><worldbody><body><geom type=\"cylinder\" size=\"0.1 0.1\"/></body></worldbody></mujoco>")
-                .find("geom[0]/@type"),
-            std::string::npos);
+  EXPECT_NE(error_of("<mujoco><worldbody><body><geom type=\"hfield\" size=\"0.1 0.1\"/></body></worldbody></mujoco>")
+                .find("geom[0]/@type | unsupported geom type \"hfield\""),
+            std::string::npos);  // cylinders and ellipsoids are read (test_primitive_meshes.cpp)
   EXPECT_NE(error_of("<mujoco><default><tendon/></default></mujoco>").find("/mujoco/default[0]/tendon[0]"), std::string::npos);
   // Harmless: compiles to the same model as without them.
   const Model plain = model_from_mjcf(b + "</mujoco>", "a.xml");
@@ -280,7 +280,7 @@ TEST(Mjcf, MalformedOrientationsAndFromtoNameTheField) {
   EXPECT_NE(error_of(w + "zaxis=\"0 0 1\" euler=\"0 0 1\"" + e).find("body[0]/@zaxis | give one orientation"),
             std::string::npos);
   EXPECT_NE(error_of("<mujoco><worldbody><body><geom size=\"0.1\" fromto=\"0 0 0 1 0 0\"/></body></worldbody></mujoco>")
-                .find("geom[0]/@fromto | fromto is supported for capsules and boxes only"),
+                .find("geom[0]/@fromto | fromto is supported for capsules, cylinders and boxes only"),
             std::string::npos);
   EXPECT_NE(error_of("<mujoco><worldbody><body><geom type=\"box\" size=\"0.1\" fromto=\"0 0 0 0 0 0\"/></body></worldbody></mujoco>")
                 .find("geom[0]/@fromto | zero length"),

@@ -26,10 +26,7 @@ mjModel* load_mujoco(const std::string& xml) {
   return m;
 }
 
-void expect_same_mass_properties(const std::string& xml, const MjcfOptions& options = {}) {
-  const Model ours = model_from_mjcf(xml, "model.xml", {}, options);
-  mjModel* mj = load_mujoco(xml);
-  ASSERT_NE(mj, nullptr);
+void compare_mass_properties(const Model& ours, const mjModel* mj) {
   ASSERT_EQ(mj->nbody, static_cast<int>(ours.bodies.size()));
   ASSERT_EQ(mj->nv, ours.nv);
   for (int b = 1; b < mj->nbody; ++b) {
@@ -44,6 +41,13 @@ void expect_same_mass_properties(const std::string& xml, const MjcfOptions& opti
     std::sort(mj_p.begin(), mj_p.end());
     for (int a = 0; a < 3; ++a) EXPECT_NEAR(ours_p[a], mj_p[a], 1e-9 * mj_p[2]) << "body " << b;
   }
+}
+
+void expect_same_mass_properties(const std::string& xml, const MjcfOptions& options = {}) {
+  const Model ours = model_from_mjcf(xml, "model.xml", {}, options);
+  mjModel* mj = load_mujoco(xml);
+  ASSERT_NE(mj, nullptr);
+  compare_mass_properties(ours, mj);
   mj_deleteModel(mj);
 }
 
@@ -97,11 +101,8 @@ TEST(MujocoReference, MassMatrixMatches) {
 // <default> classes (nested, class=, childclass=), euler (both eulerseq cases) and
 // axisangle in degrees, and joint ranges compile as MuJoCo compiles them: same masses,
 // same body poses at a configuration, same ranges.
-void expect_same_poses_and_ranges(const std::string& xml, const MjcfOptions& options = {}) {
-  expect_same_mass_properties(xml, options);
-  const Model ours = model_from_mjcf(xml, "model.xml", {}, options);
-  mjModel* mj = load_mujoco(xml);
-  ASSERT_NE(mj, nullptr);
+void compare_poses_and_ranges(const Model& ours, mjModel* mj) {
+  compare_mass_properties(ours, mj);
   mjData* d = mj_makeData(mj);
   VecX q(ours.nq);
   for (int i = 0; i < ours.nq; ++i) q[i] = 0.4 * std::sin(1.3 * i + 0.2);
@@ -168,6 +169,23 @@ void expect_same_poses_and_ranges(const std::string& xml, const MjcfOptions& opt
     }
   }
   mj_deleteData(d);
+}
+
+void expect_same_poses_and_ranges(const std::string& xml, const MjcfOptions& options = {}) {
+  const Model ours = model_from_mjcf(xml, "model.xml", {}, options);
+  mjModel* mj = load_mujoco(xml);
+  ASSERT_NE(mj, nullptr);
+  compare_poses_and_ranges(ours, mj);
+  mj_deleteModel(mj);
+}
+
+// The same for a model file (its includes and meshes beside it).
+void expect_same_model_file(const std::filesystem::path& path, const MjcfOptions& options = {}) {
+  const Model ours = model_load_file(path, path.filename().string(), options);
+  char err[1000] = "";
+  mjModel* mj = mj_loadXML(path.c_str(), nullptr, err, sizeof(err));
+  ASSERT_NE(mj, nullptr) << err;
+  compare_poses_and_ranges(ours, mj);
   mj_deleteModel(mj);
 }
 
@@ -260,7 +278,7 @@ TEST(MujocoReference, MuJoCosShippedHumanoidsCompileAsMuJoCoCompilesThem) {
     ss << in.rdbuf();
     MjcfOptions options;
     options.ignore_solver_params = true;
-    expect_same_poses_and_ranges(ss.str(), options);
+    expect_same_model_file(path, options);
     const Model ours = model_from_mjcf(ss.str(), rel, {}, options);
     EXPECT_GE(ours.ignored_attributes.size(), 3u) << rel;
     try {
@@ -270,6 +288,22 @@ TEST(MujocoReference, MuJoCosShippedHumanoidsCompileAsMuJoCoCompilesThem) {
       EXPECT_NE(std::string(e.what()).find("ignore_solver_params"), std::string::npos) << e.what();
     }
   }
+}
+
+// The humanoid with 100 free objects (humanoid100.xml: an <include>d body, capsules,
+// ellipsoids, boxes, cylinders, spheres) and the mug (a mesh and cylinders): cylinders
+// and ellipsoids get MuJoCo's exact masses and inertias (their tessellation is for
+// contact only).
+TEST(MujocoReference, CylindersEllipsoidsAndIncludesOfMuJoCosModelsMatch) {
+  MjcfOptions options;
+  options.ignore_solver_params = true;
+  expect_same_model_file(std::filesystem::path(PLIANT_MUJOCO_MODEL_DIR) / "humanoid100/humanoid100.xml", options);
+  expect_same_poses_and_ranges(R"(<mujoco><worldbody>
+    <body name="can" pos="0 0 1"><freejoint/><geom type="cylinder" size="0.04 0.06" density="700"/>
+      <geom type="cylinder" fromto="0.05 0 0 0.05 0.1 0.02" size="0.01"/>
+      <body name="egg" pos="0.1 0 0" euler="10 20 30"><joint axis="0 1 0"/>
+        <geom type="ellipsoid" size="0.03 0.05 0.02" pos="0.01 0 0" euler="0 30 0" density="1200"/></body>
+    </body></worldbody></mujoco>)");
 }
 
 // <include> (nested, named from the main file's folder): the expanded model compiles

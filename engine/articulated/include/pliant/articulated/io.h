@@ -36,6 +36,10 @@ Model model_from_json(JsonReader& r, const std::filesystem::path& base_dir = {})
 // std::invalid_argument when the mesh has no positive volume).
 std::shared_ptr<const MeshShape> mesh_load_file(const std::filesystem::path& file, const Vec3& scale);
 void geom_set_mesh(Geom& g, const std::shared_ptr<const MeshShape>& shape);
+// Tessellations for cylinder and ellipsoid geoms (primitive_meshes.cpp, Geom::tessellates):
+// closed and outward-facing, centred at the origin.
+MeshShape cylinder_mesh(double radius, double half_height, int segments = 32);
+MeshShape ellipsoid_mesh(const Vec3& radii, int rings = 12, int segments = 24);
 // .xml -> MJCF, .json -> Pliant JSON model (the whole document is the model).
 Model model_load_file(const std::filesystem::path& path, const std::string& label, const MjcfOptions& options = {});
 

@@ -87,6 +87,10 @@ struct Geom {
   // (contype_a & conaffinity_b) || (contype_b & conaffinity_a).
   int contype = 1, conaffinity = 1;
   std::shared_ptr<const MeshShape> mesh;  // GeomType::Mesh only
+  // MJCF cylinders and ellipsoids are Mesh geoms whose mesh tessellates the shape
+  // (primitive_meshes.cpp) for contact; their mass and inertia are the exact shape's
+  // from `size` (cylinder: radius, half-height; ellipsoid: the three radii), as MuJoCo's.
+  enum class Tessellated { None, Cylinder, Ellipsoid } tessellates = Tessellated::None;
   // Contact parameters (MJCF friction / margin / condim / priority), mixed per contact
   // by contact_mix (contact.h) as MuJoCo 2.2.2 mixes them for automatic contacts.
   // friction: the sliding (Coulomb) coefficient; < 0: unset, the scene's contact.mu
