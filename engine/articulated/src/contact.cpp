@@ -69,6 +69,7 @@ std::vector<ContactPoint> contact_points(const Model& m) {
       case GeomType::Plane: break;
     }
   }
+  for (ContactPoint& p : pts) p.geom_radius = geom_bounding_radius(m.geoms[p.geom]);
   return pts;
 }
 
@@ -105,6 +106,23 @@ std::vector<MeshBvh> obstacle_trees(const Model& m, const std::vector<int>& obs)
   return trees;
 }
 
+void ObstacleCull::update(const Model& m, const Kinematics& k, const ContactPoint& cp, const std::vector<int>& obs,
+                          bool mixed) {
+  if (cp.geom == geom_) return;
+  geom_ = cp.geom;
+  active_ = cp.geom >= 0 && cp.geom_radius >= 0 && obs.size() <= kMax;
+  if (!active_) return;
+  const Geom& g = m.geoms[cp.geom];
+  const Vec3 centre = k.xpos[g.body] + k.xmat[g.body] * g.pos;
+  const double radius = cp.geom_radius;
+  for (size_t o = 0; o < obs.size(); ++o) {
+    const Geom& ob = m.geoms[obs[o]];
+    Vec3 n;
+    const double margin = mixed ? point_contact_mix(m, cp, obs[o]).margin : 0.0;
+    culled_[o] = ob.type != GeomType::Mesh && obstacle_distance(ob, nullptr, centre, &n) - radius - margin > 1e-9;
+  }
+}
+
 void find_contacts(const Model& m, const Kinematics& k, const std::vector<ContactPoint>& pts,
                    const std::vector<int>& obs, const std::vector<MeshBvh>& trees,
                    const std::vector<MeshBvh>& mesh_trees, std::vector<Contact>* out) {
@@ -112,10 +130,13 @@ void find_contacts(const Model& m, const Kinematics& k, const std::vector<Contac
   const int no = static_cast<int>(obs.size());
   const int nt = static_cast<int>(trees.size());
   const bool mixed = geom_contact_params_set(m);
+  ObstacleCull cull;
   for (size_t i = 0; i < pts.size(); ++i) {
     const ContactPoint& cp = pts[i];
     const Vec3 c = k.xpos[cp.body] + k.xmat[cp.body] * cp.local;
+    cull.update(m, k, cp, obs, mixed);
     for (int o = 0; o < no; ++o) {
+      if (cull.skip(o)) continue;
       Vec3 n;
       const ContactMix mix = mixed ? point_contact_mix(m, cp, obs[o]) : ContactMix{};
       const double reach = cp.radius + mix.margin;  // the margin as extra radius

@@ -168,11 +168,16 @@ double pbad_energy(const Model& m, const SimOptions& o, const State& s, const Pb
   if (o.contact.enabled && !ws.points.empty() && !ws.obstacles.empty()) {
     const int no = static_cast<int>(ws.obstacles.size());
     const double kk = o.contact.stiffness;
+    ObstacleCull cull;
+    const int nprev = static_cast<int>(s.normal_force_prev.size());
     for (size_t i = 0; i < ws.points.size(); ++i) {
       const ContactPoint& cp = ws.points[i];
       const Vec3 x = k.xpos[cp.body] + k.xmat[cp.body] * cp.local;
+      cull.update(m, k, cp, ws.obstacles, ws.geom_mix);
       for (int ob = 0; ob < no; ++ob) {
         const int slot = static_cast<int>(i) * no + ob;
+        // Out of reach and without last step's normal force (no friction term either).
+        if (cull.skip(ob) && (slot >= nprev || s.normal_force_prev[slot] <= 0)) continue;
         Vec3 n;
         const MeshBvh* tree = ob < static_cast<int>(ws.obstacle_trees.size()) ? &ws.obstacle_trees[ob] : nullptr;
         const ContactMix mix = ws.geom_mix ? point_contact_mix(m, cp, ws.obstacles[ob]) : ContactMix{};

@@ -35,6 +35,48 @@ State resting_box(const Model& m, double slope, double stiffness) {
   return s;
 }
 
+// find_contacts skips a geom's points for an obstacle its bounding sphere cannot
+// reach: the contacts must be exactly those of testing every point against every
+// obstacle (the reference below), for every geom type, margins included, with many
+// geoms near and far from a plane, a box, a sphere and a capsule.
+TEST(Contact, BoundingSphereCullKeepsEveryContactOfTheFullTest) {
+  std::ostringstream x;
+  x << "<mujoco><worldbody><geom type=\"plane\"/><geom type=\"box\" size=\"0.3 0.2 0.1\" pos=\"1 0 0.1\" euler=\"0 0 20\"/>"
+       "<geom type=\"sphere\" size=\"0.2\" pos=\"-1 0 0.2\"/><geom type=\"capsule\" size=\"0.05 0.5\" pos=\"0 1 0.05\" euler=\"90 0 0\"/>";
+  const char* shapes[] = {R"(type="sphere" size="0.06")", R"(type="capsule" size="0.04 0.1")",
+                          R"(type="box" size="0.05 0.08 0.03")", R"(type="cylinder" size="0.05 0.07")",
+                          R"(type="ellipsoid" size="0.04 0.07 0.05")"};
+  for (int b = 0; b < 60; ++b) {
+    const double px = -1.4 + 0.05 * b, py = 0.9 * std::sin(1.3 * b), pz = 0.02 + 0.25 * (0.5 + 0.5 * std::cos(0.7 * b));
+    x << "<body pos=\"" << px << " " << py << " " << pz << "\" euler=\"" << 37 * b << " " << 23 * b << " " << 11 * b
+      << "\"><freejoint/><geom " << shapes[b % 5] << (b % 4 == 0 ? " margin=\"0.02\"" : "") << "/></body>";
+  }
+  x << "</worldbody></mujoco>";
+  const Model m = model_from_mjcf(x.str(), "cull.xml");
+  Kinematics k;
+  kinematics(m, state_init(m).qpos, &k);
+  const auto pts = contact_points(m);
+  const auto obs = contact_obstacles(m);
+  std::vector<Contact> found;
+  find_contacts(m, k, pts, obs, {}, {}, &found);
+  std::vector<Contact> full;  // every point against every obstacle
+  for (size_t i = 0; i < pts.size(); ++i)
+    for (size_t o = 0; o < obs.size(); ++o) {
+      const Vec3 c = k.xpos[pts[i].body] + k.xmat[pts[i].body] * pts[i].local;
+      Vec3 n;
+      const double reach = pts[i].radius + point_contact_mix(m, pts[i], obs[o]).margin;
+      const double d = obstacle_distance(m.geoms[obs[o]], nullptr, c, &n) - reach;
+      if (d < 0) full.push_back({static_cast<int>(i * obs.size() + o), pts[i].body, c - reach * n, n, -d});
+    }
+  ASSERT_EQ(found.size(), full.size());
+  EXPECT_GT(found.size(), 50u);
+  for (size_t i = 0; i < full.size(); ++i) {
+    EXPECT_EQ(found[i].slot, full[i].slot) << i;
+    EXPECT_EQ(found[i].depth, full[i].depth) << i;
+    EXPECT_EQ(found[i].point, full[i].point) << i;
+  }
+}
+
 TEST(Contact, ObstacleDistances) {
   Geom box;
   box.type = GeomType::Box;

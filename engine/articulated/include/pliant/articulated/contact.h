@@ -95,6 +95,7 @@ struct ContactPoint {
   Vec3 local;      // in body frame
   double radius;
   int geom = -1;   // the geom it belongs to (contact_mix with the obstacle)
+  double geom_radius = -1;  // that geom's bounding radius (ObstacleCull; < 0: unknown, not culled)
 };
 
 struct Contact {
@@ -170,6 +171,25 @@ double mesh_signed_distance(const MeshShape& mesh, const MeshBvh& bvh, const Vec
 // Each obstacle's tree (obstacles as contact_obstacles lists them): a mesh obstacle's
 // MeshBvh, empty for the other types. Built once per model (sim_prepare).
 std::vector<MeshBvh> obstacle_trees(const Model& m, const std::vector<int>& obs);
+
+// A geom's contact points lie, with their radii, inside its bounding sphere, and a
+// primitive obstacle's distance is 1-Lipschitz: when the sphere's centre is farther
+// than its radius + margin from an obstacle, none of the geom's points touches it.
+// find_contacts and the PBAD energy skip those point-obstacle tests (the same
+// contacts; mesh obstacles are always tested). update() per point, in
+// contact_points' order (grouped by geom): work only when the geom changes.
+class ObstacleCull {
+ public:
+  void update(const Model& m, const Kinematics& k, const ContactPoint& cp, const std::vector<int>& obs, bool mixed);
+  bool skip(int obstacle) const { return active_ && culled_[obstacle]; }
+
+ private:
+  static constexpr size_t kMax = 64;  // more obstacles: no culling
+  int geom_ = -2;
+  bool active_ = false;
+  bool culled_[kMax] = {};
+};
+
 
 // Active contacts at kinematics k: body points against obstacles (mesh obstacles
 // through trees[o], the scan where trees is shorter), then (appended, slot -1)
