@@ -173,6 +173,9 @@ struct SimWorkspace {
   std::vector<std::array<int, 3>> term_groups;  // body pairs of pair_terms: a, b, count
   Eigen::MatrixXd pair_u, pair_y, pair_cap;  // columns u, A^-1 u, capacitance (capacity grows)
   VecX pair_col, pair_sol, pair_alpha;
+  // Nonzero rows of each column u (the two bodies' ancestors' dofs): term t's are
+  // pair_nz[pair_nz_begin[t] .. pair_nz_begin[t + 1]).
+  std::vector<int> pair_nz, pair_nz_begin;
   std::vector<int> obstacles;
   std::vector<MeshBvh> obstacle_trees;  // per obstacle: a mesh's tree (obstacle_trees), cached
   std::vector<MeshBvh> mesh_trees;      // per geom: a moving mesh's tree (moving_mesh_trees), cached
