@@ -8,7 +8,6 @@
 #include <cmath>
 #include <cstdio>
 #include <string>
-#include <tuple>
 #include <vector>
 
 #include "bench_common.h"
@@ -18,7 +17,7 @@ namespace art_bench {
 namespace {
 
 constexpr double kDuration = 3.0;
-const std::string kModelDir = "/usr/share/mujoco/model/humanoid/";
+const std::string kModelDir = "/usr/share/mujoco/model/";  // Debian's libmujoco-samples
 
 struct FallOutcome {
   double cpu_s = 0, torso_z_min = 0, torso_z_max = 0, kinetic_end = 0, max_depth = 0, contacts = 0, iterations = 0;
@@ -134,9 +133,8 @@ void humanoid_case(bool quick) {
   for (double dt : {0.001, 0.005})
     emit_fall("humanoid_fall", "euler", dt, 1, fastest(reps, [&] { return fall_ours(one, Integrator::Euler, dt, duration); }));
 #ifdef PLIANT_HAVE_MUJOCO
-  std::string err;
   char buf[1000] = "";
-  mjModel* mm = mj_loadXML((kModelDir + "humanoid.xml").c_str(), nullptr, buf, sizeof buf);
+  mjModel* mm = mj_loadXML((kModelDir + "humanoid/humanoid.xml").c_str(), nullptr, buf, sizeof buf);
   if (!mm) {
     std::fprintf(stderr, "bench_humanoid: MuJoCo cannot load humanoid.xml: %s\n", buf);
     return;
@@ -152,12 +150,12 @@ void humanoid_case(bool quick) {
   ArticulatedScene many = one;
   MjcfOptions options;
   options.ignore_solver_params = true;
-  many.model = model_load_file(kModelDir + "22_humanoids.xml", "22_humanoids.xml", options);
+  many.model = model_load_file(kModelDir + "humanoid/22_humanoids.xml", "22_humanoids.xml", options);
   many.initial = state_init(many.model);
   emit_fall("humanoids22_fall", "pbad3", 0.02, 22,
             fastest(reps, [&] { return fall_ours(many, Integrator::Pbad3, 0.02, duration); }));
 #ifdef PLIANT_HAVE_MUJOCO
-  mm = mj_loadXML((kModelDir + "22_humanoids.xml").c_str(), nullptr, buf, sizeof buf);
+  mm = mj_loadXML((kModelDir + "humanoid/22_humanoids.xml").c_str(), nullptr, buf, sizeof buf);
   if (!mm) return;
   for (double dt : {0.005, 0.02})
     emit_fall("humanoids22_fall", "mujoco_euler", dt, 22, fastest(reps, [&] { return fall_mujoco(mm, mjINT_EULER, dt, duration); }));
@@ -167,12 +165,12 @@ void humanoid_case(bool quick) {
   // and spheres dropped into a walled square (1 s, one run: Pliant's mesh-sampled
   // ellipsoids and cylinders make it slow). "At rest" is not expected after 1 s.
   ArticulatedScene objects = one;
-  objects.model = model_load_file("/usr/share/mujoco/model/humanoid100/humanoid100.xml", "humanoid100.xml", options);
+  objects.model = model_load_file(kModelDir + "humanoid100/humanoid100.xml", "humanoid100.xml", options);
   objects.initial = state_init(objects.model);
   const double objects_s = quick ? 0.2 : 1.0;
   emit_fall("humanoid100_fall", "pbad3", 0.02, 1, fall_ours(objects, Integrator::Pbad3, 0.02, objects_s));
 #ifdef PLIANT_HAVE_MUJOCO
-  mm = mj_loadXML("/usr/share/mujoco/model/humanoid100/humanoid100.xml", nullptr, buf, sizeof buf);
+  mm = mj_loadXML((kModelDir + "humanoid100/humanoid100.xml").c_str(), nullptr, buf, sizeof buf);
   if (!mm) return;
   for (double dt : {0.005, 0.02}) emit_fall("humanoid100_fall", "mujoco_euler", dt, 1, fall_mujoco(mm, mjINT_EULER, dt, objects_s));
   mj_deleteModel(mm);

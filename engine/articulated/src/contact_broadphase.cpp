@@ -14,7 +14,7 @@ PairBroadphase pair_broadphase(const Model& m, const std::vector<GeomPair>& pair
   while (bp.filtered < static_cast<int>(pairs.size()) && !pairs[bp.filtered].explicit_pair &&
          !pairs[bp.filtered].world_sides)
     ++bp.filtered;
-  bp.slot.assign(ng, -1);
+  std::vector<int> slot(ng, -1);  // per model geom: its entry in bp.geoms
   bp.first.assign(ng + 1, 0);
   double margin = 0;
   for (int p = 0; p < bp.filtered; ++p) {
@@ -24,8 +24,8 @@ PairBroadphase pair_broadphase(const Model& m, const std::vector<GeomPair>& pair
     ++bp.first[pr.a + 1];
     margin = std::max(margin, pr.mix.margin);
     for (int g : {pr.a, pr.b})
-      if (bp.slot[g] < 0) {
-        bp.slot[g] = static_cast<int>(bp.geoms.size());
+      if (slot[g] < 0) {
+        slot[g] = static_cast<int>(bp.geoms.size());
         bp.geoms.push_back(g);
       }
   }

@@ -104,44 +104,42 @@ namespace {
 
 // One pair's contacts (appended), after its bounding-sphere test.
 void pair_contacts(const Model& m, const Kinematics& k, const GeomPair& pr, std::vector<PairContact>* out) {
-  {
-    const Geom &g0 = m.geoms[pr.a], &g1 = m.geoms[pr.b];
-    Placed a{&g0, k.xpos[g0.body] + k.xmat[g0.body] * g0.pos, Mat3()};
-    Placed b{&g1, k.xpos[g1.body] + k.xmat[g1.body] * g1.pos, Mat3()};
-    if ((a.c - b.c).squaredNorm() >= pr.reach * pr.reach) return;  // bounding spheres apart
-    a.r = k.xmat[g0.body] * g0.quat.toRotationMatrix();
-    b.r = k.xmat[g1.body] * g1.quat.toRotationMatrix();
-    const size_t first = out->size();
-    // Order by type (sphere < capsule < box < mesh) so each combination has one case.
-    const Placed* lo = &a;
-    const Placed* hi = &b;
-    const MeshCollider* mesh_lo = pr.mesh_a.get();
-    const MeshCollider* mesh_hi = pr.mesh_b.get();
-    const auto rank = [](GeomType t) {
-      return t == GeomType::Sphere ? 0 : t == GeomType::Capsule ? 1 : t == GeomType::Box ? 2 : 3;
-    };
-    if (rank(hi->g->type) < rank(lo->g->type)) std::swap(lo, hi), std::swap(mesh_lo, mesh_hi);
-    const int pair = rank(lo->g->type) * 3 + rank(hi->g->type);
-    const double mg = pr.mix.margin;
-    if (pr.world_sides) {
-      capsule_box(*lo, *hi, mg, out, false);
-    } else if (lo->g->type == GeomType::Mesh) {
-      mesh_mesh(*lo, *mesh_lo, *hi, *mesh_hi, mg, out);
-    } else if (hi->g->type == GeomType::Mesh) {  // against a sphere, capsule or box
-      mesh_against(*hi, *mesh_hi, *lo, mg, out);
-    } else {
-      switch (pair) {
-        case 0: case 1: case 2:  // sphere against sphere, capsule, box: exact
-          point_against(*hi, lo->g->body, lo->c, lo->g->size[0] + mg, out);
-          break;
-        case 4: capsule_capsule(*lo, *hi, mg, out); break;
-        case 5: capsule_box(*lo, *hi, mg, out); break;  // contact_segment_box.cpp
-        case 8: box_box(*lo, *hi, mg, out); break;  // contact_segment_box.cpp
-        default: break;
-      }
+  const Geom &g0 = m.geoms[pr.a], &g1 = m.geoms[pr.b];
+  Placed a{&g0, k.xpos[g0.body] + k.xmat[g0.body] * g0.pos, Mat3()};
+  Placed b{&g1, k.xpos[g1.body] + k.xmat[g1.body] * g1.pos, Mat3()};
+  if ((a.c - b.c).squaredNorm() >= pr.reach * pr.reach) return;  // bounding spheres apart
+  a.r = k.xmat[g0.body] * g0.quat.toRotationMatrix();
+  b.r = k.xmat[g1.body] * g1.quat.toRotationMatrix();
+  const size_t first = out->size();
+  // Order by type (sphere < capsule < box < mesh) so each combination has one case.
+  const Placed* lo = &a;
+  const Placed* hi = &b;
+  const MeshCollider* mesh_lo = pr.mesh_a.get();
+  const MeshCollider* mesh_hi = pr.mesh_b.get();
+  const auto rank = [](GeomType t) {
+    return t == GeomType::Sphere ? 0 : t == GeomType::Capsule ? 1 : t == GeomType::Box ? 2 : 3;
+  };
+  if (rank(hi->g->type) < rank(lo->g->type)) std::swap(lo, hi), std::swap(mesh_lo, mesh_hi);
+  const int pair = rank(lo->g->type) * 3 + rank(hi->g->type);
+  const double mg = pr.mix.margin;
+  if (pr.world_sides) {
+    capsule_box(*lo, *hi, mg, out, false);
+  } else if (lo->g->type == GeomType::Mesh) {
+    mesh_mesh(*lo, *mesh_lo, *hi, *mesh_hi, mg, out);
+  } else if (hi->g->type == GeomType::Mesh) {  // against a sphere, capsule or box
+    mesh_against(*hi, *mesh_hi, *lo, mg, out);
+  } else {
+    switch (pair) {
+      case 0: case 1: case 2:  // sphere against sphere, capsule, box: exact
+        point_against(*hi, lo->g->body, lo->c, lo->g->size[0] + mg, out);
+        break;
+      case 4: capsule_capsule(*lo, *hi, mg, out); break;
+      case 5: capsule_box(*lo, *hi, mg, out); break;  // contact_segment_box.cpp
+      case 8: box_box(*lo, *hi, mg, out); break;  // contact_segment_box.cpp
+      default: break;
     }
-    for (size_t i = first; i < out->size(); ++i) (*out)[i].mix = pr.mix;
   }
+  for (size_t i = first; i < out->size(); ++i) (*out)[i].mix = pr.mix;
 }
 
 }  // namespace

@@ -303,7 +303,6 @@ struct PairBroadphase {
   int filtered = 0;
   std::vector<int> geoms;      // geoms of the filtered pairs
   std::vector<double> radius;  // per entry of geoms: bounding radius + the largest filtered margin
-  std::vector<int> slot;       // per model geom: its entry in geoms, -1 if none
   std::vector<int> first;      // per model geom + 1: its pairs as a, [first[g], first[g + 1])
   std::vector<Vec3> centre;
   std::vector<std::pair<double, int>> lo;  // interval start, entry
