@@ -112,33 +112,35 @@ bool eliminate_body(const Kinematics& k, const Body& body, const VecX& armature,
 
 template <int N>
 void back_substitute(const Kinematics& k, const Body& body, const Mat6& u, const Mat6& dinv,
-                     const Vec6& ures, const Vec6& ap, VecX* x, Vec6* acc) {
+                     const Vec6& ures, const Vec6& ap, Eigen::Ref<VecX> x, Vec6* acc) {
   const Eigen::Matrix<double, N, 1> r = ures.head<N>() - u.leftCols<N>().transpose() * ap;
   const Eigen::Matrix<double, N, 1> xb = dinv.topLeftCorner<N, N>() * r;
-  x->segment<N>(body.dof_begin) = xb;
+  x.segment<N>(body.dof_begin) = xb;
   *acc = ap;
   for (int i = 0; i < N; ++i) *acc += k.cdof[body.dof_begin + i] * xb[i];
 }
 
 // Root to leaves, shared by tree_solve and tree_resolve: joint solutions from the
 // stored elimination (u, D^-1, reduced right-hand sides) and accumulated accelerations.
+void back_substitute_body(const Model& m, const Kinematics& k, int b, Eigen::Ref<VecX> x, TreeWorkspace* ws) {
+  const Body& body = m.bodies[b];
+  const Vec6& ap = ws->acc[body.parent];
+  switch (body.dof_count) {
+    case 0: ws->acc[b] = ap; break;
+    case 1: back_substitute<1>(k, body, ws->u[b], ws->dinv[b], ws->ures[b], ap, x, &ws->acc[b]); break;
+    case 2: back_substitute<2>(k, body, ws->u[b], ws->dinv[b], ws->ures[b], ap, x, &ws->acc[b]); break;
+    case 3: back_substitute<3>(k, body, ws->u[b], ws->dinv[b], ws->ures[b], ap, x, &ws->acc[b]); break;
+    case 4: back_substitute<4>(k, body, ws->u[b], ws->dinv[b], ws->ures[b], ap, x, &ws->acc[b]); break;
+    case 5: back_substitute<5>(k, body, ws->u[b], ws->dinv[b], ws->ures[b], ap, x, &ws->acc[b]); break;
+    default: back_substitute<6>(k, body, ws->u[b], ws->dinv[b], ws->ures[b], ap, x, &ws->acc[b]); break;
+  }
+}
+
 void back_substitute_tree(const Model& m, const Kinematics& k, VecX* x, TreeWorkspace* ws) {
   const int nb = static_cast<int>(m.bodies.size());
   x->resize(m.nv);
   ws->acc[0].setZero();
-  for (int b = 1; b < nb; ++b) {
-    const Body& body = m.bodies[b];
-    const Vec6& ap = ws->acc[body.parent];
-    switch (body.dof_count) {
-      case 0: ws->acc[b] = ap; break;
-      case 1: back_substitute<1>(k, body, ws->u[b], ws->dinv[b], ws->ures[b], ap, x, &ws->acc[b]); break;
-      case 2: back_substitute<2>(k, body, ws->u[b], ws->dinv[b], ws->ures[b], ap, x, &ws->acc[b]); break;
-      case 3: back_substitute<3>(k, body, ws->u[b], ws->dinv[b], ws->ures[b], ap, x, &ws->acc[b]); break;
-      case 4: back_substitute<4>(k, body, ws->u[b], ws->dinv[b], ws->ures[b], ap, x, &ws->acc[b]); break;
-      case 5: back_substitute<5>(k, body, ws->u[b], ws->dinv[b], ws->ures[b], ap, x, &ws->acc[b]); break;
-      default: back_substitute<6>(k, body, ws->u[b], ws->dinv[b], ws->ures[b], ap, x, &ws->acc[b]); break;
-    }
-  }
+  for (int b = 1; b < nb; ++b) back_substitute_body(m, k, b, *x, ws);
 }
 
 }  // namespace
@@ -148,7 +150,7 @@ namespace {
 // tree_resolve's leaves-to-root pass for one body: only the right-hand side moves,
 // pa_p += pa + u D^-1 (r - S^T pa) with the stored u and D^-1.
 template <int N>
-void resolve_body(const Kinematics& k, const Body& body, const VecX& rhs, const Mat6& u, const Mat6& dinv,
+void resolve_body(const Kinematics& k, const Body& body, const Eigen::Ref<const VecX>& rhs, const Mat6& u, const Mat6& dinv,
                   const Vec6& pa, Vec6* ures, Vec6* pa_p) {
   Eigen::Matrix<double, N, 1> r = rhs.segment<N>(body.dof_begin);
   for (int i = 0; i < N; ++i) r[i] -= k.cdof[body.dof_begin + i].dot(pa);
@@ -156,25 +158,40 @@ void resolve_body(const Kinematics& k, const Body& body, const VecX& rhs, const 
   ures->template head<N>() = r;
 }
 
+void resolve_up(const Model& m, const Kinematics& k, int b, const Eigen::Ref<const VecX>& rhs, TreeWorkspace* ws) {
+  const Body& body = m.bodies[b];
+  Vec6* pa_p = &ws->pa[body.parent];
+  switch (body.dof_count) {
+    case 0: *pa_p += ws->pa[b]; break;
+    case 1: resolve_body<1>(k, body, rhs, ws->u[b], ws->dinv[b], ws->pa[b], &ws->ures[b], pa_p); break;
+    case 2: resolve_body<2>(k, body, rhs, ws->u[b], ws->dinv[b], ws->pa[b], &ws->ures[b], pa_p); break;
+    case 3: resolve_body<3>(k, body, rhs, ws->u[b], ws->dinv[b], ws->pa[b], &ws->ures[b], pa_p); break;
+    case 4: resolve_body<4>(k, body, rhs, ws->u[b], ws->dinv[b], ws->pa[b], &ws->ures[b], pa_p); break;
+    case 5: resolve_body<5>(k, body, rhs, ws->u[b], ws->dinv[b], ws->pa[b], &ws->ures[b], pa_p); break;
+    default: resolve_body<6>(k, body, rhs, ws->u[b], ws->dinv[b], ws->pa[b], &ws->ures[b], pa_p); break;
+  }
+}
+
 }  // namespace
 
 void tree_resolve(const Model& m, const Kinematics& k, const VecX& rhs, VecX* x, TreeWorkspace* ws) {
   const int nb = static_cast<int>(m.bodies.size());
   for (int b = 0; b < nb; ++b) ws->pa[b].setZero();
-  for (int b = nb - 1; b >= 1; --b) {
-    const Body& body = m.bodies[b];
-    Vec6* pa_p = &ws->pa[body.parent];
-    switch (body.dof_count) {
-      case 0: *pa_p += ws->pa[b]; break;
-      case 1: resolve_body<1>(k, body, rhs, ws->u[b], ws->dinv[b], ws->pa[b], &ws->ures[b], pa_p); break;
-      case 2: resolve_body<2>(k, body, rhs, ws->u[b], ws->dinv[b], ws->pa[b], &ws->ures[b], pa_p); break;
-      case 3: resolve_body<3>(k, body, rhs, ws->u[b], ws->dinv[b], ws->pa[b], &ws->ures[b], pa_p); break;
-      case 4: resolve_body<4>(k, body, rhs, ws->u[b], ws->dinv[b], ws->pa[b], &ws->ures[b], pa_p); break;
-      case 5: resolve_body<5>(k, body, rhs, ws->u[b], ws->dinv[b], ws->pa[b], &ws->ures[b], pa_p); break;
-      default: resolve_body<6>(k, body, rhs, ws->u[b], ws->dinv[b], ws->pa[b], &ws->ures[b], pa_p); break;
-    }
-  }
+  for (int b = nb - 1; b >= 1; --b) resolve_up(m, k, b, rhs, ws);
   back_substitute_tree(m, k, x, ws);
+}
+
+void tree_resolve_in(const Model& m, const Kinematics& k, const Forest& f, const int* trees, int count,
+                     const Eigen::Ref<const VecX>& rhs, Eigen::Ref<VecX> x, TreeWorkspace* ws) {
+  // A tree's bodies only exchange pa and acc with each other (and the world's, whose
+  // pa is never read and whose acc is zero), so each tree runs on its own.
+  ws->acc[0].setZero();
+  for (int t = 0; t < count; ++t) {
+    const std::vector<int>& bodies = f.bodies[trees[t]];
+    for (int b : bodies) ws->pa[b].setZero();
+    for (auto b = bodies.rbegin(); b != bodies.rend(); ++b) resolve_up(m, k, *b, rhs, ws);
+    for (int b : bodies) back_substitute_body(m, k, b, x, ws);
+  }
 }
 
 bool tree_solve(const Model& m, const Kinematics& k, const std::vector<Mat6>& h,

@@ -3,6 +3,7 @@
 // by the Gauss-Newton solve. One iteration per pbad_iterate call.
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 #include <utility>
 #include <vector>
 
@@ -113,143 +114,7 @@ bool final_correction(const Model& m, const SimOptions& o, PbadStep& p, SimWorks
   return true;
 }
 
-// Generalized force of wrench wb on body b and wa on body a (their ancestors' dofs
-// only; world-frame motion subspaces).
-void pair_column(const Model& m, const Kinematics& k, const WrenchTerm& t, Eigen::Ref<VecX> u) {
-  u.setZero();
-  for (int b = t.body_b; b != 0; b = m.bodies[b].parent)
-    for (int d = m.bodies[b].dof_begin; d < m.bodies[b].dof_begin + m.bodies[b].dof_count; ++d) u[d] += k.cdof[d].dot(t.wb);
-  for (int b = t.body_a; b != 0; b = m.bodies[b].parent)
-    for (int d = m.bodies[b].dof_begin; d < m.bodies[b].dof_begin + m.bodies[b].dof_count; ++d) u[d] += k.cdof[d].dot(t.wa);
-}
-
-// ws.pair_terms as wrench terms (a unit force dir at point_b on b, -dir at point_a on
-// a). Where one body pair has more than kMaxTermsPerBodyPair terms (a mesh face or a
-// box face lying on another body: tens of contacts), their sum
-// M = sum w (wa; wb)(wa; wb)^T (12 x 12, bodies in index order) replaces them by its
-// pivoted LDL^T factors, M = sum_i D_i l_i l_i^T, at most 12 terms: the Woodbury solve
-// costs O(terms^3), and the LM matrix is the same up to round-off. Otherwise the terms
-// keep their order (and the solve its last bits).
-void build_wrench_terms(SimWorkspace& ws) {
-  ws.wrench_terms.clear();
-  ws.term_groups.clear();
-  const auto in_group = [](const PairTerm& t, const std::array<int, 3>& g) {
-    return std::min(t.body_a, t.body_b) == g[0] && std::max(t.body_a, t.body_b) == g[1];
-  };
-  int most = 0;
-  for (const PairTerm& t : ws.pair_terms) {
-    auto g = std::find_if(ws.term_groups.begin(), ws.term_groups.end(),
-                          [&](const std::array<int, 3>& x) { return in_group(t, x); });
-    if (g == ws.term_groups.end())
-      g = ws.term_groups.insert(ws.term_groups.end(), {std::min(t.body_a, t.body_b), std::max(t.body_a, t.body_b), 0});
-    most = std::max(most, ++(*g)[2]);
-  }
-  const auto wrench_term = [](const PairTerm& t) {
-    return WrenchTerm{t.body_a, t.body_b, point_wrench(t.point_a, -t.dir), point_wrench(t.point_b, t.dir), t.weight};
-  };
-  if (most <= kMaxTermsPerBodyPair) {
-    for (const PairTerm& t : ws.pair_terms) ws.wrench_terms.push_back(wrench_term(t));
-    return;
-  }
-  using Mat12 = Eigen::Matrix<double, 12, 12>;
-  using Vec12 = Eigen::Matrix<double, 12, 1>;
-  for (const std::array<int, 3>& g : ws.term_groups) {
-    if (g[2] <= kMaxTermsPerBodyPair) {
-      for (const PairTerm& t : ws.pair_terms)
-        if (in_group(t, g)) ws.wrench_terms.push_back(wrench_term(t));
-      continue;
-    }
-    Mat12 sum = Mat12::Zero();
-    for (const PairTerm& t : ws.pair_terms) {
-      if (!in_group(t, g)) continue;
-      const WrenchTerm w = wrench_term(t);
-      Vec12 v;
-      v << (t.body_a == g[0] ? w.wa : w.wb), (t.body_a == g[0] ? w.wb : w.wa);
-      sum.selfadjointView<Eigen::Lower>().rankUpdate(v, t.weight);
-    }
-    const Eigen::LDLT<Mat12, Eigen::Lower> ldlt(sum.selfadjointView<Eigen::Lower>());
-    const Mat12 l = ldlt.transpositionsP().transpose() * Mat12(ldlt.matrixL());
-    const Vec12 d = ldlt.vectorD();
-    const double dmax = d.maxCoeff();
-    for (int i = 0; i < 12; ++i)
-      if (d[i] > 1e-14 * dmax) ws.wrench_terms.push_back({g[0], g[1], l.col(i).head<6>(), l.col(i).tail<6>(), d[i]});
-  }
-}
-
-// Solves the leading n x n block of c (overwritten) for rhs in place: Gaussian
-// elimination with partial pivoting (the capacitance matrix is non-symmetric with the
-// exact Hessian's blocks); no allocation.
-void dense_solve(Eigen::MatrixXd& c, int n, VecX& rhs) {
-  for (int j = 0; j < n; ++j) {
-    int piv = j;
-    for (int i = j + 1; i < n; ++i)
-      if (std::abs(c(i, j)) > std::abs(c(piv, j))) piv = i;
-    if (piv != j) {
-      for (int l = 0; l < n; ++l) std::swap(c(j, l), c(piv, l));
-      std::swap(rhs[j], rhs[piv]);
-    }
-    const double d = c(j, j);
-    for (int i = j + 1; i < n; ++i) {
-      const double f = c(i, j) / d;
-      if (f == 0) continue;
-      for (int l = j + 1; l < n; ++l) c(i, l) -= f * c(j, l);
-      rhs[i] -= f * rhs[j];
-    }
-  }
-  for (int j = n - 1; j >= 0; --j) {
-    double v = rhs[j];
-    for (int l = j + 1; l < n; ++l) v -= c(j, l) * rhs[l];
-    rhs[j] = v / c(j, j);
-  }
-}
-
 }  // namespace
-
-bool lm_solve(const Model& m, const std::vector<Mat6>& blocks, const VecX& rhs, VecX* x, SimWorkspace& ws) {
-  const bool pd = tree_solve(m, ws.kin, blocks, ws.arm, rhs, x, &ws.tree);
-  if (ws.pair_terms.empty()) return pd;
-  build_wrench_terms(ws);
-  const int nt = static_cast<int>(ws.wrench_terms.size());
-  if (ws.pair_u.rows() != m.nv || ws.pair_u.cols() < nt) {  // capacity grows, never shrinks
-    const int cap = std::max(nt, static_cast<int>(ws.pair_u.cols()) * 2);
-    ws.pair_u.resize(m.nv, cap);
-    ws.pair_y.resize(m.nv, cap);
-    ws.pair_cap.resize(cap, cap);
-    ws.pair_alpha.resize(cap);
-  }
-  ws.pair_nz.clear();
-  ws.pair_nz_begin.assign(1, 0);
-  for (int t = 0; t < nt; ++t) {  // A^-1 u with A's elimination from the solve above
-    pair_column(m, ws.kin, ws.wrench_terms[t], ws.pair_u.col(t));
-    ws.pair_col = ws.pair_u.col(t);
-    for (int d = 0; d < m.nv; ++d)
-      if (ws.pair_col[d] != 0) ws.pair_nz.push_back(d);
-    ws.pair_nz_begin.push_back(static_cast<int>(ws.pair_nz.size()));
-    tree_resolve(m, ws.kin, ws.pair_col, &ws.pair_sol, &ws.tree);
-    ws.pair_y.col(t) = ws.pair_sol;
-  }
-  // u_i touches only its two bodies' ancestors' dofs (12 for two free bodies): the
-  // capacitance u_i . A^-1 u_j over those rows, not all nv (a pile of 100 free objects:
-  // hundreds of terms, nv 627; the full dot products were 2/3 of its step).
-  for (int i = 0; i < nt; ++i) {
-    const int* nz = ws.pair_nz.data() + ws.pair_nz_begin[i];
-    const int count = ws.pair_nz_begin[i + 1] - ws.pair_nz_begin[i];
-    const double* u = ws.pair_u.col(i).data();
-    for (int j = 0; j < nt; ++j) {
-      const double* y = ws.pair_y.col(j).data();
-      double sum = 0;
-      for (int k = 0; k < count; ++k) sum += u[nz[k]] * y[nz[k]];
-      ws.pair_cap(i, j) = sum;
-    }
-    ws.pair_cap(i, i) += 1 / ws.wrench_terms[i].weight;
-    double alpha = 0;
-    for (int k = 0; k < count; ++k) alpha += u[nz[k]] * (*x)[nz[k]];
-    ws.pair_alpha[i] = alpha;
-  }
-  dense_solve(ws.pair_cap, nt, ws.pair_alpha);
-  for (int t = 0; t < nt; ++t) *x -= ws.pair_alpha[t] * ws.pair_y.col(t);
-  return pd && x->allFinite();
-}
 
 bool pbad_iterate(const Model& m, const SimOptions& o, const State& s, PbadStep& p, SimWorkspace& ws) {
   if (p.done) return true;

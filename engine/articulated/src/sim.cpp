@@ -57,6 +57,7 @@ void sim_prepare(const Model& m, SimWorkspace& ws) {
   ws.pairs = contact_geom_pairs(m);
   ws.broadphase = pair_broadphase(m, ws.pairs);
   ws.geom_mix = geom_contact_params_set(m);
+  ws.forest = model_forest(m);
   ws.cached_for = &m;
 }
 

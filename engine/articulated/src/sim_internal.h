@@ -57,8 +57,9 @@ double pbad_energy(const Model& m, const SimOptions& o, const State& s, const Pb
 // LM's linear solve: tree_solve with the per-body blocks and ws.arm, plus the
 // body-body contacts' rank-1 terms (ws.pair_terms) by Woodbury's identity
 // (A + U W U^T)^-1 r = z - A^-1 U (W^-1 + U^T A^-1 U)^-1 U^T z, z = A^-1 r: one
-// tree_resolve (A's elimination reused) per term. Returns tree_solve's positive-definiteness flag for A
-// (pbad_solver.cpp).
+// resolve (A's elimination reused) per term on the trees it touches, the capacitance
+// per group of terms coupled through shared trees. Returns tree_solve's
+// positive-definiteness flag for A (lm_solve.cpp).
 bool lm_solve(const Model& m, const std::vector<Mat6>& blocks, const VecX& rhs, VecX* x, SimWorkspace& ws);
 
 // Dry joint friction in the explicit integrators and PBAD's start-up (joint_friction.cpp):

@@ -80,6 +80,23 @@ bool tree_solve(const Model& m, const Kinematics& k, const std::vector<Mat6>& h,
 // tree_solve (PBAD's body-body contact terms, Woodbury).
 void tree_resolve(const Model& m, const Kinematics& k, const VecX& rhs, VecX* x, TreeWorkspace* ws);
 
+// The model's trees: bodies grouped by the child of the world that their chain of
+// parents starts from (a free object is a tree of one body). The tree solve's matrix
+// has no entry between two trees, so a right-hand side that is zero outside some
+// trees has its solution there too (forest.cpp).
+struct Forest {
+  std::vector<int> body_tree;            // tree of each body (-1 for the world)
+  std::vector<std::vector<int>> bodies;  // per tree, ascending
+  std::vector<std::vector<int>> dofs;    // per tree, ascending
+};
+Forest model_forest(const Model& m);
+
+// tree_resolve for a right-hand side that is zero outside trees[0 .. count): the same
+// arithmetic on those trees' bodies only, writing x at their dofs and nowhere else
+// (elsewhere the solution is zero). Body-body contact terms touch two trees each.
+void tree_resolve_in(const Model& m, const Kinematics& k, const Forest& f, const int* trees, int count,
+                     const Eigen::Ref<const VecX>& rhs, Eigen::Ref<VecX> x, TreeWorkspace* ws);
+
 // Diagonal of sum_b Phi_b^T H_b Phi_b (composite blocks), O(N).
 void tree_diagonal(const Model& m, const Kinematics& k, const std::vector<Mat6>& h, VecX* diag,
                    TreeWorkspace* ws);

@@ -25,6 +25,7 @@
 // Euler: semi-implicit (symplectic) Euler on M qacc = tau - bias; RK4: classic.
 #pragma once
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "pliant/articulated/contact.h"
@@ -170,12 +171,25 @@ struct SimWorkspace {
   std::vector<PairContact> pair_contacts;
   std::vector<PairTerm> pair_terms;  // at the last evaluation with derivatives
   std::vector<WrenchTerm> wrench_terms;  // lm_solve's (pair_terms, merged per body pair)
-  std::vector<std::array<int, 3>> term_groups;  // body pairs of pair_terms: a, b, count
-  Eigen::MatrixXd pair_u, pair_y, pair_cap;  // columns u, A^-1 u, capacitance (capacity grows)
-  VecX pair_col, pair_sol, pair_alpha;
+  // pair_terms as (body pair key, index), sorted: runs of one pair start at run_begin;
+  // run_order lists the runs in order of appearance.
+  std::vector<std::pair<long, int>> term_order;
+  std::vector<int> run_begin, run_order;
+  Eigen::MatrixXd pair_u, pair_y;  // columns u, A^-1 u (capacity grows)
+  std::vector<std::array<int, 2>> col_trees;  // trees each column was last written at (-1: none)
+  VecX pair_alpha;
   // Nonzero rows of each column u (the two bodies' ancestors' dofs): term t's are
   // pair_nz[pair_nz_begin[t] .. pair_nz_begin[t + 1]).
   std::vector<int> pair_nz, pair_nz_begin;
+  // The trees each term touches (1 or 2), the terms of each tree, and the groups of
+  // terms coupled through shared trees (the capacitance's diagonal blocks).
+  Forest forest;  // model_forest, cached
+  std::vector<std::array<int, 2>> term_trees;
+  std::vector<int> term_tree_count, term_stamp, term_pos, tree_link, tree_group, term_group, group_terms,
+      group_begin, group_fill;
+  std::vector<std::vector<int>> tree_terms;
+  Eigen::MatrixXd group_cap;
+  VecX group_alpha;
   std::vector<int> obstacles;
   std::vector<MeshBvh> obstacle_trees;  // per obstacle: a mesh's tree (obstacle_trees), cached
   std::vector<MeshBvh> mesh_trees;      // per geom: a moving mesh's tree (moving_mesh_trees), cached
