@@ -175,9 +175,10 @@ void term_groups_by_tree(int nt, SimWorkspace& ws) {
 
 }  // namespace
 
-bool lm_solve(const Model& m, const std::vector<Mat6>& blocks, const VecX& rhs, VecX* x, SimWorkspace& ws) {
+bool lm_solve(const Model& m, const std::vector<Mat6>& blocks, const VecX& rhs, VecX* x, SimWorkspace& ws,
+              bool indefinite_fails) {
   const bool pd = tree_solve(m, ws.kin, blocks, ws.arm, rhs, x, &ws.tree);
-  if (ws.pair_terms.empty()) return pd;
+  if (ws.pair_terms.empty() || (!pd && indefinite_fails)) return pd;
   if (ws.forest.body_tree.size() != m.bodies.size()) ws.forest = model_forest(m);
   const Forest& f = ws.forest;
   build_wrench_terms(static_cast<int>(m.bodies.size()), ws);

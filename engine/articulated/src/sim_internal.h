@@ -59,8 +59,11 @@ double pbad_energy(const Model& m, const SimOptions& o, const State& s, const Pb
 // (A + U W U^T)^-1 r = z - A^-1 U (W^-1 + U^T A^-1 U)^-1 U^T z, z = A^-1 r: one
 // resolve (A's elimination reused) per term on the trees it touches, the capacitance
 // per group of terms coupled through shared trees. Returns tree_solve's
-// positive-definiteness flag for A (lm_solve.cpp).
-bool lm_solve(const Model& m, const std::vector<Mat6>& blocks, const VecX& rhs, VecX* x, SimWorkspace& ws);
+// positive-definiteness flag for A (lm_solve.cpp); with indefinite_fails an
+// indefinite A returns false at once, x then holding A's solve only (LM's callers fall
+// back to Gauss-Newton or raise lambda and never use it).
+bool lm_solve(const Model& m, const std::vector<Mat6>& blocks, const VecX& rhs, VecX* x, SimWorkspace& ws,
+              bool indefinite_fails = false);
 
 // Dry joint friction in the explicit integrators and PBAD's start-up (joint_friction.cpp):
 // whether any joint has frictionloss, and the constant generalized force over the next

@@ -66,7 +66,7 @@ TEST(Contact, BoundingSphereCullKeepsEveryContactOfTheFullTest) {
       Vec3 n;
       const double reach = pts[i].radius + point_contact_mix(m, pts[i], obs[o]).margin;
       const double d = obstacle_distance(m.geoms[obs[o]], nullptr, c, &n) - reach;
-      if (d < 0) full.push_back({static_cast<int>(i * obs.size() + o), pts[i].body, c - reach * n, n, -d});
+      if (d < 0) full.push_back({static_cast<int>(i * obs.size() + o), pts[i].body, c - reach * n, n, -d, Vec3::Zero(), ContactMix{}});
     }
   ASSERT_EQ(found.size(), full.size());
   EXPECT_GT(found.size(), 50u);
