@@ -115,11 +115,13 @@ void ObstacleCull::update(const Model& m, const Kinematics& k, const ContactPoin
   const Geom& g = m.geoms[cp.geom];
   const Vec3 centre = k.xpos[g.body] + k.xmat[g.body] * g.pos;
   const double radius = cp.geom_radius;
+  all_ = true;
   for (size_t o = 0; o < obs.size(); ++o) {
     const Geom& ob = m.geoms[obs[o]];
     Vec3 n;
     const double margin = mixed ? point_contact_mix(m, cp, obs[o]).margin : 0.0;
     culled_[o] = ob.type != GeomType::Mesh && obstacle_distance(ob, nullptr, centre, &n) - radius - margin > 1e-9;
+    all_ = all_ && culled_[o];
   }
 }
 
@@ -133,8 +135,9 @@ void find_contacts(const Model& m, const Kinematics& k, const std::vector<Contac
   ObstacleCull cull;
   for (size_t i = 0; i < pts.size(); ++i) {
     const ContactPoint& cp = pts[i];
-    const Vec3 c = k.xpos[cp.body] + k.xmat[cp.body] * cp.local;
     cull.update(m, k, cp, obs, mixed);
+    if (cull.skip_all()) continue;
+    const Vec3 c = k.xpos[cp.body] + k.xmat[cp.body] * cp.local;
     for (int o = 0; o < no; ++o) {
       if (cull.skip(o)) continue;
       Vec3 n;

@@ -139,6 +139,10 @@ void pbad_begin(const Model& m, const SimOptions& o, State& s, PbadStep& p, SimW
   p.prev_points.resize(ws.points.size());
   for (size_t i = 0; i < ws.points.size(); ++i)
     p.prev_points[i] = k0.xpos[ws.points[i].body] + k0.xmat[ws.points[i].body] * ws.points[i].local;
+  const size_t no = ws.obstacles.size();
+  p.point_pressed.assign(ws.points.size(), 0);
+  for (size_t slot = 0; slot < s.normal_force_prev.size(); ++slot)
+    if (s.normal_force_prev[slot] > 0) p.point_pressed[slot / no] = 1;
   // Torsional / rolling friction (condim 4 / 6) measure each body's rotation from q_i.
   // Sliding friction at sphere / capsule / margin contact points maps the contact arm
   // back to q_i with the same rotations (pbad_energy.cpp).

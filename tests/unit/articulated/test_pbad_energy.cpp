@@ -79,6 +79,40 @@ TEST(Sim, ExactHessianInvertsFiniteDifferenceHessian) {
 // gave its tilts -9.24 instead of +3.43 (LM zigzagged on a capsule turning about its
 // axis in the pile: 50 iterations at step 15). The box's tilts keep the term the
 // model leaves out (-f . (w x v) at the ball's centre): 544 vs 565, 1101 vs 1122.
+// A box pressed into the floor at q_i, evaluated lifted 0.5 m clear of it and slid
+// 0.3 m: every point-floor test is culled there, yet the friction of the points that
+// carried a normal force at q_i stays in the energy (mu fn (|slip| - ...) each).
+TEST(Sim, FrictionOfPressedPointsOutOfReachStaysInTheEnergy) {
+  const Model m = model_from_mjcf(R"(<mujoco><worldbody><geom type="plane" size="5 5 0.1"/>
+    <body pos="0 0 0.095"><freejoint/><geom type="box" size="0.1 0.1 0.1"/></body></worldbody></mujoco>)",
+                                  "box.xml");
+  SimOptions o;
+  o.dt = 0.01;
+  o.contact.friction = FrictionModel::Coulomb;
+  o.contact.mu = 0.5;
+  const auto energy_lifted = [&](bool pressed, double* fn_sum) {
+    State s = state_init(m);
+    SimWorkspace ws;
+    sim_prepare(m, ws);
+    if (!pressed) s.normal_force_prev.assign(ws.points.size() * ws.obstacles.size(), 0.0);  // no force at q_i
+    PbadStep p;
+    pbad_begin(m, o, s, p, ws);
+    *fn_sum = 0;
+    for (double f : s.normal_force_prev) *fn_sum += f;
+    VecX q = p.q;
+    q[0] += 0.3;
+    q[2] += 0.5;
+    return pbad_evaluate(m, o, s, p, q, ws);
+  };
+  double fn = 0, none = 0;
+  const double e_pressed = energy_lifted(true, &fn), e_free = energy_lifted(false, &none);
+  EXPECT_EQ(none, 0);
+  ASSERT_GT(fn, 0);
+  const double eps = o.contact.slip_eps;
+  const double expected = o.contact.mu * fn * (std::sqrt(0.09 + eps * eps) - eps);
+  EXPECT_NEAR(e_pressed - e_free, expected, 1e-9 * expected);
+}
+
 TEST(Sim, PairContactModelIsExactForTheBallTurningOnABox) {
   const Model m = model_from_mjcf(R"(<mujoco><worldbody>
     <body pos="0 0 0" euler="3 2 10"><freejoint/><geom type="box" size="0.15 0.1 0.05"/></body>

@@ -182,11 +182,12 @@ class ObstacleCull {
  public:
   void update(const Model& m, const Kinematics& k, const ContactPoint& cp, const std::vector<int>& obs, bool mixed);
   bool skip(int obstacle) const { return active_ && culled_[obstacle]; }
+  bool skip_all() const { return active_ && all_; }  // every obstacle out of reach
 
  private:
   static constexpr size_t kMax = 64;  // more obstacles: no culling
   int geom_ = -2;
-  bool active_ = false;
+  bool active_ = false, all_ = false;
   bool culled_[kMax] = {};
 };
 
