@@ -39,7 +39,18 @@ void mesh_against(const Placed& mesh, const MeshCollider& mc, const Placed& s, d
       break;
     default: return;
   }
-  for (const Vec3& v : mc.samples) point_against(s, mesh.g->body, mesh.c + mesh.r * v, margin, out);
+  // Pre-test in the mesh's frame, before a sample's world transform (as
+  // samples_against_mesh): s's axis-aligned box there, grown by the margin and widened
+  // for round-off; a sample outside it is farther than the margin from s.
+  const Mat3 rel = mesh.r.transpose() * s.r;
+  const Vec3 centre = mesh.r.transpose() * (s.c - mesh.c);
+  const Vec3 half = g.type == GeomType::Box ? Vec3(rel.cwiseAbs() * g.size)
+                                            : Vec3(rel.col(2).cwiseAbs() * g.size[1] + Vec3::Constant(g.size[0]));
+  const Vec3 reach = (half + Vec3::Constant(margin)) * (1 + 1e-9) + Vec3::Constant(1e-12);
+  for (const Vec3& v : mc.samples) {
+    if (((v - centre).cwiseAbs() - reach).maxCoeff() > 0) continue;
+    point_against(s, mesh.g->body, mesh.c + mesh.r * v, margin, out);
+  }
 }
 
 namespace {

@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <random>
 #include <sstream>
 
 #include "pliant/articulated/io.h"
@@ -10,6 +11,7 @@
 #include "mesh_fixture.h"
 #include "pair_fixture.h"
 #include "sim_internal.h"
+#include "contact_internal.h"
 
 namespace pliant::articulated {
 namespace {
@@ -41,6 +43,49 @@ TEST(Contact, MeshPairGradientMatchesFiniteDifferences) {
   // the LM matrix's body-body part still equals the finite-difference one.
   EXPECT_GT(expect_mesh_pair_derivatives("0.01 0.005 -0.097", "<geom type=\"box\" size=\"0.2 0.2 0.05\" euler=\"0.05 -0.03 0\"/>", "0 0 0"),
             static_cast<size_t>(kMaxTermsPerBodyPair));
+}
+
+// mesh_against's pre-test of the mesh's samples against a box's / capsule's bounding
+// box (grown by the margin) keeps every contact of the plain loop over all samples, in
+// its order, over random poses with the two shapes overlapping or near.
+TEST(Contact, MeshSamplePreTestKeepsEveryContactOfTheFullLoop) {
+  const std::string obj = test::write_box_obj("pliant_mesh_pretest", 0.1, 0.07, 0.05);
+  const Model m = model_from_mjcf("<mujoco><asset><mesh name=\"m\" file=\"" + obj +
+                                      "\"/></asset><worldbody><body name=\"a\"><freejoint/><geom type=\"mesh\" mesh=\"m\"/></body>"
+                                      "<body name=\"b\" pos=\"1 0 0\"><freejoint/><geom type=\"box\" size=\"0.06 0.03 0.02\"/></body>"
+                                      "<body name=\"c\" pos=\"2 0 0\"><freejoint/><geom type=\"capsule\" size=\"0.02 0.07\"/></body>"
+                                      "</worldbody></mujoco>",
+                                  "pretest.xml");
+  std::filesystem::remove(obj);
+  const std::vector<GeomPair> pairs = contact_geom_pairs(m);
+  const MeshCollider* mc = nullptr;
+  for (const GeomPair& p : pairs) mc = p.mesh_a ? p.mesh_a.get() : p.mesh_b ? p.mesh_b.get() : mc;
+  ASSERT_NE(mc, nullptr);
+  using contact_internal::Placed;
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1, 1);
+  const auto rotation = [&] { return Quat(Eigen::Vector4d(u(rng), u(rng), u(rng), u(rng)).normalized()).toRotationMatrix(); };
+  size_t kept = 0;
+  for (int shape = 1; shape <= 2; ++shape)
+    for (int trial = 0; trial < 300; ++trial) {
+      const Placed mesh{&m.geoms[0], Vec3(u(rng), u(rng), u(rng)), rotation()};
+      const Placed s{&m.geoms[shape], mesh.c + 0.12 * Vec3(u(rng), u(rng), u(rng)), rotation()};
+      const double margin = trial % 3 == 0 ? 0.01 : 0.0;
+      std::vector<PairContact> out, full;
+      contact_internal::mesh_against(mesh, *mc, s, margin, &out);
+      for (const Vec3& v : mc->samples)
+        contact_internal::point_against(s, mesh.g->body, mesh.c + mesh.r * v, margin, &full);
+      std::vector<PairContact> samples;
+      for (const PairContact& c : out)
+        if (c.body_a == s.g->body) samples.push_back(c);
+      ASSERT_EQ(samples.size(), full.size()) << shape << " " << trial;
+      for (size_t i = 0; i < full.size(); ++i) {
+        EXPECT_EQ(samples[i].depth, full[i].depth);
+        EXPECT_EQ(samples[i].point, full[i].point);
+      }
+      kept += full.size();
+    }
+  EXPECT_GT(kept, 500u);
 }
 
 // A mesh cube on a slide joint rests on a fixed box body (its bottom face's samples
