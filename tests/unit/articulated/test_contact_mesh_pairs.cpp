@@ -39,7 +39,7 @@ TEST(Contact, MeshPairGradientMatchesFiniteDifferences) {
   // A capsule's end sphere dipping into the mesh's top face.
   EXPECT_GE(expect_mesh_pair_derivatives("0.01 0 0.12", "<geom type=\"capsule\" size=\"0.03 0.08\" euler=\"20 35 10\"/>"), 1u);
   // The mesh's bottom face lying on a larger box: its samples give more than
-  // kMaxTermsPerBodyPair terms, merged per body pair in lm_solve (pbad_solver.cpp);
+  // kMaxTermsPerBodyPair terms, merged per body pair in lm_solve (lm_solve.cpp);
   // the LM matrix's body-body part still equals the finite-difference one.
   EXPECT_GT(expect_mesh_pair_derivatives("0.01 0.005 -0.097", "<geom type=\"box\" size=\"0.2 0.2 0.05\" euler=\"0.05 -0.03 0\"/>", "0 0 0"),
             static_cast<size_t>(kMaxTermsPerBodyPair));

@@ -131,7 +131,7 @@ struct PbadStep {
 // One rank-1 term weight * u u^T of a body-body contact's Gauss-Newton matrix, u the
 // generalized force of a unit force `dir` at point_b on body_b and -dir at point_a on
 // body_a (normal: weight k; friction: one term per tangent direction). The LM solve
-// adds them to the tree solve's per-body blocks exactly (Woodbury, pbad_solver.cpp).
+// adds them to the tree solve's per-body blocks exactly (Woodbury, lm_solve.cpp).
 struct PairTerm {
   int body_a, body_b;
   Vec3 point_a, point_b, dir;
