@@ -120,8 +120,8 @@ void back_substitute(const Kinematics& k, const Body& body, const Mat6& u, const
   for (int i = 0; i < N; ++i) *acc += k.cdof[body.dof_begin + i] * xb[i];
 }
 
-// Root to leaves, shared by tree_solve and tree_resolve: joint solutions from the
-// stored elimination (u, D^-1, reduced right-hand sides) and accumulated accelerations.
+// One body of the root-to-leaves pass: its joint solution from the stored elimination
+// and its accumulated acceleration (the parent's must be done).
 void back_substitute_body(const Model& m, const Kinematics& k, int b, Eigen::Ref<VecX> x, TreeWorkspace* ws) {
   const Body& body = m.bodies[b];
   const Vec6& ap = ws->acc[body.parent];
@@ -136,6 +136,8 @@ void back_substitute_body(const Model& m, const Kinematics& k, int b, Eigen::Ref
   }
 }
 
+// Root to leaves, shared by tree_solve and tree_resolve: joint solutions from the
+// stored elimination (u, D^-1, reduced right-hand sides) and accumulated accelerations.
 void back_substitute_tree(const Model& m, const Kinematics& k, VecX* x, TreeWorkspace* ws) {
   const int nb = static_cast<int>(m.bodies.size());
   x->resize(m.nv);
