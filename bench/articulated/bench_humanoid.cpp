@@ -142,7 +142,8 @@ void humanoid_case(bool quick) {
   for (auto [name, integ] : {std::pair{"mujoco_euler", (int)mjINT_EULER}, std::pair{"mujoco_rk4", (int)mjINT_RK4},
                              std::pair{"mujoco_implicit", (int)mjINT_IMPLICIT}})
     for (double dt : {0.005, 0.01, 0.02, 0.05})
-      emit_fall("humanoid_fall", name, dt, 1, fastest(reps, [&] { return fall_mujoco(mm, integ, dt, duration); }));
+      emit_fall("humanoid_fall", name, dt, 1,
+                fastest(reps, [&, integ = integ] { return fall_mujoco(mm, integ, dt, duration); }));
   mj_deleteModel(mm);
 #endif
   // 22 humanoids in one scene (self-collision among all of them): the same scene's

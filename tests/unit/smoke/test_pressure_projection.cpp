@@ -7,18 +7,18 @@ namespace pliant::smoke {
 namespace {
 using test::make_grid;
 
-struct Case {
+struct GridCase {
   int dim;
   std::array<int, 3> n;
   bool periodic;
 };
 
-class ProjectionGrid : public ::testing::TestWithParam<Case> {};
+class ProjectionGrid : public ::testing::TestWithParam<GridCase> {};
 
 // After projection the divergence is gone (to the solver tolerance, limited by the
 // float face storage), and both solvers give the same velocity (second method).
 TEST_P(ProjectionGrid, DivergenceFreeAndSolversAgree) {
-  const Case c = GetParam();
+  const GridCase c = GetParam();
   const MacGrid g = make_grid(c.dim, c.n, c.periodic);
   const test::Velocity v0 = test::random_velocity(g, 17);
   test::Velocity vm = v0, vj = v0;
@@ -46,8 +46,8 @@ TEST_P(ProjectionGrid, DivergenceFreeAndSolversAgree) {
   EXPECT_LT(d2, 1e-5 * v0.max_abs());
 }
 
-std::string case_name(const ::testing::TestParamInfo<Case>& info) {
-  const Case& c = info.param;
+std::string case_name(const ::testing::TestParamInfo<GridCase>& info) {
+  const GridCase& c = info.param;
   std::string s = std::to_string(c.n[0]);
   for (int a = 1; a < c.dim; ++a) {
     s += 'x';
@@ -58,9 +58,9 @@ std::string case_name(const ::testing::TestParamInfo<Case>& info) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Sizes, ProjectionGrid,
-                         ::testing::Values(Case{2, {96, 64, 1}, false}, Case{2, {48, 40, 1}, true},
-                                           Case{3, {24, 16, 20}, false}, Case{3, {16, 12, 8}, true},
-                                           Case{2, {37, 21, 1}, false}),
+                         ::testing::Values(GridCase{2, {96, 64, 1}, false}, GridCase{2, {48, 40, 1}, true},
+                                           GridCase{3, {24, 16, 20}, false}, GridCase{3, {16, 12, 8}, true},
+                                           GridCase{2, {37, 21, 1}, false}),
                          case_name);
 
 // A gradient field is removed completely; a divergence-free field is untouched.
