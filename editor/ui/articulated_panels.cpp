@@ -186,6 +186,10 @@ void draw_inspector(App& app) {
               "solimp of limits and friction; option impratio, cone) have no counterpart in Pliant's "
               "penalties (contact stiffness below): off, such a model is refused; on, it loads and they "
               "are listed");
+      json_choice(doc, "mesh inertia", "/mjcf/mesh_inertia", "exact", {"exact", "mujoco-2.2.2"});
+      tooltip("mesh geoms' mass and inertia: the enclosed solid's (exact), or what libmujoco 2.2.2 "
+              "compiles (its mass from the equivalent inertia box, larger for most shapes) to match "
+              "MuJoCo side by side");
     }
     if (ImGui::SmallButton("Inline chain")) {
       doc.set("/model", json{{"chain", {{"links", 10}, {"link_length", 0.1}, {"radius", 0.01}}}});

@@ -30,6 +30,9 @@ ArticulatedScene articulated_compile(const Scene& scene) {
   MjcfOptions mjcf;
   if (auto x = r.object("mjcf")) {
     mjcf.ignore_solver_params = x->boolean("ignore_solver_params", false);
+    // "mujoco-2.2.2": mesh geoms get the masses libmujoco 2.2.2 compiles (io.h).
+    if (x->choice("mesh_inertia", "exact", {"exact", "mujoco-2.2.2"}) == "mujoco-2.2.2")
+      mjcf.mesh_inertia = Geom::MeshInertia::MuJoCo222;
     x->finish();
   }
   if (mv.is_string()) {

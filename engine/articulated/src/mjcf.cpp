@@ -23,6 +23,7 @@ Model model_from_mjcf(const std::string& text, const std::string& file, const st
   if (root.name != "mujoco") throw InputError(file, "/" + root.name, "root element must be <mujoco>");
   Ctx c(file);
   c.ignore_solver_params = options.ignore_solver_params;
+  c.mesh_inertia = options.mesh_inertia;
   expand_includes(c, root, base_dir);
   // Compiler settings and default classes first: they apply wherever they appear.
   Defaults defaults;

@@ -79,6 +79,7 @@ void read_geom(Ctx& c, const XmlElement& e, const std::string& path, int body) {
                        "no mesh named \"" + *name + "\"" + (near.empty() ? "" : "; did you mean \"" + near + "\"?"));
     }
     try {
+      g.mesh_inertia = c.mesh_inertia;
       geom_set_mesh(g, it->second);
     } catch (const std::invalid_argument& err) {
       throw InputError(c.file, path + "/@mesh", "mesh \"" + *name + "\" " + err.what());

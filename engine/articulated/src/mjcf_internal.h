@@ -29,6 +29,7 @@ struct Ctx {
   bool inertia_from_geom = false;  // compiler inertiafromgeom="true": <inertial> ignored
   bool global = false;             // compiler coordinate="global" (mjcf_global.cpp)
   bool ignore_solver_params = false;  // MjcfOptions (io.h): record, not reject, geom/pair solref/solimp/solmix
+  Geom::MeshInertia mesh_inertia = Geom::MeshInertia::Exact;  // MjcfOptions (io.h)
   std::filesystem::path mesh_dir;
   std::map<std::string, std::shared_ptr<const MeshShape>> meshes;  // <asset><mesh name=...>
 };

@@ -43,11 +43,17 @@ std::shared_ptr<const MeshShape> mesh_load_file(const std::filesystem::path& fil
 }
 
 void geom_set_mesh(Geom& g, const std::shared_ptr<const MeshShape>& shape) {
-  // Re-centre at the mesh's centre of mass (vertices stay in the geom frame).
+  // Re-centre at the mesh's centre of mass (vertices stay in the geom frame): the
+  // solid's, or under g.mesh_inertia MuJoCo222 the one MuJoCo 2.2.2 compiles.
   double volume;
   Vec3 centre;
   mesh_volume_moments(*shape, &volume, &centre, nullptr);
   if (!(volume > 0)) throw std::invalid_argument("has no positive volume (not closed or inward-facing)");
+  if (g.mesh_inertia == Geom::MeshInertia::MuJoCo222) {
+    double box, unsigned_volume;
+    mesh_mujoco222_moments(*shape, &box, &unsigned_volume, &centre, nullptr);
+    if (!(box > 0)) throw std::invalid_argument("has a flat equivalent inertia box (MuJoCo 2.2.2's mass rule gives it no mass)");
+  }
   auto shifted = std::make_shared<MeshShape>(*shape);
   for (Vec3& v : shifted->vertices) v -= centre;
   g.type = GeomType::Mesh;

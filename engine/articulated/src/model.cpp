@@ -29,25 +29,6 @@ int joint_nv(JointType t) {
   return 0;
 }
 
-void mesh_volume_moments(const MeshShape& mesh, double* volume, Vec3* centre, Mat3* second) {
-  // Signed tetrahedra (0, a, b, c): volume det/6, first moment (a+b+c)/4 vol, and
-  // second moment vol/20 (sum v v^T + (sum v)(sum v)^T) (exact for a tetrahedron).
-  double v = 0;
-  Vec3 first = Vec3::Zero();
-  Mat3 sec = Mat3::Zero();
-  for (const auto& t : mesh.triangles) {
-    const Vec3 &a = mesh.vertices[t[0]], &b = mesh.vertices[t[1]], &c = mesh.vertices[t[2]];
-    const double vol = a.dot(b.cross(c)) / 6;
-    v += vol;
-    first += vol * (a + b + c) / 4;
-    const Vec3 s = a + b + c;
-    sec += vol / 20 * (a * a.transpose() + b * b.transpose() + c * c.transpose() + s * s.transpose());
-  }
-  *volume = v;
-  if (centre) *centre = v != 0 ? Vec3(first / v) : Vec3::Zero();
-  if (second) *second = sec;
-}
-
 void geom_mass_properties(const Geom& g, double* mass, Mat3* inertia) {
   double volume = 0;
   Vec3 diag = Vec3::Zero();
@@ -75,10 +56,17 @@ void geom_mass_properties(const Geom& g, double* mass, Mat3* inertia) {
         return;
       }
       // Re-centred at load: the tetrahedra from the origin give volume and second
-      // moment; inertia = tr(C) I - C per unit density.
+      // moment; inertia = tr(C) I - C per unit density. MuJoCo 2.2.2's rule (opt-in)
+      // takes the mass from its equivalent inertia box instead (mesh_inertia.cpp).
       Mat3 c;
-      mesh_volume_moments(*g.mesh, &volume, nullptr, &c);
-      const double m = g.mass >= 0 ? g.mass : g.density * volume;
+      double mass_volume;
+      if (g.mesh_inertia == Geom::MeshInertia::MuJoCo222) {
+        mesh_mujoco222_moments(*g.mesh, &mass_volume, &volume, nullptr, &c);
+      } else {
+        mesh_volume_moments(*g.mesh, &volume, nullptr, &c);
+        mass_volume = volume;
+      }
+      const double m = g.mass >= 0 ? g.mass : g.density * mass_volume;
       *mass = m;
       *inertia = volume > 0 ? Mat3((m / volume) * (c.trace() * Mat3::Identity() - c)) : Mat3::Zero();
       return;

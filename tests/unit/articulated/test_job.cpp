@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <string>
 
 #include <unistd.h>
@@ -330,6 +331,40 @@ TEST(Job, MjcfSolverParametersLoadOnlyWhenTheSceneSaysToIgnoreThem) {
   EXPECT_EQ(a.model.ignored_attributes[0], "/mujoco/worldbody[0]/geom[0]/@solimp");
   j["mjcf"] = {{"ignore_solver_param", true}};  // misspelt keys still exit 2
   EXPECT_THROW(articulated_compile(scene_of(j)), InputError);
+  std::filesystem::remove_all(dir);
+}
+
+// "mjcf": {"mesh_inertia": "mujoco-2.2.2"} gives mesh geoms MuJoCo 2.2.2's masses (an
+// L-shaped prism of volume 3e-3 m^3: 3 kg exact, 1000 sqrt(35/3) 1e-3 kg MuJoCo's); an
+// unknown value names the field and the choices.
+TEST(Job, MjcfMeshInertiaSelectsTheSolidsOrMuJoCosMass) {
+  const auto dir = std::filesystem::temp_directory_path() / ("pliant_mesh_inertia_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  {
+    std::ofstream obj(dir / "L.obj");
+    obj << "v 0 0 0\nv 2 0 0\nv 2 1 0\nv 1 1 0\nv 1 2 0\nv 0 2 0\n"
+           "v 0 0 1\nv 2 0 1\nv 2 1 1\nv 1 1 1\nv 1 2 1\nv 0 2 1\n"
+           "f 4 6 5\nf 4 1 6\nf 4 2 1\nf 4 3 2\nf 10 11 12\nf 10 12 7\nf 10 7 8\nf 10 8 9\n";
+    for (int i = 0; i < 6; ++i) {
+      const int k = (i + 1) % 6;
+      obj << "f " << i + 1 << " " << k + 1 << " " << k + 7 << "\nf " << i + 1 << " " << k + 7 << " " << i + 7 << "\n";
+    }
+    std::ofstream(dir / "l.xml") << R"(<mujoco><asset><mesh file="L.obj" scale="0.1 0.1 0.1"/></asset>
+      <worldbody><body><freejoint/><geom type="mesh" mesh="L"/></body></worldbody></mujoco>)";
+  }
+  nlohmann::json j = {{"pliant", 1}, {"kind", "articulated"}, {"model", (dir / "l.xml").string()}, {"duration_s", 0.1}};
+  EXPECT_NEAR(articulated_compile(scene_of(j)).model.bodies[1].mass, 3, 1e-9);
+  j["mjcf"] = {{"mesh_inertia", "mujoco-2.2.2"}};
+  EXPECT_NEAR(articulated_compile(scene_of(j)).model.bodies[1].mass, std::sqrt(35.0 / 3), 1e-9);
+  j["mjcf"] = {{"mesh_inertia", "legacy"}};
+  std::string problem;
+  try {
+    articulated_compile(scene_of(j));
+  } catch (const InputError& e) {
+    problem = e.pointer() + " | " + e.problem();
+  }
+  EXPECT_NE(problem.find("/mjcf/mesh_inertia"), std::string::npos) << problem;
+  EXPECT_NE(problem.find("mujoco-2.2.2"), std::string::npos) << problem;
   std::filesystem::remove_all(dir);
 }
 

@@ -3,6 +3,7 @@
 #include <mujoco/mujoco.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -26,20 +27,22 @@ mjModel* load_mujoco(const std::string& xml) {
   return m;
 }
 
-void compare_mass_properties(const Model& ours, const mjModel* mj) {
+// tol: relative for masses and moments, absolute for centres (1e-7 where MuJoCo
+// re-centres a mesh in float and compiles its mass from the float vertices).
+void compare_mass_properties(const Model& ours, const mjModel* mj, double tol = 1e-9) {
   ASSERT_EQ(mj->nbody, static_cast<int>(ours.bodies.size()));
   ASSERT_EQ(mj->nv, ours.nv);
   for (int b = 1; b < mj->nbody; ++b) {
     const Body& body = ours.bodies[b];
-    EXPECT_NEAR(body.mass, mj->body_mass[b], 1e-9 * body.mass) << "body " << b;
-    for (int a = 0; a < 3; ++a) EXPECT_NEAR(body.com[a], mj->body_ipos[3 * b + a], 1e-9);
+    EXPECT_NEAR(body.mass, mj->body_mass[b], tol * body.mass) << "body " << b;
+    for (int a = 0; a < 3; ++a) EXPECT_NEAR(body.com[a], mj->body_ipos[3 * b + a], tol);
     // MuJoCo stores principal moments (body_inertia) in the frame body_iquat.
     Eigen::SelfAdjointEigenSolver<Mat3> eig(body.inertia);
     std::vector<double> ours_p(eig.eigenvalues().data(), eig.eigenvalues().data() + 3);
     std::vector<double> mj_p(mj->body_inertia + 3 * b, mj->body_inertia + 3 * b + 3);
     std::sort(ours_p.begin(), ours_p.end());
     std::sort(mj_p.begin(), mj_p.end());
-    for (int a = 0; a < 3; ++a) EXPECT_NEAR(ours_p[a], mj_p[a], 1e-9 * mj_p[2]) << "body " << b;
+    for (int a = 0; a < 3; ++a) EXPECT_NEAR(ours_p[a], mj_p[a], tol * mj_p[2]) << "body " << b;
   }
 }
 
@@ -101,8 +104,8 @@ TEST(MujocoReference, MassMatrixMatches) {
 // <default> classes (nested, class=, childclass=), euler (both eulerseq cases) and
 // axisangle in degrees, and joint ranges compile as MuJoCo compiles them: same masses,
 // same body poses at a configuration, same ranges.
-void compare_poses_and_ranges(const Model& ours, mjModel* mj) {
-  compare_mass_properties(ours, mj);
+void compare_poses_and_ranges(const Model& ours, mjModel* mj, double tol = 1e-9) {
+  compare_mass_properties(ours, mj, tol);
   mjData* d = mj_makeData(mj);
   VecX q(ours.nq);
   for (int i = 0; i < ours.nq; ++i) q[i] = 0.4 * std::sin(1.3 * i + 0.2);
@@ -131,7 +134,7 @@ void compare_poses_and_ranges(const Model& ours, mjModel* mj) {
     const Mat3 r = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(rm);
     const Mat3 mj_inertia = r * Vec3(mj->body_inertia[3 * b], mj->body_inertia[3 * b + 1], mj->body_inertia[3 * b + 2]).asDiagonal() * r.transpose();
     // (MuJoCo stores principal axes from its iterative eigen-solver: ~1e-7 relative)
-    EXPECT_NEAR((body.inertia - mj_inertia).norm(), 0, 1e-9) << "body " << b;
+    EXPECT_NEAR((body.inertia - mj_inertia).norm(), 0, std::max(1e-9, tol * mj_inertia.norm())) << "body " << b;
   }
   for (int j = 0; j < mj->njnt; ++j)
     if (mj->jnt_type[j] == mjJNT_HINGE || mj->jnt_type[j] == mjJNT_SLIDE)
@@ -180,12 +183,12 @@ void expect_same_poses_and_ranges(const std::string& xml, const MjcfOptions& opt
 }
 
 // The same for a model file (its includes and meshes beside it).
-void expect_same_model_file(const std::filesystem::path& path, const MjcfOptions& options = {}) {
+void expect_same_model_file(const std::filesystem::path& path, const MjcfOptions& options = {}, double tol = 1e-9) {
   const Model ours = model_load_file(path, path.filename().string(), options);
   char err[1000] = "";
   mjModel* mj = mj_loadXML(path.c_str(), nullptr, err, sizeof(err));
   ASSERT_NE(mj, nullptr) << err;
-  compare_poses_and_ranges(ours, mj);
+  compare_poses_and_ranges(ours, mj, tol);
   mj_deleteModel(mj);
 }
 
@@ -304,6 +307,64 @@ TEST(MujocoReference, CylindersEllipsoidsAndIncludesOfMuJoCosModelsMatch) {
       <body name="egg" pos="0.1 0 0" euler="10 20 30"><joint axis="0 1 0"/>
         <geom type="ellipsoid" size="0.03 0.05 0.02" pos="0.01 0 0" euler="0 30 0" density="1200"/></body>
     </body></worldbody></mujoco>)");
+}
+
+// Mesh geoms: with mjcf.mesh_inertia "mujoco-2.2.2" a model compiles to libmujoco
+// 2.2.2's own masses (mesh_inertia.cpp: unsigned tetrahedra, the mass from the
+// equivalent inertia box). An L-shaped prism (integer vertices: exact in MuJoCo's float
+// meshes, scaled by 1/8) posed in a body beside a capsule, to 1e-7 (MuJoCo re-centres
+// the mesh in float); the mug of libmujoco-samples (24544 faces) to 1e-6. By default the solid's mass stands: 3 of MuJoCo's
+// sqrt(35/3) for the L, and the mug's mesh below MuJoCo's by more than half.
+TEST(MujocoReference, MeshGeomsCompileToMuJoCosMassesUnderItsRule) {
+  const auto dir = std::filesystem::temp_directory_path() / ("pliant_mj_mesh_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  {
+    std::ofstream obj(dir / "L.obj");
+    const double p[6][2] = {{0, 0}, {2, 0}, {2, 1}, {1, 1}, {1, 2}, {0, 2}};
+    for (double z : {0.0, 1.0})
+      for (const auto& v : p) obj << "v " << v[0] << " " << v[1] << " " << z << "\n";
+    const int cap[4][3] = {{3, 4, 5}, {3, 5, 0}, {3, 0, 1}, {3, 1, 2}};
+    for (const auto& t : cap) {
+      obj << "f " << t[0] + 1 << " " << t[2] + 1 << " " << t[1] + 1 << "\n";
+      obj << "f " << t[0] + 7 << " " << t[1] + 7 << " " << t[2] + 7 << "\n";
+    }
+    for (int i = 0; i < 6; ++i) {
+      const int j = (i + 1) % 6;
+      obj << "f " << i + 1 << " " << j + 1 << " " << j + 7 << "\n";
+      obj << "f " << i + 1 << " " << j + 7 << " " << i + 7 << "\n";
+    }
+  }
+  std::ofstream(dir / "l.xml") << R"(<mujoco><asset><mesh file="L.obj" scale="0.125 0.125 0.125"/></asset><worldbody>
+    <body name="l" pos="0 0 1"><freejoint/><geom type="mesh" mesh="L" pos="0.02 -0.01 0.03" euler="20 -30 40"/>
+      <geom type="capsule" fromto="0 0 0 0.1 0 0" size="0.02"/></body></worldbody></mujoco>)";
+  MjcfOptions mj222;
+  mj222.mesh_inertia = Geom::MeshInertia::MuJoCo222;
+  expect_same_model_file(dir / "l.xml", mj222, 1e-7);
+  const Model exact = model_load_file(dir / "l.xml", "l.xml");
+  const Model legacy = model_load_file(dir / "l.xml", "l.xml", mj222);
+  const double capsule = 1000 * (M_PI * 0.02 * 0.02 * 0.1 + 4.0 / 3 * M_PI * 0.02 * 0.02 * 0.02);
+  EXPECT_NEAR(exact.bodies[1].mass - capsule, 1000 * 3.0 / 512, 1e-9);
+  EXPECT_NEAR(legacy.bodies[1].mass - capsule, 1000.0 / 512 * std::sqrt(35.0 / 3), 1e-9);
+  std::filesystem::remove_all(dir);
+
+  const auto mug = std::filesystem::path(PLIANT_MUJOCO_MODEL_DIR) / "mug/mug.xml";
+  char err[1000] = "";
+  mjModel* mj = mj_loadXML(mug.c_str(), nullptr, err, sizeof(err));
+  ASSERT_NE(mj, nullptr) << err;
+  const Model ours = model_load_file(mug, "mug.xml", mj222);
+  const Model solid = model_load_file(mug, "mug.xml");
+  ASSERT_EQ(static_cast<int>(ours.bodies.size()), mj->nbody);
+  for (int b = 1; b < mj->nbody; ++b) {
+    EXPECT_NEAR(ours.bodies[b].mass, mj->body_mass[b], 1e-6 * mj->body_mass[b]) << b;
+    for (int a = 0; a < 3; ++a) EXPECT_NEAR(ours.bodies[b].com[a], mj->body_ipos[3 * b + a], 1e-7) << b;
+    Eigen::SelfAdjointEigenSolver<Mat3> eig(ours.bodies[b].inertia);
+    std::vector<double> mj_p(mj->body_inertia + 3 * b, mj->body_inertia + 3 * b + 3);
+    std::sort(mj_p.begin(), mj_p.end());
+    for (int a = 0; a < 3; ++a) EXPECT_NEAR(eig.eigenvalues()[a], mj_p[a], 1e-6 * mj_p[2]) << b;
+  }
+  // The mesh is the cup body's only mesh: its solid mass is 0.133 kg of MuJoCo's 0.379.
+  EXPECT_LT(solid.bodies[1].mass, mj->body_mass[1] - 0.2);
+  mj_deleteModel(mj);
 }
 
 // <include> (nested, named from the main file's folder): the expanded model compiles

@@ -18,8 +18,12 @@ namespace pliant::articulated {
 // contact-pair `solref`, `solimp`, `solmix`; joint `solreflimit`, `solimplimit`,
 // `solreffriction`, `solimpfriction`; option `impratio`, `cone`, `noslip_*`), are
 // recorded in Model::ignored_attributes instead of exiting 2, so gym-style models load.
+// mesh_inertia: mesh geoms' mass properties, the enclosed solid's (Exact, default) or
+// libmujoco 2.2.2's (MuJoCo222: its mass from the equivalent inertia box, larger for
+// most shapes, e.g. 1.44x for the mug of libmujoco-samples), for side-by-side runs.
 struct MjcfOptions {
   bool ignore_solver_params = false;
+  Geom::MeshInertia mesh_inertia = Geom::MeshInertia::Exact;
 };
 
 // Mesh files (<asset><mesh file=.../>) are read relative to base_dir (the MJCF

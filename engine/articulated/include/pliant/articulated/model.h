@@ -91,6 +91,9 @@ struct Geom {
   // (primitive_meshes.cpp) for contact; their mass and inertia are the exact shape's
   // from `size` (cylinder: radius, half-height; ellipsoid: the three radii), as MuJoCo's.
   enum class Tessellated { None, Cylinder, Ellipsoid } tessellates = Tessellated::None;
+  // Mass properties of a mesh geom: the enclosed solid's (Exact), or what MuJoCo 2.2.2
+  // compiles (mesh_mujoco222_moments; MjcfOptions::mesh_inertia).
+  enum class MeshInertia { Exact, MuJoCo222 } mesh_inertia = MeshInertia::Exact;
   // Contact parameters (MJCF friction / margin / condim / priority), mixed per contact
   // by contact_mix (contact.h) as MuJoCo 2.2.2 mixes them for automatic contacts.
   // friction: the sliding (Coulomb) coefficient; < 0: unset, the scene's contact.mu
@@ -178,6 +181,15 @@ void geom_mass_properties(const Geom& g, double* mass, Mat3* inertia);
 // Volume, centre and second moment (integral p p^T) of a closed, outward-oriented
 // triangle mesh (divergence theorem over tetrahedra from the origin).
 void mesh_volume_moments(const MeshShape& mesh, double* volume, Vec3* centre, Mat3* second);
+// MuJoCo 2.2.2's compiled mesh mass properties (its pre-3.0 rule; reproduced so MJCF
+// models with mesh geoms compile to libmujoco 2.2.2's masses): tetrahedra from the
+// area-weighted surface centroid counted with |volume| give the centre; tetrahedra
+// from that centre, again unsigned, give *volume and the *second moment about it;
+// the mass is density times *mass_volume, the volume of the box with the same
+// principal moments per unit mass (8 a b c, a^2 = 3 (J2 + J3 - J1) / (2 volume)).
+// Equal to mesh_volume_moments' for a box, larger for most other shapes (an L-shaped
+// prism of volume 3: 3.4157 = sqrt(35/3); MuJoCo issue #1472 describes the change).
+void mesh_mujoco222_moments(const MeshShape& mesh, double* mass_volume, double* volume, Vec3* centre, Mat3* second);
 
 // A chain of `links` capsules along +x, each body with two hinges (about y then
 // z: a 2-DOF ball joint) at its start; used by scenes, tests and the benchmark.
