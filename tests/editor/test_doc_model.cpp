@@ -58,7 +58,7 @@ TEST(RecentFiles, NewestFirstNoDuplicatesAtMostTen) {
   fs::path f = h.dir / "recent.json";
   {
     RecentFiles r(f);
-    for (int i = 0; i < 13; ++i) r.add(h.dir / ("s" + std::to_string(i) + ".json"));
+    for (int i = 0; i < 13; ++i) r.add(h.dir / (std::string("s") += std::to_string(i) + ".json"));  // (+=: GCC 12 -Wrestrict)
     r.add(h.dir / "s5.json");
   }
   RecentFiles r(f);

@@ -424,6 +424,47 @@ TEST(EditorArticulated, DroppedGymStyleMjcfLoadsIgnoringItsSolverParameters) {
 }
 
 #ifdef PLIANT_HAVE_ARTICULATED
+// An MJCF mesh geom's mass: the "mesh inertia" combo of an MJCF model switches
+// /mjcf/mesh_inertia from the enclosed solid's (an L prism of volume 3/512 m^3: 5.86
+// kg) to libmujoco 2.2.2's rule (sqrt(35/3)/512 m^3: 6.67 kg) in one undo step, and the
+// model summary's total mass follows.
+TEST(EditorArticulated, MeshInertiaComboSwitchesToMuJoCosMeshMass) {
+  EditorHarness h("art_mesh_inertia");
+  fs::path scene = h.copy_scene("articulated_chain.json");
+  {
+    std::ofstream obj(h.dir / "L.obj");
+    const int p[6][2] = {{0, 0}, {2, 0}, {2, 1}, {1, 1}, {1, 2}, {0, 2}};
+    for (int z : {0, 1})
+      for (const auto& v : p) obj << "v " << v[0] << " " << v[1] << " " << z << "\n";
+    const int cap[4][3] = {{3, 4, 5}, {3, 5, 0}, {3, 0, 1}, {3, 1, 2}};
+    for (const auto& t : cap) obj << "f " << t[0] + 1 << " " << t[2] + 1 << " " << t[1] + 1 << "\nf " << t[0] + 7 << " "
+                                  << t[1] + 7 << " " << t[2] + 7 << "\n";
+    for (int i = 0; i < 6; ++i) {
+      const int j = (i + 1) % 6;
+      obj << "f " << i + 1 << " " << j + 1 << " " << j + 7 << "\nf " << i + 1 << " " << j + 7 << " " << i + 7 << "\n";
+    }
+  }
+  std::ofstream(h.dir / "l.xml") << "<mujoco><asset><mesh file=\"L.obj\" scale=\"0.125 0.125 0.125\"/></asset>"
+                                    "<worldbody><body name=\"l\" pos=\"0 0 1\"><freejoint/>"
+                                    "<geom type=\"mesh\" mesh=\"L\"/></body></worldbody></mujoco>";
+  h.start(scene, /*gl=*/false, 1280, 1600);
+  ASSERT_EQ(h.run("wait 1\n"), "");
+  EXPECT_EQ(h.app->marks.find("/mjcf/mesh_inertia"), nullptr);  // inline chain: no MJCF keys
+  ASSERT_TRUE(articulated_on_drop(*h.app, (h.dir / "l.xml").string()));
+  ASSERT_EQ(h.run("wait 2\n"), "");
+  const auto summary = [&] { return h.app->kind_ui.get<ArticulatedUiState>("articulated").summary; };
+  EXPECT_NE(summary().find("5.86 kg"), std::string::npos) << summary();
+  ASSERT_NE(h.app->marks.find("/mjcf/mesh_inertia"), nullptr);
+  const size_t steps = h.app->doc.history().size();
+  ASSERT_EQ(h.run("click_item /mjcf/mesh_inertia\nwait 1\nclick_item /mjcf/mesh_inertia=mujoco-2.2.2\nwait 2\n"), "");
+  EXPECT_EQ(h.app->doc.scene()["mjcf"]["mesh_inertia"], "mujoco-2.2.2");
+  EXPECT_EQ(h.app->doc.history().size(), steps + 1);
+  EXPECT_NE(summary().find("6.67 kg"), std::string::npos) << summary();
+  h.app->cmd_undo();
+  ASSERT_EQ(h.run("wait 2\n"), "");
+  EXPECT_NE(summary().find("5.86 kg"), std::string::npos) << summary();
+}
+
 // With no take the viewport shows the model at its initial state (the record a run
 // writes as frame 0, energies the engine's); an edit of the initial pose redraws it;
 // Simulate's take replaces it.
