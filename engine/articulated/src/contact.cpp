@@ -49,8 +49,37 @@ std::vector<Vec3> mesh_contact_samples(const MeshShape& mesh) {
   return out;
 }
 
+namespace {
+// A cylinder's or ellipsoid's points for plane `plane` (contact.h, PointRole::Plane):
+// the ellipsoid's support point; the cylinder's two rims' and its cap rings.
+void add_plane_points(const Geom& g, int gi, int plane, std::vector<ContactPoint>* pts) {
+  const auto add = [&](PointSupport s, const Vec3& local) {
+    ContactPoint cp{g.body, local, 0.0, gi};
+    cp.role = PointRole::Plane;
+    cp.support = s;
+    cp.plane = plane;
+    pts->push_back(cp);
+  };
+  if (g.tessellates == Geom::Tessellated::Ellipsoid) {
+    add(PointSupport::Ellipsoid, g.pos);
+    return;
+  }
+  const Mat3 r = g.quat.toRotationMatrix();
+  for (int cap : {-1, 1}) {
+    add(cap < 0 ? PointSupport::RimLow : PointSupport::RimHigh, g.pos);
+    for (int i = 0; i < kCapRingPoints; ++i) {
+      const double a = 2 * M_PI * i / kCapRingPoints, rr = kCapRingRadius * g.size[0];
+      add(PointSupport::Fixed, g.pos + r * Vec3(rr * std::cos(a), rr * std::sin(a), cap * g.size[1]));
+    }
+  }
+}
+}  // namespace
+
 std::vector<ContactPoint> contact_points(const Model& m) {
   std::vector<ContactPoint> pts;
+  std::vector<int> planes;
+  for (int o : contact_obstacles(m))
+    if (m.geoms[o].type == GeomType::Plane) planes.push_back(o);
   for (int gi = 0; gi < static_cast<int>(m.geoms.size()); ++gi) {
     const Geom& g = m.geoms[gi];
     if (g.body == 0 || !g.contact) continue;
@@ -63,9 +92,16 @@ std::vector<ContactPoint> contact_points(const Model& m) {
       case GeomType::Box:
         for (int c = 0; c < 8; ++c) pts.push_back({g.body, g.pos + r * box_corner(g.size, c), 0.0, gi});
         break;
-      case GeomType::Mesh:  // vertices plus edge and face samples
-        for (const Vec3& v : mesh_contact_samples(*g.mesh)) pts.push_back({g.body, g.pos + r * v, 0.0, gi});
+      case GeomType::Mesh: {  // vertices plus edge and face samples
+        const bool exact = g.tessellates != Geom::Tessellated::None && g.exact_plane_contact && !planes.empty();
+        for (const Vec3& v : mesh_contact_samples(*g.mesh)) {
+          pts.push_back({g.body, g.pos + r * v, 0.0, gi});
+          if (exact) pts.back().role = PointRole::NotPlanes;
+        }
+        if (exact)
+          for (int pl : planes) add_plane_points(g, gi, pl, &pts);
         break;
+      }
       case GeomType::Plane: break;
     }
   }
@@ -137,9 +173,9 @@ void find_contacts(const Model& m, const Kinematics& k, const std::vector<Contac
     const ContactPoint& cp = pts[i];
     cull.update(m, k, cp, obs, mixed);
     if (cull.skip_all()) continue;
-    const Vec3 c = k.xpos[cp.body] + k.xmat[cp.body] * cp.local;
+    const Vec3 c = k.xpos[cp.body] + k.xmat[cp.body] * contact_point_local(m, cp, k.xmat[cp.body]);
     for (int o = 0; o < no; ++o) {
-      if (cull.skip(o)) continue;
+      if (cull.skip(o) || !point_meets(m, cp, obs[o])) continue;
       Vec3 n;
       const ContactMix mix = mixed ? point_contact_mix(m, cp, obs[o]) : ContactMix{};
       const double reach = cp.radius + mix.margin;  // the margin as extra radius

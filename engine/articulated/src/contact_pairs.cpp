@@ -15,6 +15,9 @@ double geom_bounding_radius(const Geom& g) {
     case GeomType::Capsule: return g.size[0] + g.size[1];
     case GeomType::Box: return g.size.norm();
     case GeomType::Mesh: {
+      // The exact shape's (its plane points, contact_support.cpp, lie on it).
+      if (g.tessellates == Geom::Tessellated::Ellipsoid) return g.size.maxCoeff();
+      if (g.tessellates == Geom::Tessellated::Cylinder) return std::hypot(g.size[0], g.size[1]);
       double r = 0;
       for (const Vec3& v : g.mesh->vertices) r = std::max(r, v.norm());
       return r;

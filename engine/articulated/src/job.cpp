@@ -33,6 +33,8 @@ ArticulatedScene articulated_compile(const Scene& scene) {
     // "mujoco-2.2.2": mesh geoms get the masses libmujoco 2.2.2 compiles (io.h).
     if (x->choice("mesh_inertia", "exact", {"exact", "mujoco-2.2.2"}) == "mujoco-2.2.2")
       mjcf.mesh_inertia = Geom::MeshInertia::MuJoCo222;
+    // "tessellated": cylinders and ellipsoids meet planes through their tessellation.
+    mjcf.exact_plane_contact = x->choice("curved_contact", "exact", {"exact", "tessellated"}) == "exact";
     x->finish();
   }
   if (mv.is_string()) {

@@ -24,6 +24,7 @@ Model model_from_mjcf(const std::string& text, const std::string& file, const st
   Ctx c(file);
   c.ignore_solver_params = options.ignore_solver_params;
   c.mesh_inertia = options.mesh_inertia;
+  c.exact_plane_contact = options.exact_plane_contact;
   expand_includes(c, root, base_dir);
   // Compiler settings and default classes first: they apply wherever they appear.
   Defaults defaults;

@@ -116,6 +116,7 @@ void read_geom(Ctx& c, const XmlElement& e, const std::string& path, int body) {
     g.mesh = std::make_shared<const MeshShape>(cylinder_mesh(g.size[0], g.size[1]));
   if (g.tessellates == Geom::Tessellated::Ellipsoid) g.mesh = std::make_shared<const MeshShape>(ellipsoid_mesh(g.size));
   if (g.tessellates != Geom::Tessellated::None) g.type = GeomType::Mesh;
+  g.exact_plane_contact = c.exact_plane_contact;
   // Integers as in MuJoCo: obstacles touch a geom whose contype or conaffinity is
   // nonzero; body-body pairs use the bitmask rule (contact_geom_pairs).
   const double contype = number(c, e, path, "contype", 1, 0), conaff = number(c, e, path, "conaffinity", 1, 0);

@@ -30,6 +30,7 @@ struct Ctx {
   bool global = false;             // compiler coordinate="global" (mjcf_global.cpp)
   bool ignore_solver_params = false;  // MjcfOptions (io.h): record, not reject, geom/pair solref/solimp/solmix
   Geom::MeshInertia mesh_inertia = Geom::MeshInertia::Exact;  // MjcfOptions (io.h)
+  bool exact_plane_contact = true;                            // MjcfOptions (io.h)
   std::filesystem::path mesh_dir;
   std::map<std::string, std::shared_ptr<const MeshShape>> meshes;  // <asset><mesh name=...>
 };

@@ -176,11 +176,18 @@ double pbad_energy(const Model& m, const SimOptions& o, const State& s, const Pb
       // Out of every obstacle's reach and without a normal force at q_i: no term at all
       // (the obstacle loop below was most of this function's time in a pile of meshes).
       if (cull.skip_all() && i < p.point_pressed.size() && !p.point_pressed[i]) continue;
-      const Vec3 x = k.xpos[cp.body] + k.xmat[cp.body] * cp.local;
+      // A support point (contact.h) moves on its body: its normal term acts at the
+      // current deepest point, its friction on the material point xm that touched at q_i.
+      const bool support = cp.support != PointSupport::Fixed;
+      Mat3 curvature;
+      const Vec3 local = support ? support_point_local(m, cp, k.xmat[cp.body], exact ? &curvature : nullptr) : cp.local;
+      const Vec3 x = k.xpos[cp.body] + k.xmat[cp.body] * local;
+      const Vec3 xm = support ? Vec3(k.xpos[cp.body] + k.xmat[cp.body] * p.prev_local[i]) : x;
       for (int ob = 0; ob < no; ++ob) {
         const int slot = static_cast<int>(i) * no + ob;
         // Out of reach and without last step's normal force (no friction term either).
         if (cull.skip(ob) && (slot >= nprev || s.normal_force_prev[slot] <= 0)) continue;
+        if (cp.role != PointRole::All && !point_meets(m, cp, ws.obstacles[ob])) continue;
         Vec3 n;
         const MeshBvh* tree = ob < static_cast<int>(ws.obstacle_trees.size()) ? &ws.obstacle_trees[ob] : nullptr;
         const ContactMix mix = ws.geom_mix ? point_contact_mix(m, cp, ws.obstacles[ob]) : ContactMix{};
@@ -190,26 +197,34 @@ double pbad_energy(const Model& m, const SimOptions& o, const State& s, const Pb
           if (derivs) {
             add_point_force(ws, cp.body, x, kk * dist * n, exact);
             ws.h[cp.body] += point_hessian(x, kk * n * n.transpose());
+            if (exact && support) {
+              // + kk dist [n] H [n] on the rotation block (contact.h), entered through the
+              // moment M (geometric_block_transposed takes M^T - tr(M) I): M = C - tr(C)/2 I.
+              Mat3 nx;  // [n], the cross product matrix
+              nx << 0, -n.z(), n.y(), n.z(), 0, -n.x(), -n.y(), n.x(), 0;
+              const Mat3 cc = kk * dist * nx * curvature * nx;
+              ws.moment[cp.body] += cc - 0.5 * cc.trace() * Mat3::Identity();
+            }
           }
         }
         const double fn = slot < static_cast<int>(s.normal_force_prev.size()) ? s.normal_force_prev[slot] : 0;
         if (fn <= 0 || o.contact.friction == FrictionModel::None || mix.frictionless) continue;
         if (mix.condim > 3 && p.any_spin) {  // out of line: no work here for condim <= 3
-          e += spin_contact_friction(ws, o, k, p, cp, p.prev_points[i], x, n, fn, mix, derivs, exact);
+          e += spin_contact_friction(ws, o, k, p, cp, p.prev_points[i], xm, n, fn, mix, derivs, exact);
           continue;
         }
         if (cp.radius + mix.margin > 0) {
-          e += contact_point_friction(ws, o, k, p, cp, p.prev_points[i], x, n, fn, cp.radius + mix.margin, mix,
+          e += contact_point_friction(ws, o, k, p, cp, p.prev_points[i], xm, n, fn, cp.radius + mix.margin, mix,
                                       derivs, exact);
           continue;
         }
         const Mat3 pt = Mat3::Identity() - n * n.transpose();
-        const Vec3 st = pt * (x - p.prev_points[i]);
+        const Vec3 st = pt * (xm - p.prev_points[i]);
         double g;
         e += slip_friction(o, fn, st, &g, contact_mu(mix, o.contact.mu));
         if (derivs) {
-          add_point_force(ws, cp.body, x, g * st, exact);
-          ws.h[cp.body] += point_hessian(x, g * pt);
+          add_point_force(ws, cp.body, xm, g * st, exact);
+          ws.h[cp.body] += point_hessian(xm, g * pt);
         }
       }
     }

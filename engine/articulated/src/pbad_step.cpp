@@ -137,8 +137,12 @@ void pbad_begin(const Model& m, const SimOptions& o, State& s, PbadStep& p, SimW
     for (int f = 1; f <= used; ++f) p.armature_target -= c[f + 1] / c[0] * qpos_difference(m, s.past[f - 1], s.qpos);
   }
   p.prev_points.resize(ws.points.size());
-  for (size_t i = 0; i < ws.points.size(); ++i)
-    p.prev_points[i] = k0.xpos[ws.points[i].body] + k0.xmat[ws.points[i].body] * ws.points[i].local;
+  p.prev_local.resize(ws.points.size());
+  for (size_t i = 0; i < ws.points.size(); ++i) {
+    const int b = ws.points[i].body;
+    p.prev_local[i] = contact_point_local(m, ws.points[i], k0.xmat[b]);
+    p.prev_points[i] = k0.xpos[b] + k0.xmat[b] * p.prev_local[i];
+  }
   const size_t no = ws.obstacles.size();
   p.point_pressed.assign(ws.points.size(), 0);
   for (size_t slot = 0; slot < s.normal_force_prev.size(); ++slot)

@@ -62,14 +62,15 @@ TEST(Contact, BoundingSphereCullKeepsEveryContactOfTheFullTest) {
   std::vector<Contact> full;  // every point against every obstacle
   for (size_t i = 0; i < pts.size(); ++i)
     for (size_t o = 0; o < obs.size(); ++o) {
-      const Vec3 c = k.xpos[pts[i].body] + k.xmat[pts[i].body] * pts[i].local;
+      if (!point_meets(m, pts[i], obs[o])) continue;  // cylinders' / ellipsoids' plane points
+      const Vec3 c = k.xpos[pts[i].body] + k.xmat[pts[i].body] * contact_point_local(m, pts[i], k.xmat[pts[i].body]);
       Vec3 n;
       const double reach = pts[i].radius + point_contact_mix(m, pts[i], obs[o]).margin;
       const double d = obstacle_distance(m.geoms[obs[o]], nullptr, c, &n) - reach;
       if (d < 0) full.push_back({static_cast<int>(i * obs.size() + o), pts[i].body, c - reach * n, n, -d, Vec3::Zero(), ContactMix{}});
     }
   ASSERT_EQ(found.size(), full.size());
-  EXPECT_GT(found.size(), 50u);
+  EXPECT_GT(found.size(), 30u);
   for (size_t i = 0; i < full.size(); ++i) {
     EXPECT_EQ(found[i].slot, full[i].slot) << i;
     EXPECT_EQ(found[i].depth, full[i].depth) << i;

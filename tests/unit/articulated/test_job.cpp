@@ -368,5 +368,33 @@ TEST(Job, MjcfMeshInertiaSelectsTheSolidsOrMuJoCosMass) {
   std::filesystem::remove_all(dir);
 }
 
+// "mjcf": {"curved_contact": "tessellated"} makes cylinders and ellipsoids meet planes
+// through their tessellation's samples (default "exact": support points); an unknown
+// value names the field.
+TEST(Job, MjcfCurvedContactSelectsSupportPointsOrTheTessellation) {
+  const auto dir = std::filesystem::temp_directory_path() / ("pliant_curved_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "c.xml") << R"(<mujoco><worldbody><geom type="plane"/>
+      <body pos="0 0 1"><freejoint/><geom type="cylinder" size="0.05 0.1"/></body></worldbody></mujoco>)";
+  nlohmann::json j = {{"pliant", 1}, {"kind", "articulated"}, {"model", (dir / "c.xml").string()}, {"duration_s", 0.1}};
+  const auto supports = [&] {
+    int n = 0;
+    for (const ContactPoint& p : contact_points(articulated_compile(scene_of(j)).model)) n += p.support != PointSupport::Fixed;
+    return n;
+  };
+  EXPECT_EQ(supports(), 2);  // the two rims
+  j["mjcf"] = {{"curved_contact", "tessellated"}};
+  EXPECT_EQ(supports(), 0);
+  j["mjcf"] = {{"curved_contact", "smooth"}};
+  std::string problem;
+  try {
+    articulated_compile(scene_of(j));
+  } catch (const InputError& e) {
+    problem = e.pointer() + " | " + e.problem();
+  }
+  EXPECT_NE(problem.find("/mjcf/curved_contact"), std::string::npos) << problem;
+  std::filesystem::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace pliant::articulated

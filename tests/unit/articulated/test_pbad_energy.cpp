@@ -69,6 +69,19 @@ TEST(Sim, ExactHessianInvertsFiniteDifferenceHessian) {
   t.qvel << -1, 0.5, 2;
   o.contact.friction = FrictionModel::None;
   expect_exact_hessian(legged, t, o);
+  // Support points (contact_support.cpp): an ellipsoid and a cylinder pressed into a
+  // tilted plane, turning on hinges; their curvature term [n] H [n] is in the model.
+  for (const char* shape : {R"(type="ellipsoid" size="0.08 0.05 0.12" pos="0.02 0 0" euler="20 10 0")",
+                            R"(type="cylinder" size="0.06 0.1" pos="0 0.03 0" euler="70 10 0")"}) {
+    const Model curved = model_from_mjcf(std::string(R"(<mujoco><worldbody><geom type="plane" euler="6 -4 0"/>
+      <body pos="0 0 0.1"><joint type="slide" axis="0 0 1"/><joint type="hinge" axis="0 1 0"/>
+        <joint type="hinge" axis="1 0 0.3"/><geom )") + shape + "/></body></worldbody></mujoco>",
+                                         "curved.xml");
+    State c = state_init(curved);
+    c.qpos << -0.02, 0.3, -0.2;
+    c.qvel << -1, 0.5, 2;
+    expect_exact_hessian(curved, c, o);
+  }
 }
 
 // A body-body contact in the exact-Hessian LM model: Gauss-Newton only (pbad_energy.cpp).

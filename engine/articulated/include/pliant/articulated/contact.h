@@ -89,14 +89,55 @@ inline double contact_mu(const ContactMix& c, double scene_mu) {
   return c.scene_mu ? std::max(c.mu, scene_mu) : c.mu;
 }
 
+// Which obstacles a body point meets. Cylinders and ellipsoids (Geom::tessellates with
+// Geom::exact_plane_contact) meet planes at their exact surface, through points of
+// role Plane (contact_support.cpp), and every other obstacle through their
+// tessellation's samples (role NotPlanes).
+enum class PointRole : unsigned char { All, NotPlanes, Plane };
+// A Plane point's place on its geom: fixed (cp.local), or a support point, the
+// deepest point of the shape along the plane's normal, recomputed at every pose: the
+// ellipsoid's, or the rim of the cylinder's -z / +z end cap.
+enum class PointSupport : unsigned char { Fixed, Ellipsoid, RimLow, RimHigh };
+
 // A contact candidate: one body point, one obstacle.
 struct ContactPoint {
   int body;
-  Vec3 local;      // in body frame
+  Vec3 local;      // in body frame (a support point: unused, see contact_point_local)
   double radius;
   int geom = -1;   // the geom it belongs to (contact_mix with the obstacle)
   double geom_radius = -1;  // that geom's bounding radius (ObstacleCull; < 0: unknown, not culled)
+  PointRole role = PointRole::All;
+  PointSupport support = PointSupport::Fixed;
+  int plane = -1;  // role Plane: the plane obstacle's geom index
 };
+// Whether point p is tested against obstacle geom `obstacle`.
+inline bool point_meets(const Model& m, const ContactPoint& p, int obstacle) {
+  switch (p.role) {
+    case PointRole::All: return true;
+    case PointRole::NotPlanes: return m.geoms[obstacle].type != GeomType::Plane;
+    case PointRole::Plane: return obstacle == p.plane;
+  }
+  return true;
+}
+// Point p's body-frame position with its body at world rotation `rot`: p.local, or a
+// support point's place for this pose (contact_support.cpp). With `curvature`, also the
+// world-frame Hessian H of the shape's support function h(u) = max_y u . y at u = -n (n:
+// the plane's normal; zero for fixed points): the support point's distance to the plane
+// then has the rotational Hessian of a fixed point there plus [n] H [n] (envelope
+// theorem; pbad_energy.cpp adds it to the exact Hessian).
+Vec3 support_point_local(const Model& m, const ContactPoint& p, const Mat3& rot, Mat3* curvature);
+inline Vec3 contact_point_local(const Model& m, const ContactPoint& p, const Mat3& rot, Mat3* curvature = nullptr) {
+  if (p.support == PointSupport::Fixed) {
+    if (curvature) curvature->setZero();
+    return p.local;
+  }
+  return support_point_local(m, p, rot, curvature);
+}
+// Cylinders' fixed plane points: kCapRingPoints on a ring of kCapRingRadius x the
+// radius inside each cap, so an upright cylinder stands on its face; inside the rim,
+// they never touch a plane the cylinder rolls on (its rims' support points carry that).
+constexpr int kCapRingPoints = 8;
+constexpr double kCapRingRadius = 0.9;
 
 struct Contact {
   int slot;        // point * nobstacles + obstacle

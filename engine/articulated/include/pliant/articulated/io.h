@@ -21,9 +21,12 @@ namespace pliant::articulated {
 // mesh_inertia: mesh geoms' mass properties, the enclosed solid's (Exact, default) or
 // libmujoco 2.2.2's (MuJoCo222: its mass from the equivalent inertia box, larger for
 // most shapes, e.g. 1.44x for the mug of libmujoco-samples), for side-by-side runs.
+// exact_plane_contact: cylinders and ellipsoids meet planes at their exact surface
+// (true, default) or through their tessellation's samples (Geom::exact_plane_contact).
 struct MjcfOptions {
   bool ignore_solver_params = false;
   Geom::MeshInertia mesh_inertia = Geom::MeshInertia::Exact;
+  bool exact_plane_contact = true;
 };
 
 // Mesh files (<asset><mesh file=.../>) are read relative to base_dir (the MJCF

@@ -91,6 +91,10 @@ struct Geom {
   // (primitive_meshes.cpp) for contact; their mass and inertia are the exact shape's
   // from `size` (cylinder: radius, half-height; ellipsoid: the three radii), as MuJoCo's.
   enum class Tessellated { None, Cylinder, Ellipsoid } tessellates = Tessellated::None;
+  // A tessellated geom against planes: the exact shape (support points,
+  // contact_support.cpp; default) or the tessellation's samples
+  // (MjcfOptions::curved_contact "tessellated").
+  bool exact_plane_contact = true;
   // Mass properties of a mesh geom: the enclosed solid's (Exact), or what MuJoCo 2.2.2
   // compiles (mesh_mujoco222_moments; MjcfOptions::mesh_inertia).
   enum class MeshInertia { Exact, MuJoCo222 } mesh_inertia = MeshInertia::Exact;

@@ -105,6 +105,9 @@ struct PbadStep {
   std::vector<Vec3> y;  // target centre per body
   std::vector<Mat3> a;  // target rotation per body
   std::vector<Vec3> prev_points;  // world positions of contact points at q_i
+  // Their body-frame places at q_i (a support point's moves on its body: friction acts
+  // on the material point that touched at q_i, so an ellipsoid rolls).
+  std::vector<Vec3> prev_local;
   std::vector<char> point_pressed;  // per contact point: a normal force on it at q_i (friction)
   bool any_spin = false;          // condim 4 / 6 somewhere (any_spin_friction)
   std::vector<Mat3> prev_rot;     // body rotations at q_i (contact with friction on)
