@@ -137,9 +137,10 @@ const std::string& model_summary(App& app) {
     double mass = 0;
     for (const auto& b : m.bodies) mass += b.mass;
     char buf[256];
-    std::snprintf(buf, sizeof buf, "%d bodies, %zu geoms, nq %d, nv %d, %zu actuators, %.3g kg; %d frames",
+    std::snprintf(buf, sizeof buf,
+                  "%d bodies, %zu geoms, nq %d, nv %d, %zu actuators, %.3g kg, %zu contact points; %d frames",
                   int(m.bodies.size()) - 1, m.geoms.size(), m.nq, m.nv, m.actuators.size(), mass,
-                  a.mpc ? a.steps + 1 : a.frames);
+                  articulated::contact_points(m).size(), a.mpc ? a.steps + 1 : a.frames);
     st.summary = buf;
     if (!m.ignored_attributes.empty())
       st.summary += "; " + std::to_string(m.ignored_attributes.size()) +
@@ -190,6 +191,10 @@ void draw_inspector(App& app) {
       tooltip("mesh geoms' mass and inertia: the enclosed solid's (exact), or what libmujoco 2.2.2 "
               "compiles (its mass from the equivalent inertia box, larger for most shapes) to match "
               "MuJoCo side by side");
+      json_choice(doc, "curved contact", "/mjcf/curved_contact", "exact", {"exact", "tessellated"});
+      tooltip("cylinders and ellipsoids against planes: at their exact surface (exact: the deepest point "
+              "of the shape, so a cylinder rolls smoothly), or through the points of their tessellation "
+              "(a 32-gon for a cylinder); against other obstacles and bodies the tessellation either way");
     }
     if (ImGui::SmallButton("Inline chain")) {
       doc.set("/model", json{{"chain", {{"links", 10}, {"link_length", 0.1}, {"radius", 0.01}}}});

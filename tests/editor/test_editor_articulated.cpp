@@ -465,6 +465,37 @@ TEST(EditorArticulated, MeshInertiaComboSwitchesToMuJoCosMeshMass) {
   EXPECT_NE(summary().find("5.86 kg"), std::string::npos) << summary();
 }
 
+// Cylinders and ellipsoids against planes: the "curved contact" combo switches
+// /mjcf/curved_contact from the exact surface (a cylinder's two rims' support points
+// and its two cap rings of kCapRingPoints) to the tessellation alone, in one undo step;
+// the summary's contact point count follows.
+TEST(EditorArticulated, CurvedContactComboSwitchesCylindersToTheirTessellation) {
+  EditorHarness h("art_curved_contact");
+  fs::path scene = h.copy_scene("articulated_chain.json");
+  std::ofstream(h.dir / "c.xml") << "<mujoco><worldbody><geom type=\"plane\"/><body name=\"c\" pos=\"0 0 1\">"
+                                    "<freejoint/><geom type=\"cylinder\" size=\"0.05 0.1\"/></body></worldbody></mujoco>";
+  h.start(scene, /*gl=*/false, 1280, 1600);
+  ASSERT_EQ(h.run("wait 1\n"), "");
+  ASSERT_TRUE(articulated_on_drop(*h.app, (h.dir / "c.xml").string()));
+  ASSERT_EQ(h.run("wait 2\n"), "");
+  const auto points = [&] {
+    const std::string s = h.app->kind_ui.get<ArticulatedUiState>("articulated").summary;
+    const size_t at = s.find(" contact points");
+    EXPECT_NE(at, std::string::npos) << s;
+    return at == std::string::npos ? -1 : std::stoi(s.substr(s.rfind(' ', at - 1) + 1));
+  };
+  const int exact = points();
+  ASSERT_NE(h.app->marks.find("/mjcf/curved_contact"), nullptr);
+  const size_t steps = h.app->doc.history().size();
+  ASSERT_EQ(h.run("click_item /mjcf/curved_contact\nwait 1\nclick_item /mjcf/curved_contact=tessellated\nwait 2\n"), "");
+  EXPECT_EQ(h.app->doc.scene()["mjcf"]["curved_contact"], "tessellated");
+  EXPECT_EQ(h.app->doc.history().size(), steps + 1);
+  EXPECT_EQ(exact - points(), 2 + 2 * articulated::kCapRingPoints);
+  h.app->cmd_undo();
+  ASSERT_EQ(h.run("wait 2\n"), "");
+  EXPECT_EQ(points(), exact);
+}
+
 // With no take the viewport shows the model at its initial state (the record a run
 // writes as frame 0, energies the engine's); an edit of the initial pose redraws it;
 // Simulate's take replaces it.
