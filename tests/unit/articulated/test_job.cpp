@@ -17,6 +17,16 @@ namespace {
 
 Scene scene_of(const nlohmann::json& j) { return parse_scene(j.dump(), "s.json", PLIANT_ASSETS_DIR "/scenes"); }
 
+// "POINTER | PROBLEM" of the InputError compiling scene j raises, or "no error".
+std::string job_compile_problem(const nlohmann::json& j) {
+  try {
+    articulated_compile(scene_of(j));
+  } catch (const InputError& e) {
+    return e.pointer() + " | " + e.problem();
+  }
+  return "no error";
+}
+
 TEST(Job, CompileReadsOptionsAndCountsFrames) {
   const Scene sc = scene_of({{"pliant", 1},
                              {"kind", "articulated"},
@@ -184,14 +194,7 @@ TEST(Job, ContactPairsAreReadByGeomNameAndBadOnesNameThePair) {
   EXPECT_EQ(a.model.contact_pairs[0].geom2, 1);
   EXPECT_EQ(a.model.contact_pairs[0].mu, 0.2);
   EXPECT_TRUE(pair_contact_on(a.model, a.options.contact));
-  const auto error_at = [](const nlohmann::json& bad) {
-    try {
-      articulated_compile(scene_of(bad));
-    } catch (const InputError& e) {
-      return e.pointer() + " | " + e.problem();
-    }
-    return std::string("no error");
-  };
+  const auto error_at = job_compile_problem;
   nlohmann::json bad = j;
   bad["contact"]["pairs"][0]["geom2"] = "gbb";
   EXPECT_EQ(error_at(bad), "/contact/pairs/0/geom2 | no geom named \"gbb\"; did you mean \"gb\"?");
@@ -316,12 +319,7 @@ TEST(Job, MjcfSolverParametersLoadOnlyWhenTheSceneSaysToIgnoreThem) {
              f);
   std::fclose(f);
   nlohmann::json j = {{"pliant", 1}, {"kind", "articulated"}, {"model", xml.string()}, {"duration_s", 0.1}};
-  std::string problem;
-  try {
-    articulated_compile(scene_of(j));
-  } catch (const InputError& e) {
-    problem = e.pointer() + " | " + e.problem();
-  }
+  const std::string problem = job_compile_problem(j);
   EXPECT_NE(problem.find("/model | "), std::string::npos) << problem;
   EXPECT_NE(problem.find("/mujoco/worldbody[0]/geom[0]/@solimp"), std::string::npos) << problem;
   EXPECT_NE(problem.find("\"ignore_solver_params\": true"), std::string::npos) << problem;
@@ -357,12 +355,7 @@ TEST(Job, MjcfMeshInertiaSelectsTheSolidsOrMuJoCosMass) {
   j["mjcf"] = {{"mesh_inertia", "mujoco-2.2.2"}};
   EXPECT_NEAR(articulated_compile(scene_of(j)).model.bodies[1].mass, std::sqrt(35.0 / 3), 1e-9);
   j["mjcf"] = {{"mesh_inertia", "legacy"}};
-  std::string problem;
-  try {
-    articulated_compile(scene_of(j));
-  } catch (const InputError& e) {
-    problem = e.pointer() + " | " + e.problem();
-  }
+  const std::string problem = job_compile_problem(j);
   EXPECT_NE(problem.find("/mjcf/mesh_inertia"), std::string::npos) << problem;
   EXPECT_NE(problem.find("mujoco-2.2.2"), std::string::npos) << problem;
   std::filesystem::remove_all(dir);
@@ -386,12 +379,7 @@ TEST(Job, MjcfCurvedContactSelectsSupportPointsOrTheTessellation) {
   j["mjcf"] = {{"curved_contact", "tessellated"}};
   EXPECT_EQ(supports(), 0);
   j["mjcf"] = {{"curved_contact", "smooth"}};
-  std::string problem;
-  try {
-    articulated_compile(scene_of(j));
-  } catch (const InputError& e) {
-    problem = e.pointer() + " | " + e.problem();
-  }
+  const std::string problem = job_compile_problem(j);
   EXPECT_NE(problem.find("/mjcf/curved_contact"), std::string::npos) << problem;
   std::filesystem::remove_all(dir);
 }
