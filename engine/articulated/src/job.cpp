@@ -52,6 +52,8 @@ ArticulatedScene articulated_compile(const Scene& scene) {
     auto mr = r.object("model");
     a.model = model_from_json(*mr, scene.asset_path("."));
     mr->finish();
+    // The same choice for a JSON model's cylinders and ellipsoids.
+    for (Geom& g : a.model.geoms) g.exact_plane_contact = mjcf.exact_plane_contact;
   }
   const Model& m = a.model;
   SimOptions& o = a.options;

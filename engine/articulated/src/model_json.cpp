@@ -32,12 +32,17 @@ Geom read_geom(JsonReader& r, int body, const std::filesystem::path& base_dir) {
   Geom g;
   g.body = body;
   g.name = r.string("name", "");
-  const std::string type = r.choice("type", "sphere", {"plane", "sphere", "capsule", "box", "mesh"});
+  const std::string type =
+      r.choice("type", "sphere", {"plane", "sphere", "capsule", "box", "mesh", "cylinder", "ellipsoid"});
+  // Cylinders (radius, half-height) and ellipsoids (three radii) read as capsule / box
+  // sizes, then become tessellated mesh geoms as in MJCF (Geom::tessellates).
   g.type = type == "plane" ? GeomType::Plane
            : type == "sphere" ? GeomType::Sphere
-           : type == "capsule" ? GeomType::Capsule
-           : type == "box" ? GeomType::Box
+           : type == "capsule" || type == "cylinder" ? GeomType::Capsule
+           : type == "box" || type == "ellipsoid" ? GeomType::Box
                            : GeomType::Mesh;
+  if (type == "cylinder") g.tessellates = Geom::Tessellated::Cylinder;
+  if (type == "ellipsoid") g.tessellates = Geom::Tessellated::Ellipsoid;
   g.pos = vec3(r, "pos", Vec3::Zero());
   g.quat = quat(r);
   g.density = r.number("density", 1000, 0);
@@ -92,7 +97,7 @@ Geom read_geom(JsonReader& r, int body, const std::filesystem::path& base_dir) {
     for (size_t k = 0; k < s.size(); ++k) g.size[k] = s[k];
   }
   if (r.has("fromto")) {
-    if (g.type != GeomType::Capsule) r.fail("fromto", "fromto is supported for capsules only");
+    if (g.type != GeomType::Capsule) r.fail("fromto", "fromto is supported for capsules and cylinders only");
     const auto f = r.numbers("fromto", {}, 6, 6);
     const Vec3 a(f[0], f[1], f[2]), b(f[3], f[4], f[5]);
     if ((b - a).norm() < 1e-12) r.fail("fromto", "zero length");
@@ -100,6 +105,10 @@ Geom read_geom(JsonReader& r, int body, const std::filesystem::path& base_dir) {
     g.size[1] = 0.5 * (b - a).norm();
     g.quat = Quat::FromTwoVectors(Vec3::UnitZ(), (b - a).normalized());
   }
+  if (g.tessellates == Geom::Tessellated::Cylinder)
+    g.mesh = std::make_shared<const MeshShape>(cylinder_mesh(g.size[0], g.size[1]));
+  if (g.tessellates == Geom::Tessellated::Ellipsoid) g.mesh = std::make_shared<const MeshShape>(ellipsoid_mesh(g.size));
+  if (g.tessellates != Geom::Tessellated::None) g.type = GeomType::Mesh;
   r.finish();
   return g;
 }

@@ -378,6 +378,13 @@ TEST(Job, MjcfCurvedContactSelectsSupportPointsOrTheTessellation) {
   EXPECT_EQ(supports(), 2);  // the two rims
   j["mjcf"] = {{"curved_contact", "tessellated"}};
   EXPECT_EQ(supports(), 0);
+  // An inline JSON model's cylinders follow the same key.
+  j["model"] = {{"bodies", {{{"name", "c"}, {"pos", {0, 0, 1}}, {"joints", {{{"type", "free"}}}},
+                             {"geoms", {{{"type", "cylinder"}, {"size", {0.05, 0.1}}}}}}}},
+                {"obstacles", {{{"type", "plane"}}}}};
+  EXPECT_EQ(supports(), 0);
+  j["mjcf"] = {{"curved_contact", "exact"}};
+  EXPECT_EQ(supports(), 2);
   j["mjcf"] = {{"curved_contact", "smooth"}};
   const std::string problem = job_compile_problem(j);
   EXPECT_NE(problem.find("/mjcf/curved_contact"), std::string::npos) << problem;

@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "pliant/articulated/contact.h"
 #include "pliant/articulated/io.h"
 #include "pliant/core/error.h"
@@ -13,6 +15,16 @@ Model from_json(const nlohmann::json& j) {
   Model m = model_from_json(r);
   r.finish();
   return m;
+}
+
+// The JSON pointer of the InputError that model j raises, or "no error".
+std::string json_error_pointer(const nlohmann::json& j) {
+  try {
+    from_json(j);
+  } catch (const InputError& e) {
+    return e.pointer();
+  }
+  return "no error";
 }
 
 TEST(ModelJson, BodiesJointsGeomsAndObstacles) {
@@ -44,14 +56,7 @@ TEST(ModelJson, BodiesJointsGeomsAndObstacles) {
 }
 
 TEST(ModelJson, ErrorsNameTheField) {
-  auto pointer_of = [](const nlohmann::json& j) {
-    try {
-      from_json(j);
-    } catch (const InputError& e) {
-      return e.pointer();
-    }
-    return std::string("no error");
-  };
+  const auto pointer_of = json_error_pointer;
   EXPECT_EQ(pointer_of({{"bodies", {{{"name", "a"}, {"parent", "nope"}}}}}), "/bodies/0/parent");
   EXPECT_EQ(pointer_of({{"bodies", {{{"name", "a"}, {"geoms", {{{"type", "cone"}}}}}}}}), "/bodies/0/geoms/0/type");
   EXPECT_EQ(pointer_of({{"bodies", {{{"name", "a"}, {"jionts", nlohmann::json::array()}}}}}), "/bodies/0/jionts");
@@ -64,6 +69,47 @@ TEST(ModelJson, ErrorsNameTheField) {
   EXPECT_EQ(pointer_of({{"bodies", {{{"name", "a"}, {"joints", {{{"stiffness", -1}}}}}}}}), "/bodies/0/joints/0/stiffness");
   EXPECT_EQ(pointer_of({{"bodies", {{{"name", "a"}, {"joints", {{{"type", "ball"}, {"stiffness", 2}}}}}}}}),
             "/bodies/0/joints/0/stiffness");
+}
+
+// Cylinders and ellipsoids in JSON as in MJCF: the same masses, inertias and geom
+// frames as the MJCF model of the same shapes (a cylinder by fromto, a posed
+// ellipsoid), tessellated mesh geoms with support points against the plane; fromto on
+// an ellipsoid names its field.
+TEST(ModelJson, CylindersAndEllipsoidsCompileAsInMjcf) {
+  const Model json = from_json(
+      {{"bodies",
+        {{{"name", "a"},
+          {"pos", {0, 0, 1}},
+          {"joints", {{{"type", "free"}}}},
+          {"geoms", {{{"type", "cylinder"}, {"fromto", {0, 0, 0, 0.2, 0.1, 0.05}}, {"size", {0.03}}},
+                     {{"type", "ellipsoid"}, {"size", {0.04, 0.06, 0.02}}, {"pos", {0.1, 0, 0}}, {"quat", {0.9, 0.1, 0.3, 0}}}}}}}},
+       {"obstacles", {{{"type", "plane"}}}}});
+  const Model mjcf = model_from_mjcf(
+      "<mujoco><worldbody><geom type=\"plane\"/><body pos=\"0 0 1\"><freejoint/>"
+      "<geom type=\"cylinder\" fromto=\"0.2 0.1 0.05 0 0 0\" size=\"0.03\"/>"
+      "<geom type=\"ellipsoid\" size=\"0.04 0.06 0.02\" pos=\"0.1 0 0\" quat=\"0.9 0.1 0.3 0\"/></body></worldbody></mujoco>",
+      "m.xml");
+  EXPECT_NEAR(json.bodies[1].mass, mjcf.bodies[1].mass, 1e-12);
+  EXPECT_NEAR(json.bodies[1].mass, 1000 * (M_PI * 0.03 * 0.03 * std::sqrt(0.0525) + 4.0 / 3 * M_PI * 0.04 * 0.06 * 0.02), 1e-9);
+  EXPECT_LT((json.bodies[1].com - mjcf.bodies[1].com).norm(), 1e-12);
+  EXPECT_LT((json.bodies[1].inertia - mjcf.bodies[1].inertia).norm(), 1e-12);
+  int supports = 0;
+  for (const ContactPoint& p : contact_points(json)) supports += p.support != PointSupport::Fixed;
+  EXPECT_EQ(supports, 3);  // the cylinder's two rims, the ellipsoid
+  for (int g : {0, 1}) {
+    EXPECT_EQ(json.geoms[g].type, GeomType::Mesh);
+    EXPECT_EQ(json.geoms[g].tessellates, mjcf.geoms[g + 1].tessellates);
+    EXPECT_LT((json.geoms[g].pos - mjcf.geoms[g + 1].pos).norm(), 1e-12);
+    EXPECT_LT((json.geoms[g].size - mjcf.geoms[g + 1].size).norm(), 1e-12);
+    // Frames: the same axis (a cylinder's z may point either way along fromto).
+    const Vec3 zj = json.geoms[g].quat * Vec3::UnitZ(), zm = mjcf.geoms[g + 1].quat * Vec3::UnitZ();
+    EXPECT_NEAR(std::abs(zj.dot(zm)), 1, 1e-12);
+  }
+  EXPECT_EQ(json_error_pointer({{"bodies", {{{"name", "a"}, {"geoms", {{{"type", "ellipsoid"}, {"size", {0.1, 0.1, 0.1}},
+                                                                 {"fromto", {0, 0, 0, 1, 0, 0}}}}}}}}}),
+            "/bodies/0/geoms/0/fromto");
+  EXPECT_EQ(json_error_pointer({{"bodies", {{{"name", "a"}, {"geoms", {{{"type", "cylinder"}, {"size", {0.1}}}}}}}}}),
+            "/bodies/0/geoms/0/size");
 }
 
 // Joint springs and ref (as MJCF's): they reach the model, ref is the model-pose value
